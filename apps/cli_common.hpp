@@ -1,0 +1,35 @@
+// Shared pieces of the `floorcast` CLI: command registration, output helpers.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace floorcast::cli {
+
+/// A function that adds commands to the root app. Each cmd_*.cpp registers one with
+/// FLOORCAST_REGISTER_COMMANDS; main() calls them in name order.
+using Registrar = void (*)(CLI::App& root);
+bool add_registrar(const char* name, Registrar registrar);
+void register_all(CLI::App& root);
+
+/// The subcommand `name` of `parent`, created with `description` the first time. Lets several
+/// files add sub-commands to one group (`plan`, `sim`, `bench`, ...).
+CLI::App& group(CLI::App& parent, const std::string& name, const std::string& description);
+
+/// Root of the source tree (shipped buildings, scenarios, baselines).
+std::string source_dir();
+
+/// Creates a directory (and parents); throws InputError naming it on failure.
+void ensure_directory(const std::string& path);
+
+/// Writes pretty JSON (2-space indent, trailing newline) atomically.
+void write_json(const std::string& path, const nlohmann::ordered_json& json);
+
+}  // namespace floorcast::cli
+
+#define FLOORCAST_CLI_CONCAT_INNER(a, b) a##b
+#define FLOORCAST_CLI_CONCAT(a, b) FLOORCAST_CLI_CONCAT_INNER(a, b)
+#define FLOORCAST_REGISTER_COMMANDS(fn)                                                  \
+  static const bool FLOORCAST_CLI_CONCAT(floorcast_registered_, __LINE__) [[maybe_unused]] = \
+      ::floorcast::cli::add_registrar(#fn, &fn)

@@ -1,0 +1,69 @@
+// 2D geometry derived from a floor plan: what blocks a horizontal ray at a given height, as
+// convex footprints (for rasters and extrusion) and as the outline of their union (exact wall
+// surfaces, for visibility and 2D ray casting).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "floorcast/floorplans/floor_plan.hpp"
+
+namespace floorcast {
+
+/// Semantic label of a blocking element. Values are stable (used in files and meshes).
+enum class SurfaceLabel : int {
+  kWall = 0,
+  kDoorClosed = 1,
+  kGlass = 2,
+  kObstacle = 3,
+};
+
+/// What counts as blocking when cutting the plan with a horizontal plane.
+struct BlockingOptions {
+  bool closed_doors_block = true;   ///< closed door leaves block
+  bool open_doors_block = false;    ///< treat open doors as closed (PALMS+ sec. 4.4 "doors closed")
+  bool glass_blocks = true;         ///< glass walls and windows block
+  bool obstacles_block = false;     ///< clutter obstacles block
+  /// Height of the horizontal cut above the floor (decides whether a window or a partial-height
+  /// glass wall or an obstacle is cut). Default: a phone held at 1.5 m.
+  double cut_height_m = 1.5;
+};
+
+/// A convex polygon (counter-clockwise) with a label.
+struct Footprint {
+  std::vector<Vec2> polygon_m;
+  SurfaceLabel label = SurfaceLabel::kWall;
+  int source_index = -1;  ///< index into plan.walls (walls, doors, glass) or plan.obstacles
+  /// Axis of a wall piece / door leaf / glass pane (its centreline between the caps); rasters
+  /// draw it so thin walls stay watertight. Unset (has_axis false) for obstacles.
+  Segment2 axis_m;
+  bool has_axis = false;
+};
+
+/// Convex blocking footprints at the cut height: wall pieces between openings (full thickness),
+/// door leaves and glass panes in their openings, obstacles (pillars as 16-gons).
+std::vector<Footprint> blocking_footprints(const FloorPlan& plan, const BlockingOptions& options);
+
+/// A boundary segment of the union of blocking footprints, oriented so that the blocked region is
+/// on its right (free space on its left), carrying the label of the footprint it bounds.
+struct LabeledSegment {
+  Segment2 segment_m;
+  SurfaceLabel label = SurfaceLabel::kWall;
+};
+
+/// The exact outline of the union of blocking footprints: every edge piece that has free space
+/// on one side. Shared edges of touching footprints and pieces inside other footprints are
+/// removed; collinear touching pieces with the same label are merged.
+std::vector<LabeledSegment> blocking_outline(const FloorPlan& plan, const BlockingOptions& options);
+
+/// Same, from explicit footprints.
+std::vector<LabeledSegment> footprint_outline(const std::vector<Footprint>& footprints);
+
+/// True if p lies inside (or on the boundary of) the convex CCW polygon.
+bool point_in_convex_polygon(const std::vector<Vec2>& polygon_m, const Vec2& p);
+
+/// Intersection of ray (origin, unit direction) with a segment; returns the ray parameter
+/// (distance along a unit direction) or a negative value when there is none.
+double ray_segment_distance(const Vec2& origin, const Vec2& direction, const Segment2& segment);
+
+}  // namespace floorcast

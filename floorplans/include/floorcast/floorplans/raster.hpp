@@ -1,0 +1,78 @@
+// Rasters of a floor plan: occupancy, valid-area (interior) mask, distance transform.
+//
+// Grid convention: cell (row r, col c) covers world x in [origin_x + c*res, origin_x + (c+1)*res)
+// and y in [origin_y + r*res, origin_y + (r+1)*res). Rows grow with +y (so an image written as is
+// appears upside down; renderers flip it).
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "floorcast/floorplans/floor_plan.hpp"
+#include "floorcast/floorplans/geometry.hpp"
+
+namespace floorcast {
+
+struct GridSpec {
+  double origin_x_m = 0.0;
+  double origin_y_m = 0.0;
+  double resolution_m_per_px = 0.1;
+  int width_px = 0;
+  int height_px = 0;
+
+  Vec2 cell_center_m(int row, int col) const {
+    return {origin_x_m + (col + 0.5) * resolution_m_per_px,
+            origin_y_m + (row + 0.5) * resolution_m_per_px};
+  }
+  /// Continuous cell coordinates (col, row) of a world point (cell centres at integer + 0.5).
+  Vec2 world_to_grid(const Vec2& p_m) const {
+    return {(p_m.x() - origin_x_m) / resolution_m_per_px, (p_m.y() - origin_y_m) / resolution_m_per_px};
+  }
+  /// Cell containing p; false if outside the grid.
+  bool world_to_cell(const Vec2& p_m, int& row, int& col) const;
+  bool contains(int row, int col) const {
+    return row >= 0 && col >= 0 && row < height_px && col < width_px;
+  }
+  bool operator==(const GridSpec& o) const {
+    return origin_x_m == o.origin_x_m && origin_y_m == o.origin_y_m &&
+           resolution_m_per_px == o.resolution_m_per_px && width_px == o.width_px &&
+           height_px == o.height_px;
+  }
+};
+
+/// Grid covering the plan's bounding box plus a margin, with its origin snapped to a multiple of
+/// the resolution (so grids of one plan at one resolution always align).
+GridSpec grid_for_plan(const FloorPlan& plan, double resolution_m_per_px, double margin_m = 1.0);
+
+struct RasterOptions {
+  double resolution_m_per_px = 0.1;
+  double margin_m = 1.0;
+  BlockingOptions blocking;  ///< closed doors / glass / obstacles as walls or not
+};
+
+/// Occupancy: CV_8U, 255 = blocked, 0 = free. A cell is blocked iff its centre lies in a blocking
+/// footprint or a footprint's centreline (wall axis, door/window axis) passes through the cell —
+/// so every wall is at least one cell thick and rasters are watertight at any resolution.
+cv::Mat rasterize_occupancy(const FloorPlan& plan, const GridSpec& grid, const BlockingOptions& blocking);
+
+/// Interior of the building: CV_8U, 255 = free cell enclosed by the building envelope. The
+/// envelope is the occupancy with every door and window closed, morphologically closed to bridge
+/// gaps up to gap_close_m; interior = free cells not reachable from the grid border.
+cv::Mat valid_area_mask(const FloorPlan& plan, const GridSpec& grid, double gap_close_m = 0.5);
+
+/// Euclidean distance (metres) from each cell centre to the nearest blocked cell, CV_32F.
+cv::Mat distance_to_blocked_m(const cv::Mat& occupancy, const GridSpec& grid);
+
+/// All rasters of a plan at one resolution.
+struct PlanRasters {
+  GridSpec grid;
+  cv::Mat occupancy;       ///< CV_8U 255 = blocked
+  cv::Mat valid;           ///< CV_8U 255 = interior & free
+  cv::Mat distance_m;      ///< CV_32F distance to nearest blocked cell
+};
+PlanRasters make_plan_rasters(const FloorPlan& plan, const RasterOptions& options = {});
+
+/// Free floor area inside the building (m^2), computed on a fine grid (walls, closed and open
+/// doors' leaves, glass and obstacles excluded).
+double free_floor_area_m2(const FloorPlan& plan, double resolution_m_per_px = 0.05);
+
+}  // namespace floorcast

@@ -1,0 +1,80 @@
+#include "floorcast/floorplans/floor_plan.hpp"
+
+#include <algorithm>
+
+#include "floorcast/floorplans/io.hpp"
+
+namespace floorcast {
+
+int FloorPlan::wall_index(const std::string& wall_id) const {
+  for (std::size_t i = 0; i < walls.size(); ++i) {
+    if (walls[i].id == wall_id) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+OpeningSpan opening_span(const FloorPlan& plan, const std::string& wall_id, const Vec2& center_m,
+                         double width_m) {
+  OpeningSpan span;
+  span.wall_index = plan.wall_index(wall_id);
+  if (span.wall_index < 0) return span;
+  const Wall& wall = plan.walls[static_cast<std::size_t>(span.wall_index)];
+  const double t = (center_m - wall.a_m).dot(wall.direction());
+  span.t0_m = t - 0.5 * width_m;
+  span.t1_m = t + 0.5 * width_m;
+  return span;
+}
+
+Eigen::Vector4d plan_bbox_m(const FloorPlan& plan) {
+  const double inf = std::numeric_limits<double>::infinity();
+  Eigen::Vector4d box(inf, inf, -inf, -inf);
+  auto add = [&box](const Vec2& p) {
+    box[0] = std::min(box[0], p.x());
+    box[1] = std::min(box[1], p.y());
+    box[2] = std::max(box[2], p.x());
+    box[3] = std::max(box[3], p.y());
+  };
+  for (const Wall& w : plan.walls) {
+    const Vec2 d = w.b_m - w.a_m;
+    const double len = d.norm();
+    if (len <= 0.0) continue;
+    const Vec2 n = Vec2(-d.y(), d.x()) / len * (0.5 * w.thickness_m);
+    add(w.a_m + n);
+    add(w.a_m - n);
+    add(w.b_m + n);
+    add(w.b_m - n);
+  }
+  for (const Obstacle& o : plan.obstacles) {
+    const double r = 0.5 * o.size_m.norm();
+    add(o.center_m - Vec2(r, r));
+    add(o.center_m + Vec2(r, r));
+  }
+  if (box[0] > box[2]) box.setZero();
+  return box;
+}
+
+PlanCounts plan_counts(const FloorPlan& plan) {
+  PlanCounts c;
+  c.walls = static_cast<int>(plan.walls.size());
+  c.glass_walls = static_cast<int>(std::count_if(plan.walls.begin(), plan.walls.end(), [](const Wall& w) {
+    return w.material == WallMaterial::kGlass;
+  }));
+  c.doors = static_cast<int>(plan.doors.size());
+  c.doors_closed = static_cast<int>(
+      std::count_if(plan.doors.begin(), plan.doors.end(), [](const Door& d) { return d.closed; }));
+  c.windows = static_cast<int>(plan.windows.size());
+  c.obstacles = static_cast<int>(plan.obstacles.size());
+  return c;
+}
+
+std::uint64_t plan_hash(const FloorPlan& plan) {
+  const std::string text = floor_plan_to_json(plan);
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char ch : text) {
+    h ^= ch;
+    h *= 1099511628211ULL;
+  }
+  return h;
+}
+
+}  // namespace floorcast

@@ -1,0 +1,172 @@
+#include "floorcast/floorplans/raster.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace floorcast {
+namespace {
+
+/// Liang-Barsky: does segment a-b meet the closed box [x0,x1]x[y0,y1]?
+bool segment_meets_box(const Vec2& a, const Vec2& b, double x0, double y0, double x1, double y1) {
+  double t0 = 0.0, t1 = 1.0;
+  const double dx = b.x() - a.x(), dy = b.y() - a.y();
+  const double p[4] = {-dx, dx, -dy, dy};
+  const double q[4] = {a.x() - x0, x1 - a.x(), a.y() - y0, y1 - a.y()};
+  for (int i = 0; i < 4; ++i) {
+    if (p[i] == 0.0) {
+      if (q[i] < 0.0) return false;
+    } else {
+      const double r = q[i] / p[i];
+      if (p[i] < 0.0) t0 = std::max(t0, r);
+      else t1 = std::min(t1, r);
+      if (t0 > t1) return false;
+    }
+  }
+  return true;
+}
+
+void clamp_cell_range(const GridSpec& grid, double x0, double y0, double x1, double y1, int& c0, int& r0,
+                      int& c1, int& r1) {
+  const Vec2 g0 = grid.world_to_grid({x0, y0});
+  const Vec2 g1 = grid.world_to_grid({x1, y1});
+  c0 = std::max(0, static_cast<int>(std::floor(g0.x())) - 1);
+  r0 = std::max(0, static_cast<int>(std::floor(g0.y())) - 1);
+  c1 = std::min(grid.width_px - 1, static_cast<int>(std::floor(g1.x())) + 1);
+  r1 = std::min(grid.height_px - 1, static_cast<int>(std::floor(g1.y())) + 1);
+}
+
+void paint_footprint(cv::Mat& occ, const GridSpec& grid, const Footprint& f) {
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  for (const Vec2& p : f.polygon_m) {
+    x0 = std::min(x0, p.x());
+    y0 = std::min(y0, p.y());
+    x1 = std::max(x1, p.x());
+    y1 = std::max(y1, p.y());
+  }
+  int c0, r0, c1, r1;
+  clamp_cell_range(grid, x0, y0, x1, y1, c0, r0, c1, r1);
+  const double res = grid.resolution_m_per_px;
+  for (int r = r0; r <= r1; ++r) {
+    std::uint8_t* row = occ.ptr<std::uint8_t>(r);
+    for (int c = c0; c <= c1; ++c) {
+      if (row[c]) continue;
+      if (point_in_convex_polygon(f.polygon_m, grid.cell_center_m(r, c))) {
+        row[c] = 255;
+        continue;
+      }
+      if (f.has_axis) {
+        const double bx0 = grid.origin_x_m + c * res, by0 = grid.origin_y_m + r * res;
+        if (segment_meets_box(f.axis_m.a_m, f.axis_m.b_m, bx0, by0, bx0 + res, by0 + res)) row[c] = 255;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+bool GridSpec::world_to_cell(const Vec2& p_m, int& row, int& col) const {
+  const Vec2 g = world_to_grid(p_m);
+  if (!std::isfinite(g.x()) || !std::isfinite(g.y())) return false;
+  col = static_cast<int>(std::floor(g.x()));
+  row = static_cast<int>(std::floor(g.y()));
+  return contains(row, col);
+}
+
+GridSpec grid_for_plan(const FloorPlan& plan, double resolution_m_per_px, double margin_m) {
+  const Eigen::Vector4d box = plan_bbox_m(plan);
+  GridSpec g;
+  g.resolution_m_per_px = resolution_m_per_px;
+  g.origin_x_m = std::floor((box[0] - margin_m) / resolution_m_per_px) * resolution_m_per_px;
+  g.origin_y_m = std::floor((box[1] - margin_m) / resolution_m_per_px) * resolution_m_per_px;
+  g.width_px = static_cast<int>(std::ceil((box[2] + margin_m - g.origin_x_m) / resolution_m_per_px));
+  g.height_px = static_cast<int>(std::ceil((box[3] + margin_m - g.origin_y_m) / resolution_m_per_px));
+  g.width_px = std::max(g.width_px, 1);
+  g.height_px = std::max(g.height_px, 1);
+  return g;
+}
+
+cv::Mat rasterize_occupancy(const FloorPlan& plan, const GridSpec& grid, const BlockingOptions& blocking) {
+  cv::Mat occ(grid.height_px, grid.width_px, CV_8U, cv::Scalar(0));
+  for (const Footprint& f : blocking_footprints(plan, blocking)) paint_footprint(occ, grid, f);
+  return occ;
+}
+
+namespace {
+
+/// Cells not reachable from the grid border through free cells of `envelope` (255 = blocked).
+cv::Mat enclosed_cells(const cv::Mat& envelope) {
+  cv::Mat padded;
+  cv::copyMakeBorder(envelope, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::floodFill(padded, cv::Point(0, 0), cv::Scalar(128), nullptr, cv::Scalar(0), cv::Scalar(0), 4);
+  cv::Mat inner = padded(cv::Rect(1, 1, envelope.cols, envelope.rows));
+  cv::Mat enclosed;
+  cv::compare(inner, 128, enclosed, cv::CMP_NE);
+  return enclosed;
+}
+
+cv::Mat valid_mask_with(const FloorPlan& plan, const GridSpec& grid, double gap_close_m,
+                        const BlockingOptions& free_blocking) {
+  BlockingOptions envelope_opts;
+  envelope_opts.closed_doors_block = true;
+  envelope_opts.open_doors_block = true;
+  envelope_opts.glass_blocks = true;
+  envelope_opts.obstacles_block = false;
+  envelope_opts.cut_height_m = free_blocking.cut_height_m;
+  cv::Mat envelope = rasterize_occupancy(plan, grid, envelope_opts);
+  const int radius_px = static_cast<int>(std::ceil(0.5 * gap_close_m / grid.resolution_m_per_px));
+  if (radius_px > 0) {
+    const cv::Mat kernel =
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius_px + 1, 2 * radius_px + 1));
+    cv::Mat padded;
+    const int pad = radius_px + 1;
+    cv::copyMakeBorder(envelope, padded, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar(0));
+    cv::morphologyEx(padded, padded, cv::MORPH_CLOSE, kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT,
+                     cv::Scalar(0));
+    envelope = padded(cv::Rect(pad, pad, envelope.cols, envelope.rows)).clone();
+  }
+  const cv::Mat enclosed = enclosed_cells(envelope);
+  const cv::Mat occupancy = rasterize_occupancy(plan, grid, free_blocking);
+  cv::Mat free_cells;
+  cv::compare(occupancy, 0, free_cells, cv::CMP_EQ);
+  cv::Mat valid;
+  cv::bitwise_and(enclosed, free_cells, valid);
+  return valid;
+}
+
+}  // namespace
+
+cv::Mat valid_area_mask(const FloorPlan& plan, const GridSpec& grid, double gap_close_m) {
+  return valid_mask_with(plan, grid, gap_close_m, BlockingOptions{});
+}
+
+cv::Mat distance_to_blocked_m(const cv::Mat& occupancy, const GridSpec& grid) {
+  cv::Mat free_cells;
+  cv::compare(occupancy, 0, free_cells, cv::CMP_EQ);
+  cv::Mat dist;
+  cv::distanceTransform(free_cells, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  dist *= grid.resolution_m_per_px;
+  return dist;
+}
+
+PlanRasters make_plan_rasters(const FloorPlan& plan, const RasterOptions& options) {
+  PlanRasters r;
+  r.grid = grid_for_plan(plan, options.resolution_m_per_px, options.margin_m);
+  r.occupancy = rasterize_occupancy(plan, r.grid, options.blocking);
+  r.valid = valid_mask_with(plan, r.grid, 0.5, options.blocking);
+  r.distance_m = distance_to_blocked_m(r.occupancy, r.grid);
+  return r;
+}
+
+double free_floor_area_m2(const FloorPlan& plan, double resolution_m_per_px) {
+  const GridSpec grid = grid_for_plan(plan, resolution_m_per_px, 1.0);
+  BlockingOptions blocking;
+  blocking.closed_doors_block = true;
+  blocking.glass_blocks = true;
+  blocking.obstacles_block = true;
+  blocking.cut_height_m = 0.01;  // any obstacle standing on the floor takes floor area
+  const cv::Mat valid = valid_mask_with(plan, grid, 0.5, blocking);
+  return cv::countNonZero(valid) * resolution_m_per_px * resolution_m_per_px;
+}
+
+}  // namespace floorcast

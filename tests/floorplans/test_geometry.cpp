@@ -1,0 +1,138 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "floorcast/floorplans/geometry.hpp"
+#include "test_plans.hpp"
+
+namespace floorcast {
+namespace {
+
+double total_length(const std::vector<LabeledSegment>& segs) {
+  double s = 0.0;
+  for (const auto& l : segs) s += l.segment_m.length_m();
+  return s;
+}
+
+/// Exact free-space side check: a point just left of each outline segment is free, a point just
+/// right of it is blocked.
+void expect_outline_sides(const std::vector<Footprint>& fps, const std::vector<LabeledSegment>& outline) {
+  auto blocked = [&](const Vec2& p) {
+    for (const auto& f : fps)
+      if (point_in_convex_polygon(f.polygon_m, p)) return true;
+    return false;
+  };
+  for (const auto& l : outline) {
+    const Vec2 d = (l.segment_m.b_m - l.segment_m.a_m).normalized();
+    const Vec2 left(-d.y(), d.x());
+    for (double t : {0.25, 0.5, 0.75}) {
+      const Vec2 p = l.segment_m.a_m + t * (l.segment_m.b_m - l.segment_m.a_m);
+      EXPECT_FALSE(blocked(p + 1e-4 * left)) << "free side blocked at " << p.transpose();
+      EXPECT_TRUE(blocked(p - 1e-4 * left)) << "blocked side free at " << p.transpose();
+    }
+  }
+}
+
+TEST(Outline, ClosedBoxRoomHasInnerAndOuterRectangles) {
+  const FloorPlan p = test::box_room(5.0, 4.0, 0.2);
+  const auto fps = blocking_footprints(p, {});
+  ASSERT_EQ(fps.size(), 4u);
+  const auto outline = footprint_outline(fps);
+  // Inner rectangle 4.8 x 3.8 and outer 5.2 x 4.2, each side one merged segment.
+  EXPECT_EQ(outline.size(), 8u);
+  EXPECT_NEAR(total_length(outline), 2 * (4.8 + 3.8) + 2 * (5.2 + 4.2), 1e-9);
+  expect_outline_sides(fps, outline);
+}
+
+TEST(Outline, OpenDoorCutsTheWallAndShowsJambs) {
+  FloorPlan p = test::box_room(5.0, 4.0, 0.2);
+  p.doors.push_back({"d", "south", {2.5, 0.0}, 1.0, false});
+  const auto outline = blocking_outline(p, {});
+  // The 1 m opening removes 1 m from both faces of the south wall and adds two 0.2 m jambs.
+  EXPECT_NEAR(total_length(outline), 2 * (4.8 + 3.8) + 2 * (5.2 + 4.2) - 2.0 + 0.4, 1e-9);
+  BlockingOptions closed;
+  closed.open_doors_block = true;
+  const auto closed_outline = blocking_outline(p, closed);
+  EXPECT_NEAR(total_length(closed_outline), 2 * (4.8 + 3.8) + 2 * (5.2 + 4.2), 1e-9);
+  int door_segments = 0;
+  for (const auto& l : closed_outline) door_segments += l.label == SurfaceLabel::kDoorClosed;
+  EXPECT_EQ(door_segments, 2);  // inner and outer face of the closed leaf
+}
+
+TEST(Outline, WindowIsGlassOnlyWithinItsBand) {
+  FloorPlan p = test::furnished_room();
+  BlockingOptions at_1_5;  // cuts the west window (0.9 .. 2.1) and the glass east wall
+  int glass = 0;
+  for (const auto& l : blocking_outline(p, at_1_5)) glass += l.label == SurfaceLabel::kGlass;
+  EXPECT_GT(glass, 0);
+  BlockingOptions low;
+  low.cut_height_m = 0.05;  // below the window sill and below the glass wall's sill (0.1)
+  for (const auto& l : blocking_outline(p, low)) EXPECT_NE(l.label, SurfaceLabel::kGlass);
+  BlockingOptions see_through;
+  see_through.glass_blocks = false;
+  for (const auto& l : blocking_outline(p, see_through)) EXPECT_NE(l.label, SurfaceLabel::kGlass);
+}
+
+TEST(Outline, RandomOverlappingFootprintsAgreeWithPointTests) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 10.0), ang(0.0, 6.283), th(0.05, 0.6), len(0.5, 6.0);
+  FloorPlan p;
+  for (int i = 0; i < 25; ++i) {
+    const Vec2 a(u(rng), u(rng));
+    const double t = ang(rng);
+    p.walls.push_back({"w" + std::to_string(i), a, a + len(rng) * Vec2(std::cos(t), std::sin(t)), th(rng),
+                       WallMaterial::kSolid, 0.0, {}});
+  }
+  const auto fps = blocking_footprints(p, {});
+  const auto outline = footprint_outline(fps);
+  ASSERT_FALSE(outline.empty());
+  expect_outline_sides(fps, outline);
+
+  // Every boundary point of every footprint that is not inside another is on the outline.
+  std::uniform_int_distribution<std::size_t> pick(0, fps.size() - 1);
+  std::uniform_real_distribution<double> t01(0.0, 1.0);
+  int checked = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const auto& f = fps[pick(rng)];
+    const std::size_t k = std::uniform_int_distribution<std::size_t>(0, f.polygon_m.size() - 1)(rng);
+    const Vec2 a = f.polygon_m[k], b = f.polygon_m[(k + 1) % f.polygon_m.size()];
+    const Vec2 q = a + t01(rng) * (b - a);
+    const Vec2 d = (b - a).normalized();
+    const Vec2 outward(d.y(), -d.x());
+    bool covered = false;
+    for (const auto& g : fps)
+      if (&g != &f && point_in_convex_polygon(g.polygon_m, q + 1e-5 * outward)) covered = true;
+    if (covered) continue;
+    double best = 1e9;
+    for (const auto& l : outline) {
+      const Vec2 e = l.segment_m.b_m - l.segment_m.a_m;
+      const double s = std::clamp((q - l.segment_m.a_m).dot(e) / e.squaredNorm(), 0.0, 1.0);
+      best = std::min(best, (l.segment_m.a_m + s * e - q).norm());
+    }
+    EXPECT_LT(best, 1e-7);
+    ++checked;
+  }
+  EXPECT_GT(checked, 200);
+}
+
+TEST(Geometry, RaySegmentDistance) {
+  const Segment2 s{{2.0, -3.0}, {2.0, 3.0}};
+  EXPECT_NEAR(ray_segment_distance({0, 0}, {1, 0}, s), 2.0, 1e-12);
+  EXPECT_LT(ray_segment_distance({0, 0}, {-1, 0}, s), 0.0);
+  EXPECT_LT(ray_segment_distance({0, 0}, {0, 1}, s), 0.0);
+  const Vec2 d = Vec2(1, 1).normalized();
+  EXPECT_NEAR(ray_segment_distance({0, 0}, d, s), 2.0 * std::sqrt(2.0), 1e-12);
+  EXPECT_LT(ray_segment_distance({0, 0}, Vec2(1, 2).normalized(), s), 0.0);  // passes above b
+}
+
+TEST(Geometry, PoseTransformsInvertEachOther) {
+  const Pose2 pose{3.0, -2.0, 0.7};
+  const Vec2 p(1.5, 4.0);
+  EXPECT_LT((pose.inverse_transform(pose.transform(p)) - p).norm(), 1e-12);
+  EXPECT_NEAR(wrap_angle_rad(3.5 * 3.14159265358979323846), -0.5 * 3.14159265358979323846, 1e-12);
+  EXPECT_NEAR(angle_distance_rad(0.1, 2 * 3.14159265358979323846 - 0.1), 0.2, 1e-12);
+}
+
+}  // namespace
+}  // namespace floorcast

@@ -1,0 +1,144 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <random>
+
+#include "floorcast/floorplans/raster.hpp"
+#include "test_plans.hpp"
+
+namespace floorcast {
+namespace {
+
+/// Brute-force point-in-polygon by crossing number (independent of the convex test).
+bool inside_by_crossings(const std::vector<Vec2>& poly, const Vec2& p) {
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Vec2 &a = poly[i], &b = poly[j];
+    if ((a.y() > p.y()) != (b.y() > p.y())) {
+      const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+      if (p.x() < x) in = !in;
+    }
+  }
+  return in;
+}
+
+bool segments_cross(const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s) {
+  auto orient = [](const Vec2& a, const Vec2& b, const Vec2& c) {
+    return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+  };
+  const double d1 = orient(r, s, p), d2 = orient(r, s, q), d3 = orient(p, q, r), d4 = orient(p, q, s);
+  return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0));
+}
+
+/// Brute force: every cell against every footprint, with independent predicates.
+cv::Mat brute_force_occupancy(const FloorPlan& plan, const GridSpec& g, const BlockingOptions& o) {
+  const auto fps = blocking_footprints(plan, o);
+  cv::Mat occ(g.height_px, g.width_px, CV_8U, cv::Scalar(0));
+  const double res = g.resolution_m_per_px;
+  for (int r = 0; r < g.height_px; ++r)
+    for (int c = 0; c < g.width_px; ++c) {
+      const Vec2 center = g.cell_center_m(r, c);
+      const Vec2 lo(g.origin_x_m + c * res, g.origin_y_m + r * res), hi = lo + Vec2(res, res);
+      for (const auto& f : fps) {
+        if (inside_by_crossings(f.polygon_m, center)) { occ.at<uint8_t>(r, c) = 255; break; }
+        if (!f.has_axis) continue;
+        const Vec2 a = f.axis_m.a_m, b = f.axis_m.b_m;
+        auto in_box = [&](const Vec2& p) { return p.x() >= lo.x() && p.x() <= hi.x() && p.y() >= lo.y() && p.y() <= hi.y(); };
+        const Vec2 corners[4] = {lo, {hi.x(), lo.y()}, hi, {lo.x(), hi.y()}};
+        bool hit = in_box(a) || in_box(b);
+        for (int k = 0; k < 4 && !hit; ++k) hit = segments_cross(a, b, corners[k], corners[(k + 1) % 4]);
+        if (hit) { occ.at<uint8_t>(r, c) = 255; break; }
+      }
+    }
+  return occ;
+}
+
+TEST(Raster, OccupancyEqualsBruteForceOnRandomPlans) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.3, 9.7), ang(0.0, 6.283), th(0.02, 0.4), len(0.3, 5.0);
+  for (int trial = 0; trial < 6; ++trial) {
+    FloorPlan p;
+    for (int i = 0; i < 15; ++i) {
+      const Vec2 a(u(rng), u(rng));
+      const double t = ang(rng);
+      p.walls.push_back({"w" + std::to_string(i), a, a + len(rng) * Vec2(std::cos(t), std::sin(t)), th(rng),
+                         WallMaterial::kSolid, 0.0, {}});
+    }
+    const double res = trial % 2 ? 0.1 : 0.137;
+    const GridSpec g = grid_for_plan(p, res, 0.5);
+    const cv::Mat fast = rasterize_occupancy(p, g, {});
+    const cv::Mat slow = brute_force_occupancy(p, g, {});
+    EXPECT_EQ(cv::countNonZero(fast != slow), 0) << "trial " << trial;
+    EXPECT_GT(cv::countNonZero(fast), 100);
+  }
+}
+
+TEST(Raster, ThinGlassStaysWatertightAndFlagsWork) {
+  const FloorPlan p = test::furnished_room();
+  const GridSpec g = grid_for_plan(p, 0.1);
+  BlockingOptions glass_open;
+  glass_open.glass_blocks = false;
+  const cv::Mat with_glass = rasterize_occupancy(p, g, {});
+  const cv::Mat without_glass = rasterize_occupancy(p, g, glass_open);
+  EXPECT_GT(cv::countNonZero(with_glass), cv::countNonZero(without_glass));
+  // Every row crossing the 5 cm glass wall at x = 6 has a blocked cell there.
+  for (double y = 0.5; y < 3.5; y += 0.1) {
+    int r, c;
+    ASSERT_TRUE(g.world_to_cell({6.0, y}, r, c));
+    EXPECT_TRUE(with_glass.at<uint8_t>(r, c) || with_glass.at<uint8_t>(r, c - 1)) << y;
+  }
+  // The closed door blocks by default; open_doors_block closes the open one too.
+  BlockingOptions doors_free;
+  doors_free.closed_doors_block = false;
+  EXPECT_LT(cv::countNonZero(rasterize_occupancy(p, g, doors_free)), cv::countNonZero(with_glass));
+  BlockingOptions all_closed;
+  all_closed.open_doors_block = true;
+  EXPECT_GT(cv::countNonZero(rasterize_occupancy(p, g, all_closed)), cv::countNonZero(with_glass));
+}
+
+TEST(Raster, ValidMaskIsTheRoomInterior) {
+  FloorPlan p = test::box_room(5.0, 4.0, 0.2);
+  p.doors.push_back({"d", "south", {2.5, 0.0}, 1.0, false});  // open door: the inside stays interior
+  const PlanRasters r = make_plan_rasters(p, {});
+  const double area = cv::countNonZero(r.valid) * 0.01;
+  EXPECT_NEAR(area, 4.8 * 3.8, 0.6);  // within boundary cells
+  int row, col;
+  ASSERT_TRUE(r.grid.world_to_cell({2.5, 2.0}, row, col));
+  EXPECT_TRUE(r.valid.at<uint8_t>(row, col));
+  ASSERT_TRUE(r.grid.world_to_cell({2.5, -0.6}, row, col));
+  EXPECT_FALSE(r.valid.at<uint8_t>(row, col));
+}
+
+TEST(Raster, DistanceTransformEqualsBruteForce) {
+  const FloorPlan p = test::furnished_room();
+  const PlanRasters r = make_plan_rasters(p, {});
+  std::vector<cv::Point> blocked;
+  cv::findNonZero(r.occupancy, blocked);
+  ASSERT_FALSE(blocked.empty());
+  for (int row = 0; row < r.grid.height_px; row += 3)
+    for (int col = 0; col < r.grid.width_px; col += 3) {
+      double best = 1e18;
+      for (const cv::Point& b : blocked) best = std::min(best, std::hypot(b.x - col, b.y - row));
+      EXPECT_NEAR(r.distance_m.at<float>(row, col), best * 0.1, 1e-4) << row << "," << col;
+    }
+}
+
+TEST(Raster, FreeFloorAreaOfABoxRoom) {
+  EXPECT_NEAR(free_floor_area_m2(test::box_room(5.0, 4.0, 0.2)), 4.8 * 3.8, 0.3);
+  // Obstacles take floor area.
+  FloorPlan p = test::box_room(5.0, 4.0, 0.2);
+  p.obstacles.push_back({"b", ObstacleKind::kBox, {2.5, 2.0}, {2.0, 1.0}, 0.0, 0.8});
+  EXPECT_NEAR(free_floor_area_m2(p), 4.8 * 3.8 - 2.0, 0.3);
+}
+
+TEST(Raster, GridsAlignAcrossPlans) {
+  const GridSpec g = grid_for_plan(test::box_room(), 0.1);
+  EXPECT_NEAR(std::remainder(g.origin_x_m, 0.1), 0.0, 1e-9);
+  int r, c;
+  EXPECT_TRUE(g.world_to_cell({0.0, 0.0}, r, c));
+  EXPECT_FALSE(g.world_to_cell({100.0, 0.0}, r, c));
+}
+
+}  // namespace
+}  // namespace floorcast
