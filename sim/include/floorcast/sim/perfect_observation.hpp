@@ -1,0 +1,45 @@
+// Perfect observations: the error-free proxy of PALMS+ sec. 4.4. From a point of the floor plan,
+// the wall surfaces visible within a range, as 2D segments in the observer's frame, plus
+// F3Loc-style ranges along equiangular rays. Exact 2D visibility (angular sweep over the
+// blocking outline), not sampling.
+#pragma once
+
+#include <vector>
+
+#include "floorcast/floorplans/geometry.hpp"
+
+namespace floorcast {
+
+struct PerfectObservationParams {
+  double max_range_m = 10.0;    ///< PALMS+ sec. 4.4: 10 m
+  bool doors_closed = true;     ///< treat open doors as closed (PALMS+ sec. 4.4: all doors closed)
+  bool glass_blocks = true;     ///< glass walls and windows are walls
+  bool obstacles_block = false; ///< clutter taller than the cut height occludes
+  double cut_height_m = 1.5;    ///< height of the horizontal cut (camera height)
+  int num_rays = 36;            ///< equiangular rays (F3Loc: 36; 180 also used); 0 = none
+};
+
+/// Prepares a plan's outline once, then observes from any number of poses.
+class PerfectObserver {
+ public:
+  PerfectObserver(const FloorPlan& plan, const PerfectObservationParams& params = {});
+
+  /// Visible wall segments within max_range (observer frame, metres; each oriented with free
+  /// space on its left) and ray ranges (max_range where nothing is hit).
+  Observation2D observe(const Pose2& T_world_observer) const;
+
+  /// Visible segments in the world frame, with their labels.
+  std::vector<LabeledSegment> visible_world_segments(const Vec2& position_m) const;
+
+  /// Ranges along num_rays equiangular rays starting at world angle start_rad.
+  std::vector<double> ray_ranges(const Vec2& position_m, double start_rad, int num_rays) const;
+
+  const std::vector<LabeledSegment>& outline() const { return outline_; }
+  const PerfectObservationParams& params() const { return params_; }
+
+ private:
+  PerfectObservationParams params_;
+  std::vector<LabeledSegment> outline_;
+};
+
+}  // namespace floorcast

@@ -1,0 +1,161 @@
+#include "floorcast/sim/perfect_observation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace floorcast {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Clips segment a-b to the disk of radius r around o. False if nothing remains.
+bool clip_to_disk(const Vec2& o, double r, Vec2& a, Vec2& b) {
+  const Vec2 d = b - a;
+  const Vec2 f = a - o;
+  const double A = d.squaredNorm();
+  const double B = 2.0 * f.dot(d);
+  const double C = f.squaredNorm() - r * r;
+  const double disc = B * B - 4.0 * A * C;
+  if (disc <= 0.0) return false;
+  const double s = std::sqrt(disc);
+  const double t0 = std::max(0.0, (-B - s) / (2.0 * A));
+  const double t1 = std::min(1.0, (-B + s) / (2.0 * A));
+  if (t1 - t0 <= 1e-12) return false;
+  const Vec2 a0 = a;
+  a = a0 + t0 * d;
+  b = a0 + t1 * d;
+  return true;
+}
+
+/// Point where the ray from o at angle theta meets the line through segment s.
+Vec2 ray_line_point(const Vec2& o, double theta, const Segment2& s) {
+  const Vec2 dir(std::cos(theta), std::sin(theta));
+  const Vec2 e = s.b_m - s.a_m;
+  const double denom = cross(dir, e);
+  const double t = cross(s.a_m - o, e) / denom;
+  return o + t * dir;
+}
+
+}  // namespace
+
+PerfectObserver::PerfectObserver(const FloorPlan& plan, const PerfectObservationParams& params)
+    : params_(params) {
+  BlockingOptions blocking;
+  blocking.closed_doors_block = true;
+  blocking.open_doors_block = params.doors_closed;
+  blocking.glass_blocks = params.glass_blocks;
+  blocking.obstacles_block = params.obstacles_block;
+  blocking.cut_height_m = params.cut_height_m;
+  outline_ = blocking_outline(plan, blocking);
+}
+
+std::vector<LabeledSegment> PerfectObserver::visible_world_segments(const Vec2& o) const {
+  const double R = params_.max_range_m;
+
+  // Front-facing outline pieces (observer on their free side), clipped to the range disk. Any ray
+  // from a free point meets a front face before a back face, so back faces never matter.
+  struct Candidate {
+    Segment2 seg;
+    int source;
+  };
+  std::vector<Candidate> cands;
+  std::vector<double> angles;
+  for (std::size_t i = 0; i < outline_.size(); ++i) {
+    const Segment2& s = outline_[i].segment_m;
+    if (cross(s.b_m - s.a_m, o - s.a_m) <= 1e-12) continue;  // back-facing or collinear
+    Vec2 a = s.a_m, b = s.b_m;
+    if (!clip_to_disk(o, R, a, b)) continue;
+    cands.push_back({{a, b}, static_cast<int>(i)});
+    angles.push_back(std::atan2(a.y() - o.y(), a.x() - o.x()));
+    angles.push_back(std::atan2(b.y() - o.y(), b.x() - o.x()));
+  }
+  if (cands.empty()) return {};
+  std::sort(angles.begin(), angles.end());
+  angles.erase(std::unique(angles.begin(), angles.end(),
+                           [](double x, double y) { return std::abs(x - y) < 1e-12; }),
+               angles.end());
+
+  // Between consecutive critical angles the nearest front face is fixed (outline pieces never
+  // cross), so one probe ray per interval decides what is seen there.
+  std::vector<LabeledSegment> visible;
+  int last_source = -1;
+  int first_source = -1;
+  const std::size_t n = angles.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t0 = angles[k];
+    const double t1 = (k + 1 < n) ? angles[k + 1] : angles[0] + 2.0 * kPi;
+    if (t1 - t0 < 1e-12) continue;
+    const double mid = 0.5 * (t0 + t1);
+    const Vec2 dir(std::cos(mid), std::sin(mid));
+    double best = std::numeric_limits<double>::infinity();
+    int best_idx = -1;
+    for (std::size_t c = 0; c < cands.size(); ++c) {
+      const double t = ray_segment_distance(o, dir, cands[c].seg);
+      if (t >= 0.0 && t < best) {
+        best = t;
+        best_idx = static_cast<int>(c);
+      }
+    }
+    if (best_idx < 0) {
+      last_source = -1;
+      continue;
+    }
+    const Candidate& c = cands[static_cast<std::size_t>(best_idx)];
+    // Visible piece: the face between the two bounding rays. A front face (observer on its free,
+    // left side) runs counter-clockwise around the observer, so it goes from the t0 ray to t1.
+    const Vec2 p0 = ray_line_point(o, t0, c.seg);
+    const Vec2 p1 = ray_line_point(o, t1, c.seg);
+    if (c.source == last_source && !visible.empty()) {
+      visible.back().segment_m.b_m = p1;  // extends the previous piece of the same face
+    } else {
+      LabeledSegment piece;
+      piece.segment_m = {p0, p1};
+      piece.label = outline_[static_cast<std::size_t>(c.source)].label;
+      visible.push_back(piece);
+      if (visible.size() == 1) first_source = c.source;
+    }
+    last_source = c.source;
+  }
+  // The sweep wraps around: the last and first pieces may be one face.
+  if (visible.size() > 1 && last_source >= 0 && last_source == first_source &&
+      (visible.back().segment_m.b_m - visible.front().segment_m.a_m).norm() < 1e-9) {
+    visible.front().segment_m.a_m = visible.back().segment_m.a_m;
+    visible.pop_back();
+  }
+  visible.erase(std::remove_if(visible.begin(), visible.end(),
+                               [](const LabeledSegment& s) { return s.segment_m.length_m() < 1e-9; }),
+                visible.end());
+  return visible;
+}
+
+std::vector<double> PerfectObserver::ray_ranges(const Vec2& o, double start_rad, int num_rays) const {
+  std::vector<double> ranges(static_cast<std::size_t>(std::max(num_rays, 0)), params_.max_range_m);
+  for (int i = 0; i < num_rays; ++i) {
+    const double a = start_rad + 2.0 * kPi * i / num_rays;
+    const Vec2 dir(std::cos(a), std::sin(a));
+    double best = params_.max_range_m;
+    for (const LabeledSegment& l : outline_) {
+      const double t = ray_segment_distance(o, dir, l.segment_m);
+      if (t >= 0.0 && t < best) best = t;
+    }
+    ranges[static_cast<std::size_t>(i)] = best;
+  }
+  return ranges;
+}
+
+Observation2D PerfectObserver::observe(const Pose2& T_world_observer) const {
+  const Vec2 o = T_world_observer.position_m();
+  Observation2D obs;
+  obs.max_range_m = params_.max_range_m;
+  for (const LabeledSegment& s : visible_world_segments(o)) {
+    obs.segments_m.push_back({T_world_observer.inverse_transform(s.segment_m.a_m),
+                              T_world_observer.inverse_transform(s.segment_m.b_m)});
+  }
+  obs.ray_ranges_m = ray_ranges(o, T_world_observer.yaw_rad, params_.num_rays);
+  return obs;
+}
+
+}  // namespace floorcast
