@@ -1,0 +1,33 @@
+// CI gates: compare a run's summary.json against a stored baseline.
+//
+// Baseline file (JSON):
+//   {"description": "...",
+//    "checks": [{"pointer": "/cells/0/groups/all/kernel/recall_1m_30deg", "min": 0.8},
+//               {"pointer": "/cells/0/groups/all/kernel/median_position_error_m", "max": 0.5}],
+//    "timing_ratios": [{"name": "kernel / reference",
+//                       "numerator": "/cells/0/groups/all/kernel/mean_time_s",
+//                       "denominator": "/timing/reference_s",
+//                       "baseline": 12.0, "tolerance": 1.0}]}
+// Accuracy checks compare values to fixed floors/ceilings. Timing is never judged in absolute
+// seconds: a ratio of two times measured in the same run must not exceed
+// baseline * (1 + tolerance).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace floorcast {
+
+struct GateOutcome {
+  bool passed = true;
+  std::vector<std::string> failures;  ///< one clear sentence per failed check
+  std::vector<std::string> passes;    ///< one line per passed check
+};
+
+/// Evaluates every check; a pointer missing from the summary is a failure (never skipped).
+/// Throws InputError for a malformed baseline (naming `baseline_source` and the entry).
+GateOutcome evaluate_gate(const nlohmann::json& summary, const nlohmann::json& baseline,
+                          const std::string& baseline_source);
+
+}  // namespace floorcast

@@ -1,0 +1,130 @@
+// Scoring: metrics over records of localization outcomes, with bootstrap confidence intervals.
+//
+// A metric is a named function of a sample of records. Single-shot records (one pose estimate
+// per observation) come with the PALMS/PALMS+ metric set; sequential records (tracks) plug in
+// the same way with their own record type and metric set (RMSE, success, convergence).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace floorcast {
+
+/// Outcome of one single-shot localization (one observation, one method).
+struct SingleShotRecord {
+  double position_error_m = 0.0;  ///< |estimate - truth| in the plane
+  double yaw_error_deg = 0.0;     ///< absolute heading error in [0, 180]
+  /// Position / yaw errors of the top-K modes in rank order (the first equals the estimate).
+  std::vector<double> top_k_position_error_m;
+  std::vector<double> top_k_yaw_error_deg;
+  double time_s = 0.0;  ///< matching time for this observation
+};
+
+template <class Record>
+struct Metric {
+  std::string name;
+  std::function<double(const std::vector<const Record*>&)> compute;
+  /// Whether bootstrap intervals make sense (not for e.g. counts).
+  bool bootstrap = true;
+};
+
+struct ScoringParams {
+  /// Position thresholds for recall (PALMS+ Table 1: 0.1 / 0.5 / 1 / 2 / 5 m).
+  std::vector<double> recall_thresholds_m = {0.1, 0.5, 1.0, 2.0, 5.0};
+  /// Combined position/orientation recall (PALMS+: @1 m, 30 deg).
+  double combined_threshold_m = 1.0;
+  double combined_threshold_deg = 30.0;
+  /// Top-K recall at combined_threshold_m (best of the first K modes).
+  int top_k = 5;
+  /// Bootstrap resamples for 95% intervals; 0 disables them.
+  int bootstrap_resamples = 1000;
+  std::uint64_t bootstrap_seed = 0x5eed;
+};
+
+/// The single-shot metric set, keyed as in summary.json: recall_<t>m, recall_1m_30deg,
+/// top5_recall_1m, median_position_error_m, mean_position_error_m, median_yaw_error_deg,
+/// mean_yaw_error_deg, mean_time_s, median_time_s. Recalls are fractions in [0, 1].
+std::vector<Metric<SingleShotRecord>> single_shot_metrics(const ScoringParams& params);
+
+/// Formats a threshold as used in metric names: 0.1 -> "0.1m", 1 -> "1m".
+std::string threshold_name(double metres);
+
+struct MetricValue {
+  double value = 0.0;
+  double ci_low = 0.0;   ///< 2.5th percentile of the bootstrap distribution
+  double ci_high = 0.0;  ///< 97.5th percentile
+  bool has_ci = false;
+};
+
+struct Summary {
+  int count = 0;
+  std::vector<std::string> order;            ///< metric names in definition order
+  std::map<std::string, MetricValue> values;
+};
+
+/// Evaluates every metric on all records, and bootstrap percentile intervals from resamples
+/// drawn with a counter-based generator seeded by params.bootstrap_seed (deterministic).
+template <class Record>
+Summary summarize(const std::vector<Record>& records, const std::vector<Metric<Record>>& metrics,
+                  int bootstrap_resamples, std::uint64_t seed);
+
+Summary summarize_single_shot(const std::vector<SingleShotRecord>& records, const ScoringParams& params = {});
+
+/// Median of a copy (0 for an empty input); the mean of the two middle values for even sizes.
+double median_of(std::vector<double> values);
+
+/// Deterministic 64-bit mixer (splitmix64 finaliser); the basis of floorcast's counter-based
+/// random streams.
+std::uint64_t mix64(std::uint64_t x);
+
+
+template <class Record>
+inline Summary summarize(const std::vector<Record>& records, const std::vector<Metric<Record>>& metrics,
+                  int bootstrap_resamples, std::uint64_t seed) {
+  Summary out;
+  out.count = static_cast<int>(records.size());
+  std::vector<const Record*> all;
+  all.reserve(records.size());
+  for (const Record& r : records) all.push_back(&r);
+  for (const Metric<Record>& m : metrics) {
+    out.order.push_back(m.name);
+    out.values[m.name].value = m.compute(all);
+  }
+  if (bootstrap_resamples <= 0 || records.empty()) return out;
+
+  // Percentile bootstrap: resample indices with a counter-based stream (resample b, draw i).
+  std::map<std::string, std::vector<double>> draws;
+  std::vector<const Record*> sample(records.size());
+  const std::uint64_t n = records.size();
+  for (int b = 0; b < bootstrap_resamples; ++b) {
+    for (std::uint64_t i = 0; i < n; ++i) {
+      const std::uint64_t h = mix64(seed ^ mix64((static_cast<std::uint64_t>(b) << 32) ^ i));
+      sample[i] = all[static_cast<std::size_t>(h % n)];
+    }
+    for (const Metric<Record>& m : metrics) {
+      if (m.bootstrap) draws[m.name].push_back(m.compute(sample));
+    }
+  }
+  for (auto& [name, v] : draws) {
+    std::sort(v.begin(), v.end());
+    auto pct = [&v](double q) {
+      const double pos = q * static_cast<double>(v.size() - 1);
+      const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
+      const std::size_t hi = std::min(lo + 1, v.size() - 1);
+      return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+    };
+    MetricValue& mv = out.values[name];
+    mv.ci_low = pct(0.025);
+    mv.ci_high = pct(0.975);
+    mv.has_ci = true;
+  }
+  return out;
+}
+
+
+}  // namespace floorcast

@@ -1,0 +1,107 @@
+#include "floorcast/eval/metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <numeric>
+#include <sstream>
+
+namespace floorcast {
+
+std::uint64_t mix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+double median_of(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const std::size_t n = values.size();
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(n / 2), values.end());
+  const double upper = values[n / 2];
+  if (n % 2 == 1) return upper;
+  const double lower = *std::max_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(n / 2));
+  return 0.5 * (lower + upper);
+}
+
+std::string threshold_name(double metres) {
+  std::ostringstream os;
+  os << std::setprecision(6) << metres << "m";
+  return os.str();
+}
+
+namespace {
+
+using Sample = std::vector<const SingleShotRecord*>;
+
+double fraction(const Sample& s, const std::function<bool(const SingleShotRecord&)>& pred) {
+  if (s.empty()) return 0.0;
+  std::size_t hits = 0;
+  for (const SingleShotRecord* r : s) hits += pred(*r) ? 1 : 0;
+  return static_cast<double>(hits) / static_cast<double>(s.size());
+}
+
+template <class F>
+std::vector<double> collect(const Sample& s, F f) {
+  std::vector<double> v;
+  v.reserve(s.size());
+  for (const SingleShotRecord* r : s) v.push_back(f(*r));
+  return v;
+}
+
+double mean_of(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
+
+}  // namespace
+
+std::vector<Metric<SingleShotRecord>> single_shot_metrics(const ScoringParams& params) {
+  std::vector<Metric<SingleShotRecord>> m;
+  for (double t : params.recall_thresholds_m) {
+    m.push_back({"recall_" + threshold_name(t),
+                 [t](const Sample& s) { return fraction(s, [t](const SingleShotRecord& r) { return r.position_error_m <= t; }); }});
+  }
+  const double cm = params.combined_threshold_m, cd = params.combined_threshold_deg;
+  std::ostringstream deg;
+  deg << std::setprecision(6) << cd;
+  m.push_back({"recall_" + threshold_name(cm) + "_" + deg.str() + "deg", [cm, cd](const Sample& s) {
+                 return fraction(s, [cm, cd](const SingleShotRecord& r) {
+                   return r.position_error_m <= cm && r.yaw_error_deg <= cd;
+                 });
+               }});
+  const int k = params.top_k;
+  m.push_back({"top" + std::to_string(k) + "_recall_" + threshold_name(cm), [k, cm](const Sample& s) {
+                 return fraction(s, [k, cm](const SingleShotRecord& r) {
+                   const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(k), r.top_k_position_error_m.size());
+                   for (std::size_t i = 0; i < n; ++i)
+                     if (r.top_k_position_error_m[i] <= cm) return true;
+                   return n == 0 && r.position_error_m <= cm;
+                 });
+               }});
+  m.push_back({"median_position_error_m", [](const Sample& s) {
+                 return median_of(collect(s, [](const SingleShotRecord& r) { return r.position_error_m; }));
+               }});
+  m.push_back({"mean_position_error_m", [](const Sample& s) {
+                 return mean_of(collect(s, [](const SingleShotRecord& r) { return r.position_error_m; }));
+               }});
+  m.push_back({"median_yaw_error_deg", [](const Sample& s) {
+                 return median_of(collect(s, [](const SingleShotRecord& r) { return r.yaw_error_deg; }));
+               }});
+  m.push_back({"mean_yaw_error_deg", [](const Sample& s) {
+                 return mean_of(collect(s, [](const SingleShotRecord& r) { return r.yaw_error_deg; }));
+               }});
+  m.push_back({"mean_time_s", [](const Sample& s) {
+                 return mean_of(collect(s, [](const SingleShotRecord& r) { return r.time_s; }));
+               }});
+  m.push_back({"median_time_s", [](const Sample& s) {
+                 return median_of(collect(s, [](const SingleShotRecord& r) { return r.time_s; }));
+               }});
+  return m;
+}
+
+Summary summarize_single_shot(const std::vector<SingleShotRecord>& records, const ScoringParams& params) {
+  return summarize(records, single_shot_metrics(params), params.bootstrap_resamples, params.bootstrap_seed);
+}
+
+}  // namespace floorcast
