@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "floorcast/floorplans/types.hpp"
+#include "floorcast/sim/scan_params.hpp"
 
 namespace floorcast {
 
@@ -29,6 +30,9 @@ struct CameraIntrinsics {
 
 struct DepthView {
   CameraIntrinsics intrinsics;
+  /// Index of this view in the full rotation (view k looks at yaw k * view_step_deg); partial
+  /// and single scans keep a subset.
+  int view_index = 0;
   /// Camera pose in the scan frame as the phone's pose tracker reports it (tracker noise
   /// included).
   Eigen::Isometry3d T_scan_camera = Eigen::Isometry3d::Identity();
@@ -49,6 +53,10 @@ struct ScanTruth {
   std::vector<Eigen::Isometry3d> T_scan_camera_true;
   /// Multiplicative depth scale applied to each view (monocular sensor model; 1 otherwise).
   std::vector<double> view_depth_scale;
+  /// Optional (only when the simulation was asked to keep it; never written to files): per view,
+  /// CV_32F z-depth of the first surface each ray met (glass counts as a surface), before any
+  /// sensor effect; 0 = nothing within range.
+  std::vector<cv::Mat> depth_m;
 };
 
 struct Scan {
@@ -56,6 +64,8 @@ struct Scan {
   std::string setting;  ///< full, partial or single
   std::vector<DepthView> views;
   ScanTruth truth;
+  /// Everything the scan was simulated with (geometry, sensor model, setting, seed).
+  ScanParams params;
 };
 
 }  // namespace floorcast

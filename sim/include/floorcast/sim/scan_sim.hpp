@@ -1,0 +1,44 @@
+// The rotating-scan simulator: renders each view's depth with Embree (camera-coherent ray
+// streams, TBB over tiles) and applies the sensor model (sensor models: sim/README.md).
+//
+// Determinism: every random number is a pure function of (seed, stream, view index, pixel or
+// pane), so a scan is identical bytes for any thread count and evaluation order.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <string>
+
+#include "floorcast/floorplans/floor_plan.hpp"
+#include "floorcast/sim/ray_scene.hpp"
+#include "floorcast/sim/scan.hpp"
+
+namespace floorcast {
+
+struct SimulationOptions {
+  /// Keep the noise-free first-surface depth of every view in Scan::truth.depth_m.
+  bool keep_true_depth = false;
+};
+
+/// Pinhole intrinsics of a view: square pixels, principal point at the image centre (OpenCV
+/// convention: pixel (u, v) has its centre at integer coordinates, so cx = (width - 1) / 2),
+/// fx = (width / 2) / tan(hfov / 2).
+CameraIntrinsics view_intrinsics(const ScanGeometry& geometry);
+
+/// True pose of view `view_index` in the scan frame (camera frame OpenCV: x right, y down, z
+/// forward).
+Eigen::Isometry3d view_pose(const ScanGeometry& geometry, int view_index);
+
+/// The scan frame in the world: translation (x, y, camera height), rotation yaw about +z.
+Eigen::Isometry3d scan_frame_in_world(const Pose2& T_world_scan, double camera_height_m);
+
+/// Simulates a scan at T_world_scan. Validates params (InputError). The pose itself is not
+/// checked here (see check_observer_pose).
+Scan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, const ScanParams& params,
+                   const SimulationOptions& options = {});
+
+/// Throws InputError unless the observer position is inside the building (connected to its
+/// interior without crossing a wall, door or window) and not inside a wall, closed door, glass
+/// pane or obstacle. `source` names the plan in messages.
+void check_observer_pose(const FloorPlan& plan, const Pose2& T_world_observer, const std::string& source);
+
+}  // namespace floorcast

@@ -1,0 +1,490 @@
+#include "floorcast/sim/scan_sim.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "floorcast/floorplans/geometry.hpp"
+#include "floorcast/floorplans/raster.hpp"
+#include "floorcast/sim/random.hpp"
+
+namespace floorcast {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+constexpr int kTile = 16;  // tiles of kTile x kTile pixels: one Embree stream each
+
+/// Everything stage 1 (ray casting) needs for one view.
+struct ViewJob {
+  int view_index = 0;
+  Eigen::Matrix3f R_world_camera;
+  Eigen::Vector3f origin_world_m;
+  cv::Mat clean;    ///< CV_32F z-depth after glass effects, before sensor noise; 0 = none
+  cv::Mat cos_inc;  ///< CV_32F |cos| of the incidence angle at the returned surface
+  cv::Mat glass;    ///< CV_8U 255 where glass affected the value
+  cv::Mat first;    ///< CV_32F first-surface depth (only with keep_true_depth)
+};
+
+struct Tracer {
+  const RayScene& scene;
+  const SensorParams& sensor;
+  std::uint64_t seed;
+
+  struct Result {
+    float depth = 0.0f;
+    float cos_inc = 0.0f;
+    bool glass = false;
+  };
+
+  bool is_glass(int tri) const { return scene.mesh().labels[static_cast<std::size_t>(tri)] == MeshLabel::kGlass; }
+
+  float cos_incidence(int tri, const Eigen::Vector3f& d, float d_len) const {
+    return std::abs(scene.normals()[static_cast<std::size_t>(tri)].dot(d)) / d_len;
+  }
+
+  /// Resolves what a camera ray reports given its first hit (glass outcomes included).
+  Result resolve(const Eigen::Vector3f& o, const Eigen::Vector3f& d, const RayHit3& first, int view_index,
+                 std::uint64_t pixel) const {
+    Result r;
+    if (!first.hit()) return r;
+    const float d_len = d.norm();
+    const float t_far = static_cast<float>(sensor.max_range_m) / d_len;
+    if (!is_glass(first.triangle)) {
+      r.depth = first.t;
+      r.cos_inc = cos_incidence(first.triangle, d, d_len);
+      return finish(r, d_len);
+    }
+    r.glass = true;
+    const GlassModel& g = sensor.glass;
+    const CounterRng view_rng(seed, kRngGlass, static_cast<std::uint64_t>(view_index));
+    float t = first.t;
+    int tri = first.triangle;
+    const float eps = 1e-4f / d_len;
+    for (int interaction = 0;; ++interaction) {
+      const int part = scene.mesh().part_ids[static_cast<std::size_t>(tri)];
+      const CounterRng rng = g.per_pixel ? view_rng.child((std::uint64_t{1} << 40) + pixel)
+                                         : view_rng.child(static_cast<std::uint64_t>(part + 1));
+      const double u = rng.uniform(static_cast<std::uint64_t>(interaction));
+      if (interaction >= g.max_interactions) {  // seen through enough panes: this one returns
+        r.depth = t;
+        r.cos_inc = cos_incidence(tri, d, d_len);
+        return finish(r, d_len);
+      }
+      if (u < g.p_see_through) {
+        // Continue behind the pane: skip faces we leave (the pane's back face), stop at the next
+        // surface we enter.
+        Ray3 ray{o, d, t + eps, t_far};
+        RayHit3 h;
+        for (int guard = 0; guard < 64; ++guard) {
+          h = scene.intersect(ray);
+          if (!h.hit()) break;
+          const bool leaving = scene.normals()[static_cast<std::size_t>(h.triangle)].dot(d) > 0.0f;
+          if (leaving && is_glass(h.triangle)) {
+            ray.t_near = h.t + eps;
+            continue;
+          }
+          break;
+        }
+        if (!h.hit()) return r;  // nothing behind within range: no return
+        t = h.t;
+        tri = h.triangle;
+        if (is_glass(tri)) continue;  // another pane: decide again
+        r.depth = t;
+        r.cos_inc = cos_incidence(tri, d, d_len);
+        return finish(r, d_len);
+      }
+      if (u < g.p_see_through + g.p_reflect) {
+        // Mirror reflection: the sensor reports the total path length along the original ray.
+        const Eigen::Vector3f n = scene.normals()[static_cast<std::size_t>(tri)];
+        const Eigen::Vector3f p = o + t * d + 1e-4f * (n.dot(d) < 0.0f ? n : -n);
+        const Eigen::Vector3f refl = d - 2.0f * d.dot(n) * n;
+        Ray3 ray{p, refl, 0.0f, t_far - t};
+        const RayHit3 h = scene.intersect(ray);
+        if (!h.hit()) return r;
+        r.depth = t + h.t;
+        r.cos_inc = cos_incidence(h.triangle, refl, d_len);
+        return finish(r, d_len);
+      }
+      r.depth = t;  // the glass itself returns
+      r.cos_inc = cos_incidence(tri, d, d_len);
+      return finish(r, d_len);
+    }
+  }
+
+  /// Applies the minimum range (the maximum is enforced by every ray's t_far).
+  Result finish(Result r, float d_len) const {
+    const double range = static_cast<double>(r.depth) * d_len;
+    if (range < sensor.min_range_m) {
+      r.depth = 0.0f;
+      r.cos_inc = 0.0f;
+    }
+    return r;
+  }
+};
+
+void trace_views(const RayScene& scene, const ScanParams& params, const CameraIntrinsics& K,
+                 std::vector<ViewJob>& jobs, bool keep_first) {
+  const int W = K.width_px, H = K.height_px;
+  const int tiles_x = (W + kTile - 1) / kTile, tiles_y = (H + kTile - 1) / kTile;
+  const int tiles_per_view = tiles_x * tiles_y;
+  const int total = tiles_per_view * static_cast<int>(jobs.size());
+  const bool jitter = params.sensor.kind == SensorKind::kLidar && params.sensor.lidar.lateral_sigma_px > 0.0;
+  const double jitter_sigma = params.sensor.lidar.lateral_sigma_px;
+  const Tracer tracer{scene, params.sensor, params.seed};
+  const float fx = static_cast<float>(K.fx_px), fy = static_cast<float>(K.fy_px);
+  const float cx = static_cast<float>(K.cx_px), cy = static_cast<float>(K.cy_px);
+  const float max_range = static_cast<float>(params.sensor.max_range_m);
+
+  tbb::parallel_for(tbb::blocked_range<int>(0, total, 1), [&](const tbb::blocked_range<int>& range) {
+    Ray3 rays[kTile * kTile];
+    RayHit3 hits[kTile * kTile];
+    int px_u[kTile * kTile], px_v[kTile * kTile];
+    for (int tile = range.begin(); tile != range.end(); ++tile) {
+      ViewJob& job = jobs[static_cast<std::size_t>(tile / tiles_per_view)];
+      const int local = tile % tiles_per_view;
+      const int u0 = (local % tiles_x) * kTile, v0 = (local / tiles_x) * kTile;
+      const int u1 = std::min(u0 + kTile, W), v1 = std::min(v0 + kTile, H);
+      const CounterRng jitter_rng(params.seed, kRngPixelJitter, static_cast<std::uint64_t>(job.view_index));
+      int n = 0;
+      for (int v = v0; v < v1; ++v) {
+        for (int u = u0; u < u1; ++u) {
+          float fu = static_cast<float>(u), fv = static_cast<float>(v);
+          if (jitter) {
+            const CounterRng rng = jitter_rng.child(static_cast<std::uint64_t>(v) * W + u);
+            fu += static_cast<float>(jitter_sigma * rng.normal(0));
+            fv += static_cast<float>(jitter_sigma * rng.normal(1));
+          }
+          const Eigen::Vector3f dc((fu - cx) / fx, (fv - cy) / fy, 1.0f);
+          Ray3& ray = rays[n];
+          ray.origin_m = job.origin_world_m;
+          ray.direction = job.R_world_camera * dc;
+          ray.t_near = 0.0f;
+          ray.t_far = max_range / dc.norm();
+          px_u[n] = u;
+          px_v[n] = v;
+          ++n;
+        }
+      }
+      scene.intersect_stream(rays, hits, static_cast<std::size_t>(n), true);
+      for (int i = 0; i < n; ++i) {
+        const int u = px_u[i], v = px_v[i];
+        const std::uint64_t pixel = static_cast<std::uint64_t>(v) * W + u;
+        const Tracer::Result r = tracer.resolve(rays[i].origin_m, rays[i].direction, hits[i], job.view_index, pixel);
+        job.clean.at<float>(v, u) = r.depth;
+        job.cos_inc.at<float>(v, u) = r.cos_inc;
+        job.glass.at<unsigned char>(v, u) = r.glass ? 255 : 0;
+        if (keep_first) {
+          float f = hits[i].hit() ? hits[i].t : 0.0f;
+          const double range_m = static_cast<double>(f) * rays[i].direction.norm();
+          if (range_m < params.sensor.min_range_m) f = 0.0f;
+          job.first.at<float>(v, u) = f;
+        }
+      }
+    }
+  });
+}
+
+/// Largest relative depth jump to a valid neighbour within `width` pixels along the image axes;
+/// outputs that neighbour's depth.
+inline float max_edge_jump(const cv::Mat& depth, int u, int v, int width, float& other) {
+  const float z = depth.at<float>(v, u);
+  float best = 0.0f;
+  other = z;
+  for (int k = 1; k <= width; ++k) {
+    const int cand[4][2] = {{u - k, v}, {u + k, v}, {u, v - k}, {u, v + k}};
+    for (const auto& c : cand) {
+      if (c[0] < 0 || c[1] < 0 || c[0] >= depth.cols || c[1] >= depth.rows) continue;
+      const float q = depth.at<float>(c[1], c[0]);
+      if (q <= 0.0f) continue;
+      const float rel = std::abs(q - z) / std::min(q, z);
+      if (rel > best) {
+        best = rel;
+        other = q;
+      }
+    }
+  }
+  return best;
+}
+
+/// Whether any 4-neighbour is missing or differs by more than `threshold` (relative).
+inline bool next_to_edge(const cv::Mat& depth, int u, int v, float threshold) {
+  const float z = depth.at<float>(v, u);
+  const int cand[4][2] = {{u - 1, v}, {u + 1, v}, {u, v - 1}, {u, v + 1}};
+  for (const auto& c : cand) {
+    if (c[0] < 0 || c[1] < 0 || c[0] >= depth.cols || c[1] >= depth.rows) continue;
+    const float q = depth.at<float>(c[1], c[0]);
+    if (q <= 0.0f) return true;
+    if (std::abs(q - z) > threshold * std::min(q, z)) return true;
+  }
+  return false;
+}
+
+void apply_lidar(const ScanParams& params, const CameraIntrinsics& K, const ViewJob& job, DepthView& out) {
+  const LidarModel& m = params.sensor.lidar;
+  const int W = K.width_px, H = K.height_px;
+  out.depth_m = cv::Mat::zeros(H, W, CV_32F);
+  out.confidence = cv::Mat::zeros(H, W, CV_8U);
+  const CounterRng view_rng(params.seed, kRngPixelNoise, static_cast<std::uint64_t>(job.view_index));
+  const double cos_grazing = std::cos(m.grazing_start_deg * kDeg);
+  const double cos_medium = std::cos(m.medium_incidence_deg * kDeg);
+  const double cos_low = std::cos(m.low_incidence_deg * kDeg);
+  const double max_range = params.sensor.max_range_m;
+  tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+    for (int v = rows.begin(); v != rows.end(); ++v) {
+      for (int u = 0; u < W; ++u) {
+        const float z = job.clean.at<float>(v, u);
+        if (z <= 0.0f) continue;
+        const CounterRng rng = view_rng.child(static_cast<std::uint64_t>(v) * W + u);
+        const double c = job.cos_inc.at<float>(v, u);
+        double p_drop = m.dropout_prob;
+        if (c < cos_grazing) {
+          const double angle = std::acos(std::clamp(c, 0.0, 1.0)) / kDeg;
+          p_drop += m.grazing_dropout_prob * (angle - m.grazing_start_deg) / std::max(1e-9, 90.0 - m.grazing_start_deg);
+        }
+        if (rng.uniform(0) < p_drop) continue;
+        const double sigma = m.sigma_base_m + m.sigma_quad_per_m * (z - m.sigma_z0_m) * (z - m.sigma_z0_m);
+        const double zn = z + sigma * rng.normal(1);
+        if (zn <= 0.0) continue;
+        out.depth_m.at<float>(v, u) = static_cast<float>(zn);
+        const double xn = (u - K.cx_px) / K.fx_px, yn = (v - K.cy_px) / K.fy_px;
+        const double range_frac = z * std::sqrt(xn * xn + yn * yn + 1.0) / max_range;
+        unsigned char conf = 2;
+        if (c < cos_medium || range_frac > m.medium_range_fraction ||
+            next_to_edge(job.clean, u, v, static_cast<float>(m.edge_threshold_rel))) {
+          conf = 1;
+        }
+        if (job.glass.at<unsigned char>(v, u) || c < cos_low || range_frac > m.low_range_fraction) conf = 0;
+        out.confidence.at<unsigned char>(v, u) = conf;
+      }
+    }
+  });
+}
+
+double mono_view_scale(const ScanParams& params, int view_index) {
+  const CounterRng rng(params.seed, kRngViewScale, static_cast<std::uint64_t>(view_index));
+  return std::exp(params.sensor.mono.scale_sigma_ln * rng.normal(0));
+}
+
+void apply_mono(const ScanParams& params, const CameraIntrinsics& K, const ViewJob& job, double scale,
+                DepthView& out) {
+  const MonoModel& m = params.sensor.mono;
+  const int W = K.width_px, H = K.height_px;
+  // Low-frequency warp: zero-mean (in log) random grid, exponentiated, bicubically upsampled.
+  cv::Mat grid(m.warp_grid_y, m.warp_grid_x, CV_32F);
+  {
+    const CounterRng rng(params.seed, kRngViewWarp, static_cast<std::uint64_t>(job.view_index));
+    double mean = 0.0;
+    std::vector<double> g(static_cast<std::size_t>(m.warp_grid_x * m.warp_grid_y));
+    for (std::size_t j = 0; j < g.size(); ++j) {
+      g[j] = m.warp_sigma_ln * rng.normal(j);
+      mean += g[j];
+    }
+    mean /= static_cast<double>(g.size());
+    for (int r = 0; r < m.warp_grid_y; ++r)
+      for (int c = 0; c < m.warp_grid_x; ++c)
+        grid.at<float>(r, c) = static_cast<float>(std::exp(g[static_cast<std::size_t>(r * m.warp_grid_x + c)] - mean));
+  }
+  cv::Mat warp;
+  cv::resize(grid, warp, cv::Size(W, H), 0.0, 0.0, cv::INTER_CUBIC);
+
+  out.depth_m = cv::Mat::zeros(H, W, CV_32F);
+  const CounterRng view_rng(params.seed, kRngPixelNoise, static_cast<std::uint64_t>(job.view_index));
+  const float threshold = static_cast<float>(m.edge_threshold_rel);
+  tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+    for (int v = rows.begin(); v != rows.end(); ++v) {
+      const float* clean = job.clean.ptr<float>(v);
+      const float* wp = warp.ptr<float>(v);
+      float* dst = out.depth_m.ptr<float>(v);
+      for (int u = 0; u < W; ++u) {
+        const float z = clean[u];
+        if (z <= 0.0f) continue;
+        const CounterRng rng = view_rng.child(static_cast<std::uint64_t>(v) * W + u);
+        double zf = z;
+        if (m.flying_pixel_prob > 0.0) {
+          float other = z;
+          if (max_edge_jump(job.clean, u, v, m.flying_pixel_width_px, other) > threshold &&
+              rng.uniform(0) < m.flying_pixel_prob) {
+            zf = z + rng.uniform(1) * (other - z);
+          }
+        }
+        const double noisy = scale * wp[u] * zf * (1.0 + m.noise_sigma_rel * rng.normal(2));
+        dst[u] = noisy > 0.0 ? static_cast<float>(noisy) : 0.0f;
+      }
+    }
+  });
+}
+
+Eigen::Isometry3d tracker_pose(const ScanParams& params, int view_index, const Eigen::Isometry3d& T_true) {
+  const TrackerModel& t = params.sensor.tracker;
+  if (t.rotation_sigma_deg <= 0.0 && t.translation_sigma_m <= 0.0) return T_true;
+  const CounterRng rng(params.seed, kRngTracker, static_cast<std::uint64_t>(view_index));
+  const Eigen::Vector3d w(rng.normal(0), rng.normal(1), rng.normal(2));
+  const Eigen::Vector3d dt(rng.normal(3), rng.normal(4), rng.normal(5));
+  const Eigen::Vector3d rot = t.rotation_sigma_deg * kDeg * w;
+  Eigen::Isometry3d T = T_true;
+  if (rot.norm() > 0.0) T.linear() = T_true.linear() * Eigen::AngleAxisd(rot.norm(), rot.normalized()).toRotationMatrix();
+  T.translation() += t.translation_sigma_m * dt;
+  return T;
+}
+
+}  // namespace
+
+CameraIntrinsics view_intrinsics(const ScanGeometry& g) {
+  CameraIntrinsics K;
+  K.width_px = g.width_px;
+  K.height_px = g.height_px;
+  K.fx_px = 0.5 * g.width_px / std::tan(0.5 * g.hfov_deg * kDeg);
+  K.fy_px = K.fx_px;
+  K.cx_px = 0.5 * (g.width_px - 1);
+  K.cy_px = 0.5 * (g.height_px - 1);
+  return K;
+}
+
+Eigen::Isometry3d view_pose(const ScanGeometry& g, int view_index) {
+  const double yaw = view_index * g.view_step_deg * kDeg;
+  const double pitch = g.pitch_deg * kDeg;
+  const Eigen::Vector3d f(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch));
+  const Eigen::Vector3d r(std::sin(yaw), -std::cos(yaw), 0.0);
+  const Eigen::Vector3d d = f.cross(r);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear().col(0) = r;
+  T.linear().col(1) = d;
+  T.linear().col(2) = f;
+  T.translation() = g.rotation_radius_m * Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0.0);
+  return T;
+}
+
+Eigen::Isometry3d scan_frame_in_world(const Pose2& T_world_scan, double camera_height_m) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(T_world_scan.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(T_world_scan.x_m, T_world_scan.y_m, camera_height_m);
+  return T;
+}
+
+Scan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, const ScanParams& params,
+                   const SimulationOptions& options) {
+  validate_scan_params(params);
+  if (!std::isfinite(T_world_scan.x_m) || !std::isfinite(T_world_scan.y_m) || !std::isfinite(T_world_scan.yaw_rad)) {
+    throw InputError("scan pose must be finite");
+  }
+  const ScanGeometry& g = params.geometry;
+  const CameraIntrinsics K = view_intrinsics(g);
+  const Eigen::Isometry3d T_world_scan3 = scan_frame_in_world(T_world_scan, g.camera_height_m);
+  const std::vector<int> kept = setting_views(g, params.setting, params.center_view);
+
+  std::vector<ViewJob> jobs(kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    ViewJob& job = jobs[k];
+    job.view_index = kept[k];
+    const Eigen::Isometry3d T_world_camera = T_world_scan3 * view_pose(g, kept[k]);
+    job.R_world_camera = T_world_camera.linear().cast<float>();
+    job.origin_world_m = T_world_camera.translation().cast<float>();
+    job.clean = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
+    job.cos_inc = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
+    job.glass = cv::Mat::zeros(K.height_px, K.width_px, CV_8U);
+    if (options.keep_true_depth) job.first = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
+  }
+  trace_views(scene, params, K, jobs, options.keep_true_depth);
+
+  Scan scan;
+  scan.sensor = params.preset;
+  scan.setting = scan_setting_name(params.setting);
+  scan.params = params;
+  scan.truth.T_world_scan = T_world_scan;
+  scan.truth.camera_height_m = g.camera_height_m;
+  for (ViewJob& job : jobs) {
+    DepthView view;
+    view.intrinsics = K;
+    view.view_index = job.view_index;
+    const Eigen::Isometry3d T_true = view_pose(g, job.view_index);
+    view.T_scan_camera = tracker_pose(params, job.view_index, T_true);
+    view.glass_mask = job.glass;
+    double scale = 1.0;
+    switch (params.sensor.kind) {
+      case SensorKind::kPerfect:
+        view.depth_m = job.clean;
+        break;
+      case SensorKind::kLidar:
+        apply_lidar(params, K, job, view);
+        break;
+      case SensorKind::kMono:
+        scale = mono_view_scale(params, job.view_index);
+        apply_mono(params, K, job, scale, view);
+        break;
+    }
+    scan.truth.T_scan_camera_true.push_back(T_true);
+    scan.truth.view_depth_scale.push_back(scale);
+    if (options.keep_true_depth) scan.truth.depth_m.push_back(job.first);
+    scan.views.push_back(std::move(view));
+  }
+  return scan;
+}
+
+void check_observer_pose(const FloorPlan& plan, const Pose2& pose, const std::string& source) {
+  const Vec2 p = pose.position_m();
+  std::ostringstream where;
+  where << source << ": pose (" << p.x() << ", " << p.y() << ")";
+  if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(pose.yaw_rad)) {
+    throw InputError(where.str() + ": not finite");
+  }
+  // Inside anything standing on the floor?
+  BlockingOptions solid;
+  solid.closed_doors_block = true;
+  solid.open_doors_block = false;
+  solid.glass_blocks = true;
+  solid.obstacles_block = true;
+  solid.cut_height_m = 0.01;
+  for (const Footprint& f : blocking_footprints(plan, solid)) {
+    if (!point_in_convex_polygon(f.polygon_m, p)) continue;
+    std::string what;
+    if (f.label == SurfaceLabel::kObstacle) {
+      what = "obstacle \"" + plan.obstacles[static_cast<std::size_t>(f.source_index)].id + "\"";
+    } else {
+      const Wall& w = plan.walls[static_cast<std::size_t>(f.source_index)];
+      what = (f.label == SurfaceLabel::kDoorClosed ? "the closed door in wall \"" : "wall \"") + w.id + "\"";
+    }
+    throw InputError(where.str() + " is inside " + what);
+  }
+  // Inside the building: near an interior cell reachable without crossing the closed envelope.
+  const double res = 0.1;
+  const GridSpec grid = grid_for_plan(plan, res, 1.0);
+  const cv::Mat valid = valid_area_mask(plan, grid, 0.5);
+  BlockingOptions envelope;
+  envelope.open_doors_block = true;
+  envelope.cut_height_m = 1.0;
+  std::vector<LabeledSegment> walls = blocking_outline(plan, envelope);
+  int row = 0, col = 0;
+  bool inside = false;
+  if (grid.world_to_cell(p, row, col)) {
+    const int reach = 4;
+    for (int dr = -reach; dr <= reach && !inside; ++dr) {
+      for (int dc = -reach; dc <= reach && !inside; ++dc) {
+        const int r = row + dr, c = col + dc;
+        if (!grid.contains(r, c) || !valid.at<unsigned char>(r, c)) continue;
+        const Vec2 q = grid.cell_center_m(r, c);
+        const Vec2 dir = q - p;
+        const double len = dir.norm();
+        bool crosses = false;
+        if (len > 1e-12) {
+          for (const LabeledSegment& s : walls) {
+            const double t = ray_segment_distance(p, dir / len, s.segment_m);
+            if (t >= 0.0 && t <= len) {
+              crosses = true;
+              break;
+            }
+          }
+        }
+        inside = !crosses;
+      }
+    }
+  }
+  if (!inside) throw InputError(where.str() + " is outside the building");
+}
+
+}  // namespace floorcast
