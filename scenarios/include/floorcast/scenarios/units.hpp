@@ -1,0 +1,71 @@
+// Work units of a scenario run and their results. A unit is one observation point of one
+// building in one sweep cell: simulate -> observe -> match (every matcher) -> errors.
+#pragma once
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "floorcast/floorplans/types.hpp"
+#include "floorcast/scenarios/scenario.hpp"
+
+namespace floorcast {
+
+struct WorkUnit {
+  int cell = 0;
+  int building = 0;
+  int point = 0;
+  std::string id;  ///< "<cell id>/<building label>/<point, 4 digits>"
+};
+
+/// All units in their canonical order (cell, building, point).
+std::vector<WorkUnit> enumerate_units(const Scenario& scenario);
+
+/// `--shard I/N`: unit k of the canonical order belongs to shard k mod N (I in [0, N)).
+struct ShardSpec {
+  int index = 0;
+  int count = 1;
+};
+/// Parses "I/N"; throws InputError on anything else.
+ShardSpec parse_shard(const std::string& text);
+std::vector<WorkUnit> select_shard(const std::vector<WorkUnit>& units, const ShardSpec& shard);
+
+struct PoseEstimate {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double yaw_rad = 0.0;
+  double score = 0.0;
+  double position_error_m = 0.0;
+  double yaw_error_deg = 0.0;
+};
+
+/// One matcher's outcome on one unit.
+struct MatcherOutcome {
+  std::string label;
+  bool ok = true;              ///< false: the method produced no estimate (reason in `failure`)
+  std::string failure;
+  PoseEstimate estimate;       ///< argmax
+  std::vector<PoseEstimate> top_k;
+  double match_s = 0.0;        ///< timing (excluded from result comparisons)
+};
+
+struct UnitResult {
+  WorkUnit unit;
+  Pose2 truth;
+  /// Observation summary (segment count, ray count, diagnostics of the observation module).
+  nlohmann::ordered_json observation = nlohmann::ordered_json::object();
+  bool observation_ok = true;
+  std::string observation_failure;
+  std::vector<MatcherOutcome> outcomes;
+  /// Stage timings in seconds: simulate, observe, match (sum over matchers).
+  std::map<std::string, double> timings_s;
+};
+
+/// JSON form of a unit result. Timings live under "timings" only, so comparing results without
+/// timings is `strip_timings(a) == strip_timings(b)`.
+nlohmann::ordered_json unit_to_json(const UnitResult& result);
+UnitResult unit_from_json(const nlohmann::json& json, const std::string& source);
+nlohmann::ordered_json strip_timings(nlohmann::ordered_json unit_json);
+
+}  // namespace floorcast

@@ -1,0 +1,318 @@
+#include "floorcast/scenarios/report.hpp"
+
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "floorcast/eval/plot.hpp"
+
+namespace floorcast {
+namespace {
+
+using OJson = nlohmann::ordered_json;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+OJson finite_or_null(double v) { return std::isfinite(v) ? OJson(v) : OJson(nullptr); }
+
+std::string axis_value_text(const OJson& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
+
+std::string cell_title(const CellSpec& cell) {
+  if (cell.axes.empty()) return cell.id;
+  std::string t = cell.id + " (";
+  bool first = true;
+  for (auto it = cell.axes.begin(); it != cell.axes.end(); ++it) {
+    t += (first ? "" : ", ") + it.key() + " = " + axis_value_text(it.value());
+    first = false;
+  }
+  return t + ")";
+}
+
+std::string pct(const MetricValue& v) {
+  if (!std::isfinite(v.value)) return "n/a";
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(1) << 100.0 * v.value;
+  if (v.has_ci) os << " [" << 100.0 * v.ci_low << ", " << 100.0 * v.ci_high << "]";
+  return os.str();
+}
+
+std::string num(double v, int decimals) {
+  if (!std::isfinite(v)) return "n/a";
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(decimals) << v;
+  return os.str();
+}
+
+std::string csv_escape(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+OJson summary_json(const Summary& s) {
+  OJson j;
+  j["count"] = s.count;
+  OJson ci = OJson::object();
+  for (const std::string& name : s.order) {
+    const MetricValue& v = s.values.at(name);
+    j[name] = finite_or_null(v.value);
+    if (v.has_ci) ci[name] = {finite_or_null(v.ci_low), finite_or_null(v.ci_high)};
+  }
+  j["ci95"] = ci;
+  return j;
+}
+
+}  // namespace
+
+std::vector<SingleShotRecord> records_for(const std::vector<const UnitResult*>& units, const std::string& label) {
+  std::vector<SingleShotRecord> out;
+  for (const UnitResult* u : units) {
+    SingleShotRecord r;
+    r.position_error_m = kInf;
+    r.yaw_error_deg = 180.0;
+    for (const MatcherOutcome& o : u->outcomes) {
+      if (o.label != label) continue;
+      r.time_s = o.match_s;
+      if (!o.ok) break;
+      r.position_error_m = o.estimate.position_error_m;
+      r.yaw_error_deg = o.estimate.yaw_error_deg;
+      for (const PoseEstimate& p : o.top_k) {
+        r.top_k_position_error_m.push_back(p.position_error_m);
+        r.top_k_yaw_error_deg.push_back(p.yaw_error_deg);
+      }
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+Report build_report(const Scenario& scenario, const std::vector<UnitResult>& units, const OJson& timing) {
+  const std::vector<WorkUnit> expected = enumerate_units(scenario);
+  std::map<std::string, const UnitResult*> by_id;
+  for (const UnitResult& u : units) by_id[u.unit.id] = &u;
+  std::size_t missing = 0;
+  for (const WorkUnit& w : expected) missing += by_id.count(w.id) ? 0 : 1;
+  if (missing > 0) {
+    throw InputError("scenario \"" + scenario.name + "\": " + std::to_string(missing) + " of " +
+                     std::to_string(expected.size()) + " work units have no result; refusing to report partial results");
+  }
+
+  std::vector<std::string> labels;
+  for (const MatcherSpec& m : scenario.cells.front().matchers) labels.push_back(m.label);
+
+  Report rep;
+  OJson& sum = rep.summary;
+  sum["scenario"] = scenario.name;
+  sum["hash"] = scenario.hash;
+  sum["complete"] = true;
+  sum["units"] = expected.size();
+  sum["timing"] = timing;
+  sum["matchers"] = labels;
+  sum["cells"] = OJson::array();
+
+  std::ostringstream md;
+  md << "# " << scenario.name << "\n\n";
+  if (!scenario.description.empty()) md << scenario.description << "\n\n";
+  md << "Scenario hash `" << scenario.hash << "`, " << expected.size() << " work units ("
+     << scenario.cells.size() << " cells x " << scenario.buildings.size() << " buildings x "
+     << scenario.sampling.count << " points). Recalls in percent with bootstrap 95% intervals.\n\n";
+
+  std::map<std::string, std::map<std::string, std::vector<double>>> cdf_by_cell;  // cell -> label -> errors
+  // Pooled per axis value for accuracy-vs-axis plots: key -> value text -> label -> records.
+  std::map<std::string, std::map<std::string, std::map<std::string, std::vector<SingleShotRecord>>>> per_axis;
+  std::map<std::string, std::vector<std::string>> axis_order;
+
+  const ScoringParams& sp = scenario.scoring;
+  const std::string combined = "recall_" + threshold_name(sp.combined_threshold_m) + "_" +
+                               [&] { std::ostringstream o; o << std::setprecision(6) << sp.combined_threshold_deg; return o.str(); }() + "deg";
+  const std::string topk = "top" + std::to_string(sp.top_k) + "_recall_" + threshold_name(sp.combined_threshold_m);
+
+  std::ostringstream overview;
+  for (const CellSpec& cell : scenario.cells) {
+    std::vector<const UnitResult*> cell_units;
+    for (const WorkUnit& w : expected)
+      if (w.cell == cell.index) cell_units.push_back(by_id.at(w.id));
+    OJson cj;
+    cj["id"] = cell.id;
+    cj["axes"] = cell.axes;
+    OJson groups;
+    std::map<std::string, std::map<std::string, Summary>> summaries;  // group -> label -> summary
+    std::vector<std::string> group_names = {"all"};
+    for (const BuildingSpec& b : scenario.buildings) group_names.push_back(b.label);
+    for (const std::string& g : group_names) {
+      std::vector<const UnitResult*> members;
+      for (const UnitResult* u : cell_units)
+        if (g == "all" || scenario.buildings[static_cast<std::size_t>(u->unit.building)].label == g) members.push_back(u);
+      OJson gj;
+      for (const std::string& label : labels) {
+        const std::vector<SingleShotRecord> recs = records_for(members, label);
+        const Summary s = summarize_single_shot(recs, sp);
+        summaries[g][label] = s;
+        gj[label] = summary_json(s);
+        if (g == "all") {
+          for (const auto& r : recs) cdf_by_cell[cell.id][label].push_back(r.position_error_m);
+          for (auto it = cell.axes.begin(); it != cell.axes.end(); ++it) {
+            const std::string vt = axis_value_text(it.value());
+            auto& order = axis_order[it.key()];
+            if (std::find(order.begin(), order.end(), vt) == order.end()) order.push_back(vt);
+            auto& bucket = per_axis[it.key()][vt][label];
+            bucket.insert(bucket.end(), recs.begin(), recs.end());
+          }
+        }
+      }
+      groups[g] = gj;
+    }
+    cj["groups"] = groups;
+    // Mean stage timings over the cell.
+    std::map<std::string, double> stage_sum;
+    for (const UnitResult* u : cell_units)
+      for (const auto& [k, v] : u->timings_s) stage_sum[k] += v;
+    OJson tj = OJson::object();
+    for (const auto& [k, v] : stage_sum) tj[k] = v / std::max<std::size_t>(cell_units.size(), 1);
+    cj["timing_mean_s"] = tj;
+    int failed_obs = 0;
+    for (const UnitResult* u : cell_units) failed_obs += u->observation_ok ? 0 : 1;
+    cj["failed_observations"] = failed_obs;
+    sum["cells"].push_back(cj);
+
+    // Markdown: the PALMS+ Table 1 layout for this cell.
+    md << "## " << cell_title(cell) << "\n\n";
+    md << "| method |";
+    for (double t : sp.recall_thresholds_m) md << " @" << threshold_name(t) << " |";
+    md << " @" << threshold_name(sp.combined_threshold_m) << " " << sp.combined_threshold_deg << "° | top-" << sp.top_k
+       << " @" << threshold_name(sp.combined_threshold_m) << " | median error (m) | median yaw error (°) | time / obs (s) |\n";
+    md << "|---|";
+    for (std::size_t i = 0; i < sp.recall_thresholds_m.size() + 5; ++i) md << "---|";
+    md << "\n";
+    for (const std::string& label : labels) {
+      const Summary& s = summaries["all"][label];
+      md << "| " << label << " |";
+      for (double t : sp.recall_thresholds_m) md << " " << pct(s.values.at("recall_" + threshold_name(t))) << " |";
+      md << " " << pct(s.values.at(combined)) << " | " << pct(s.values.at(topk)) << " | "
+         << num(s.values.at("median_position_error_m").value, 2) << " | " << num(s.values.at("median_yaw_error_deg").value, 1)
+         << " | " << num(s.values.at("mean_time_s").value, 3) << " |\n";
+    }
+    for (const PaperReference& ref : scenario.paper) {
+      if (!ref.cell.empty() && ref.cell != cell.id) continue;
+      auto paper_value = [&ref](const std::string& metric, bool percent, int decimals) {
+        auto it = ref.values.find(metric);
+        if (it == ref.values.end()) return std::string("–");
+        return percent ? num(100.0 * it->second, 1) : num(it->second, decimals);
+      };
+      md << "| *" << ref.label << "* |";
+      for (double t : sp.recall_thresholds_m) md << " " << paper_value("recall_" + threshold_name(t), true, 1) << " |";
+      md << " " << paper_value(combined, true, 1) << " | " << paper_value(topk, true, 1) << " | "
+         << paper_value("median_position_error_m", false, 2) << " | " << paper_value("median_yaw_error_deg", false, 1) << " | "
+         << paper_value("mean_time_s", false, 3) << " |\n";
+    }
+    for (const PaperReference& ref : scenario.paper)
+      if ((ref.cell.empty() || ref.cell == cell.id) && !ref.source.empty()) md << "\n*" << ref.label << "*: " << ref.source << ".";
+    if (!scenario.paper.empty()) md << "\n";
+    if (scenario.buildings.size() > 1) {
+      md << "\nPer building, @" << threshold_name(sp.combined_threshold_m) << " " << sp.combined_threshold_deg << "°:\n\n| building |";
+      for (const std::string& label : labels) md << " " << label << " |";
+      md << "\n|---|";
+      for (std::size_t i = 0; i < labels.size(); ++i) md << "---|";
+      md << "\n";
+      for (const BuildingSpec& b : scenario.buildings) {
+        md << "| " << b.label << " |";
+        for (const std::string& label : labels) md << " " << pct(summaries[b.label][label].values.at(combined)) << " |";
+        md << "\n";
+      }
+    }
+    if (failed_obs > 0) md << "\n" << failed_obs << " observation(s) failed and count as misses.\n";
+    md << "\n";
+
+    overview << "| " << cell.id << " |";
+    for (auto it = cell.axes.begin(); it != cell.axes.end(); ++it) overview << " " << axis_value_text(it.value()) << " |";
+    for (const std::string& label : labels) overview << " " << pct(summaries["all"][label].values.at(combined)) << " |";
+    overview << "\n";
+  }
+
+  if (scenario.cells.size() > 1) {
+    md << "## Sweep overview (@" << threshold_name(sp.combined_threshold_m) << " " << sp.combined_threshold_deg << "°)\n\n| cell |";
+    for (const std::string& k : scenario.sweep_keys) md << " " << k << " |";
+    for (const std::string& label : labels) md << " " << label << " |";
+    md << "\n|---|";
+    for (std::size_t i = 0; i < scenario.sweep_keys.size() + labels.size(); ++i) md << "---|";
+    md << "\n" << overview.str() << "\n";
+  }
+  rep.summary_md = md.str();
+
+  // observations.csv: one row per work unit.
+  std::ostringstream csv;
+  csv << "unit,cell";
+  for (const std::string& k : scenario.sweep_keys) csv << "," << csv_escape(k);
+  csv << ",building,point,truth_x_m,truth_y_m,truth_yaw_deg,observation_ok,simulate_s,observe_s";
+  for (const std::string& label : labels)
+    csv << "," << label << "_ok," << label << "_x_m," << label << "_y_m," << label << "_yaw_deg," << label
+        << "_position_error_m," << label << "_yaw_error_deg," << label << "_best_top" << sp.top_k << "_error_m," << label
+        << "_match_s";
+  csv << "\n";
+  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  for (const WorkUnit& w : expected) {
+    const UnitResult& u = *by_id.at(w.id);
+    const CellSpec& cell = scenario.cells[static_cast<std::size_t>(w.cell)];
+    csv << w.id << "," << cell.id;
+    for (const std::string& k : scenario.sweep_keys) csv << "," << csv_escape(cell.axes.contains(k) ? axis_value_text(cell.axes[k]) : "");
+    csv << "," << scenario.buildings[static_cast<std::size_t>(w.building)].label << "," << w.point << "," << u.truth.x_m << ","
+        << u.truth.y_m << "," << u.truth.yaw_rad * kDeg << "," << (u.observation_ok ? 1 : 0) << ","
+        << (u.timings_s.count("simulate") ? u.timings_s.at("simulate") : 0.0) << ","
+        << (u.timings_s.count("observe") ? u.timings_s.at("observe") : 0.0);
+    for (const std::string& label : labels) {
+      const MatcherOutcome* o = nullptr;
+      for (const MatcherOutcome& m : u.outcomes)
+        if (m.label == label) o = &m;
+      if (!o || !o->ok) {
+        csv << ",0,,,,,,," << (o ? o->match_s : 0.0);
+        continue;
+      }
+      double best = kInf;
+      for (int i = 0; i < std::min<int>(sp.top_k, static_cast<int>(o->top_k.size())); ++i)
+        best = std::min(best, o->top_k[static_cast<std::size_t>(i)].position_error_m);
+      csv << ",1," << o->estimate.x_m << "," << o->estimate.y_m << "," << o->estimate.yaw_rad * kDeg << ","
+          << o->estimate.position_error_m << "," << o->estimate.yaw_error_deg << "," << (std::isfinite(best) ? best : o->estimate.position_error_m)
+          << "," << o->match_s;
+    }
+    csv << "\n";
+  }
+  rep.observations_csv = csv.str();
+
+  // Plots.
+  for (const CellSpec& cell : scenario.cells) {
+    const LinePlot p = error_cdf_plot(cdf_by_cell[cell.id], 10.0, "Position error CDF, " + cell_title(cell), "position error [m]");
+    rep.plots.emplace_back("error_cdf_" + cell.id + ".png", draw_line_plot(p));
+  }
+  for (const auto& [key, values] : per_axis) {
+    LinePlot p;
+    p.title = "Recall " + combined.substr(7) + " vs " + key;
+    p.x_label = key;
+    p.y_label = "recall";
+    p.y_min = 0.0;
+    p.y_max = 1.0;
+    p.draw_markers = true;
+    p.x_categories = axis_order[key];
+    ScoringParams no_ci = sp;
+    no_ci.bootstrap_resamples = 0;
+    for (const std::string& label : labels) {
+      PlotSeries s;
+      s.label = label;
+      for (std::size_t i = 0; i < p.x_categories.size(); ++i) {
+        const auto& recs = values.at(p.x_categories[i]).at(label);
+        s.x.push_back(static_cast<double>(i));
+        s.y.push_back(summarize_single_shot(recs, no_ci).values.at(combined).value);
+      }
+      p.series.push_back(std::move(s));
+    }
+    std::string file = "accuracy_vs_" + key + ".png";
+    for (char& c : file)
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-')) c = '_';
+    rep.plots.emplace_back(file, draw_line_plot(p));
+  }
+  return rep;
+}
+
+}  // namespace floorcast

@@ -1,0 +1,171 @@
+#include <gtest/gtest.h>
+
+#include "floorcast/floorplans/types.hpp"
+#include "floorcast/scenarios/scenario.hpp"
+
+namespace floorcast {
+namespace {
+
+const std::string kRoot = FLOORCAST_SOURCE_DIR;
+
+Scenario parse(const std::string& yaml) { return parse_scenario(yaml, "s.yaml", kRoot, kRoot); }
+
+std::string error_of(const std::string& yaml) {
+  try {
+    (void)parse(yaml);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+const char* kMinimal = R"(
+name: tiny
+buildings: [floorplans/buildings/two_rooms.json]
+matchers:
+  kernel: {matcher: kernel}
+)";
+
+TEST(ScenarioParse, MinimalScenarioGetsEveryDefault) {
+  const Scenario s = parse(kMinimal);
+  EXPECT_EQ(s.name, "tiny");
+  ASSERT_EQ(s.buildings.size(), 1u);
+  EXPECT_EQ(s.buildings[0].label, "two_rooms");
+  ASSERT_EQ(s.cells.size(), 1u);
+  EXPECT_EQ(s.cells[0].id, "c000");
+  EXPECT_EQ(s.cells[0].observation.source, "perfect");
+  EXPECT_DOUBLE_EQ(s.cells[0].observation.max_range_m, 10.0);
+  EXPECT_EQ(s.sampling.count, 20);
+  const auto& r = s.resolved;
+  EXPECT_EQ(r["cells"][0]["observation"]["rays"], 36);
+  EXPECT_EQ(r["scoring"]["top_k"], 5);
+  EXPECT_EQ(s.hash.size(), 16u);
+  EXPECT_EQ(parse(kMinimal).hash, s.hash);
+}
+
+TEST(ScenarioParse, SweepFormsACartesianProductWithZippedAxes) {
+  const Scenario s = parse(R"(
+buildings:
+  - floorplans/buildings/two_rooms.json
+  - {generate: office, seed: 3}
+observation: {source: scan}
+matchers:
+  kernel: {matcher: kernel, orientations: palms+}
+  ray: {matcher: ray}
+sweep:
+  - observation.setting: [full, partial, single]
+  - {observation.sensor: [lidar, mono], observation.path: [lidar, mono]}
+  - matchers.kernel.alpha: [1, 10]
+)");
+  ASSERT_EQ(s.cells.size(), 12u);
+  EXPECT_EQ(s.buildings[1].label, "office_3");
+  // First axis slowest, last fastest.
+  EXPECT_EQ(s.cells[0].observation.setting, "full");
+  EXPECT_EQ(s.cells[0].observation.sensor, "lidar");
+  EXPECT_EQ(s.cells[0].observation.path, "lidar");
+  EXPECT_EQ(s.cells[1].matchers[0].params["alpha"], 10);
+  EXPECT_EQ(s.cells[2].observation.sensor, "mono");
+  EXPECT_EQ(s.cells[2].observation.path, "mono");
+  EXPECT_EQ(s.cells[11].observation.setting, "single");
+  EXPECT_EQ(s.cells[11].axes["observation.setting"], "single");
+  EXPECT_EQ(s.cells[5].matchers[0].params["orientations"], "palms+");  // base value kept
+  EXPECT_EQ(s.sweep_keys.size(), 4u);
+}
+
+TEST(ScenarioParse, ErrorsNameLineAndKey) {
+  EXPECT_NE(error_of(std::string(kMinimal) + "matcherz: 1\n").find("s.yaml:6:1: matcherz: unknown key"), std::string::npos)
+      << error_of(std::string(kMinimal) + "matcherz: 1\n");
+  const std::string bad_type = R"(
+buildings: [floorplans/buildings/two_rooms.json]
+sampling:
+  count: many
+matchers: {kernel: {matcher: kernel}}
+)";
+  EXPECT_NE(error_of(bad_type).find("s.yaml:4:3: sampling.count: must be an integer"), std::string::npos) << error_of(bad_type);
+  const std::string bad_range = R"(
+buildings: [floorplans/buildings/two_rooms.json]
+sampling: {count: -3}
+matchers: {kernel: {matcher: kernel}}
+)";
+  EXPECT_NE(error_of(bad_range).find("sampling.count: must be in [1"), std::string::npos) << error_of(bad_range);
+  const std::string missing_file = R"(
+buildings: [floorplans/buildings/nowhere.json]
+matchers: {kernel: {matcher: kernel}}
+)";
+  EXPECT_NE(error_of(missing_file).find("s.yaml:2:13: buildings[0]: plan file \"floorplans/buildings/nowhere.json\" not found"),
+            std::string::npos)
+      << error_of(missing_file);
+  const std::string bad_choice = R"(
+buildings: [floorplans/buildings/two_rooms.json]
+observation: {setting: half}
+matchers: {kernel: {matcher: kernel}}
+)";
+  EXPECT_NE(error_of(bad_choice).find("observation.setting: must be one of full, partial, single"), std::string::npos);
+  const std::string bad_sweep = R"(
+buildings: [floorplans/buildings/two_rooms.json]
+matchers: {kernel: {matcher: kernel}}
+sweep:
+  observation.setting: [full, sideways]
+)";
+  EXPECT_NE(error_of(bad_sweep).find("(sweep cell c001)"), std::string::npos) << error_of(bad_sweep);
+  const std::string sweep_unknown_matcher = R"(
+buildings: [floorplans/buildings/two_rooms.json]
+matchers: {kernel: {matcher: kernel}}
+sweep:
+  matchers.kernal.alpha: [1, 2]
+)";
+  EXPECT_NE(error_of(sweep_unknown_matcher).find("no matcher labelled \"kernal\""), std::string::npos);
+  const std::string zipped_mismatch = R"(
+buildings: [floorplans/buildings/two_rooms.json]
+matchers: {kernel: {matcher: kernel}}
+sweep:
+  - {observation.sensor: [lidar, mono], observation.path: [lidar]}
+)";
+  EXPECT_NE(error_of(zipped_mismatch).find("same number of values"), std::string::npos);
+  EXPECT_NE(error_of("buildings: [a, b\n").find("malformed YAML"), std::string::npos);
+  const std::string dup_label = R"(
+buildings: [floorplans/buildings/two_rooms.json, floorplans/buildings/two_rooms.json]
+matchers: {kernel: {matcher: kernel}}
+)";
+  EXPECT_NE(error_of(dup_label).find("duplicate building label"), std::string::npos);
+  EXPECT_NE(error_of("buildings: [floorplans/buildings/two_rooms.json]\n").find("matchers: missing required key"),
+            std::string::npos);
+}
+
+TEST(ScenarioParse, QuotedScalarsStayStrings) {
+  const Scenario s = parse(R"(
+name: "123"
+buildings: [floorplans/buildings/two_rooms.json]
+matchers: {kernel: {matcher: kernel, tag: "10"}}
+)");
+  EXPECT_EQ(s.name, "123");
+  EXPECT_TRUE(s.cells[0].matchers[0].params["tag"].is_string());
+}
+
+}  // namespace
+}  // namespace floorcast
+
+namespace floorcast {
+namespace {
+
+TEST(ScenarioParse, ResolvedFormRoundTripsWithTheSameHash) {
+  const Scenario s = parse(R"(
+buildings: [floorplans/buildings/two_rooms.json, {generate: campus, seed: 9}]
+observation: {source: scan, sensor_params: {scale_sigma: 0.2}}
+matchers: {kernel: {matcher: kernel, alpha: 5}, ray: {matcher: ray}}
+paper: [{label: "PALMS+ paper", source: "sec. 4.4", values: {recall_1m_30deg: 0.887}}]
+sweep: {observation.setting: [full, single]}
+)");
+  const nlohmann::json written = nlohmann::json::parse(s.resolved.dump());
+  const Scenario back = scenario_from_resolved(written, "resolved.json");
+  EXPECT_EQ(back.hash, s.hash);
+  ASSERT_EQ(back.cells.size(), 2u);
+  EXPECT_EQ(back.cells[1].observation.setting, "single");
+  EXPECT_EQ(back.cells[0].matchers[0].params["alpha"], 5);
+  EXPECT_EQ(back.buildings[1].archetype, "campus");
+  EXPECT_EQ(back.paper.at(0).values.at("recall_1m_30deg"), 0.887);
+  EXPECT_EQ(back.sweep_keys, s.sweep_keys);
+}
+
+}  // namespace
+}  // namespace floorcast
