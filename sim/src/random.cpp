@@ -5,27 +5,6 @@
 #include <cmath>
 
 namespace floorcast {
-namespace {
-
-constexpr int kTableCells = 1 << 14;
-
-/// Quantile values at u_k = k / kTableCells, k = 0..kTableCells; the two ends are clamped.
-struct QuantileTable {
-  std::array<double, kTableCells + 1> z{};
-  QuantileTable() {
-    for (int k = 0; k <= kTableCells; ++k) {
-      const double u = std::clamp(static_cast<double>(k) / kTableCells, 3.17e-5, 1.0 - 3.17e-5);
-      z[static_cast<std::size_t>(k)] = normal_quantile(u);
-    }
-  }
-};
-
-const QuantileTable& table() {
-  static const QuantileTable t;
-  return t;
-}
-
-}  // namespace
 
 double normal_quantile(double u) {
   // Acklam's rational approximation (relative error 1.15e-9) refined by one Halley step on
@@ -60,14 +39,21 @@ double normal_quantile(double u) {
   return x - g / (1.0 + 0.5 * x * g);
 }
 
-double normal_quantile_fast(double u) {
-  const QuantileTable& t = table();
-  const double s = u * kTableCells;
-  int k = static_cast<int>(s);
-  k = std::clamp(k, 0, kTableCells - 1);
-  const double f = s - k;
-  const double z0 = t.z[static_cast<std::size_t>(k)], z1 = t.z[static_cast<std::size_t>(k + 1)];
-  return z0 + f * (z1 - z0);
+namespace {
+
+std::array<double, detail::kNormalTableCells + 1> make_table() {
+  std::array<double, detail::kNormalTableCells + 1> z{};
+  for (int k = 0; k <= detail::kNormalTableCells; ++k) {
+    const double u = std::clamp(static_cast<double>(k) / detail::kNormalTableCells, 3.17e-5, 1.0 - 3.17e-5);
+    z[static_cast<std::size_t>(k)] = normal_quantile(u);
+  }
+  return z;
 }
+
+const std::array<double, detail::kNormalTableCells + 1> g_table = make_table();
+
+}  // namespace
+
+const double* const detail::normal_quantile_table = g_table.data();
 
 }  // namespace floorcast

@@ -128,18 +128,54 @@ struct Tracer {
   }
 };
 
-void trace_views(const RayScene& scene, const ScanParams& params, const CameraIntrinsics& K,
-                 std::vector<ViewJob>& jobs, bool keep_first) {
+/// Fills the camera rays of one tile (row-major inside the tile); returns their count.
+int tile_rays(const ViewJob& job, const CameraIntrinsics& K, const ScanParams& params, int tiles_x, int local,
+              Ray3* rays, int* px_u, int* px_v) {
   const int W = K.width_px, H = K.height_px;
-  const int tiles_x = (W + kTile - 1) / kTile, tiles_y = (H + kTile - 1) / kTile;
-  const int tiles_per_view = tiles_x * tiles_y;
-  const int total = tiles_per_view * static_cast<int>(jobs.size());
+  const int u0 = (local % tiles_x) * kTile, v0 = (local / tiles_x) * kTile;
+  const int u1 = std::min(u0 + kTile, W), v1 = std::min(v0 + kTile, H);
   const bool jitter = params.sensor.kind == SensorKind::kLidar && params.sensor.lidar.lateral_sigma_px > 0.0;
   const double jitter_sigma = params.sensor.lidar.lateral_sigma_px;
-  const Tracer tracer{scene, params.sensor, params.seed};
+  const CounterRng jitter_rng(params.seed, kRngPixelJitter, static_cast<std::uint64_t>(job.view_index));
   const float fx = static_cast<float>(K.fx_px), fy = static_cast<float>(K.fy_px);
   const float cx = static_cast<float>(K.cx_px), cy = static_cast<float>(K.cy_px);
   const float max_range = static_cast<float>(params.sensor.max_range_m);
+  int n = 0;
+  for (int v = v0; v < v1; ++v) {
+    for (int u = u0; u < u1; ++u) {
+      float fu = static_cast<float>(u), fv = static_cast<float>(v);
+      if (jitter) {
+        const CounterRng rng = jitter_rng.child(static_cast<std::uint64_t>(v) * W + u);
+        fu += static_cast<float>(jitter_sigma * rng.normal(0));
+        fv += static_cast<float>(jitter_sigma * rng.normal(1));
+      }
+      const Eigen::Vector3f dc((fu - cx) / fx, (fv - cy) / fy, 1.0f);
+      Ray3& ray = rays[n];
+      ray.origin_m = job.origin_world_m;
+      ray.direction = job.R_world_camera * dc;
+      ray.t_near = 0.0f;
+      ray.t_far = max_range / dc.norm();
+      px_u[n] = u;
+      px_v[n] = v;
+      ++n;
+    }
+  }
+  return n;
+}
+
+void trace_views(const RayScene& scene, const ScanParams& params, const CameraIntrinsics& K,
+                 std::vector<ViewJob>& jobs, bool keep_first) {
+  const int W = K.width_px;
+  const int tiles_x = (W + kTile - 1) / kTile, tiles_y = (K.height_px + kTile - 1) / kTile;
+  const int tiles_per_view = tiles_x * tiles_y;
+  const int total = tiles_per_view * static_cast<int>(jobs.size());
+  const Tracer tracer{scene, params.sensor, params.seed};
+  const bool glass_effects = params.sensor.glass.p_see_through > 0.0 || params.sensor.glass.p_reflect > 0.0;
+  const std::vector<MeshLabel>& labels = scene.mesh().labels;
+  const bool need_incidence = params.sensor.kind == SensorKind::kLidar;
+  // Camera rays start at the camera centre; only a minimum range above the closest possible
+  // surface needs checking per pixel.
+  const bool need_min_range = params.sensor.min_range_m > 0.0;
 
   tbb::parallel_for(tbb::blocked_range<int>(0, total, 1), [&](const tbb::blocked_range<int>& range) {
     Ray3 rays[kTile * kTile];
@@ -147,43 +183,33 @@ void trace_views(const RayScene& scene, const ScanParams& params, const CameraIn
     int px_u[kTile * kTile], px_v[kTile * kTile];
     for (int tile = range.begin(); tile != range.end(); ++tile) {
       ViewJob& job = jobs[static_cast<std::size_t>(tile / tiles_per_view)];
-      const int local = tile % tiles_per_view;
-      const int u0 = (local % tiles_x) * kTile, v0 = (local / tiles_x) * kTile;
-      const int u1 = std::min(u0 + kTile, W), v1 = std::min(v0 + kTile, H);
-      const CounterRng jitter_rng(params.seed, kRngPixelJitter, static_cast<std::uint64_t>(job.view_index));
-      int n = 0;
-      for (int v = v0; v < v1; ++v) {
-        for (int u = u0; u < u1; ++u) {
-          float fu = static_cast<float>(u), fv = static_cast<float>(v);
-          if (jitter) {
-            const CounterRng rng = jitter_rng.child(static_cast<std::uint64_t>(v) * W + u);
-            fu += static_cast<float>(jitter_sigma * rng.normal(0));
-            fv += static_cast<float>(jitter_sigma * rng.normal(1));
-          }
-          const Eigen::Vector3f dc((fu - cx) / fx, (fv - cy) / fy, 1.0f);
-          Ray3& ray = rays[n];
-          ray.origin_m = job.origin_world_m;
-          ray.direction = job.R_world_camera * dc;
-          ray.t_near = 0.0f;
-          ray.t_far = max_range / dc.norm();
-          px_u[n] = u;
-          px_v[n] = v;
-          ++n;
-        }
-      }
+      const int n = tile_rays(job, K, params, tiles_x, tile % tiles_per_view, rays, px_u, px_v);
       scene.intersect_stream(rays, hits, static_cast<std::size_t>(n), true);
       for (int i = 0; i < n; ++i) {
         const int u = px_u[i], v = px_v[i];
-        const std::uint64_t pixel = static_cast<std::uint64_t>(v) * W + u;
-        const Tracer::Result r = tracer.resolve(rays[i].origin_m, rays[i].direction, hits[i], job.view_index, pixel);
-        job.clean.at<float>(v, u) = r.depth;
-        job.cos_inc.at<float>(v, u) = r.cos_inc;
-        job.glass.at<unsigned char>(v, u) = r.glass ? 255 : 0;
+        Tracer::Result r;
+        const RayHit3& h = hits[i];
+        if (h.hit() && (!glass_effects || labels[static_cast<std::size_t>(h.triangle)] != MeshLabel::kGlass)) {
+          // Fast path: an opaque surface (or glass that always returns).
+          r.depth = h.t;
+          r.glass = labels[static_cast<std::size_t>(h.triangle)] == MeshLabel::kGlass;
+          if (need_incidence || need_min_range) {
+            const float d_len = rays[i].direction.norm();
+            if (need_incidence) r.cos_inc = tracer.cos_incidence(h.triangle, rays[i].direction, d_len);
+            if (need_min_range) r = tracer.finish(r, d_len);
+          }
+        } else if (h.hit()) {
+          const std::uint64_t pixel = static_cast<std::uint64_t>(v) * W + u;
+          r = tracer.resolve(rays[i].origin_m, rays[i].direction, h, job.view_index, pixel);
+        }
+        job.clean.ptr<float>(v)[u] = r.depth;
+        if (need_incidence) job.cos_inc.ptr<float>(v)[u] = r.cos_inc;
+        job.glass.ptr<unsigned char>(v)[u] = r.glass ? 255 : 0;
         if (keep_first) {
-          float f = hits[i].hit() ? hits[i].t : 0.0f;
+          float f = h.hit() ? h.t : 0.0f;
           const double range_m = static_cast<double>(f) * rays[i].direction.norm();
           if (range_m < params.sensor.min_range_m) f = 0.0f;
-          job.first.at<float>(v, u) = f;
+          job.first.ptr<float>(v)[u] = f;
         }
       }
     }
@@ -192,17 +218,19 @@ void trace_views(const RayScene& scene, const ScanParams& params, const CameraIn
 
 /// Largest relative depth jump to a valid neighbour within `width` pixels along the image axes;
 /// outputs that neighbour's depth.
-inline float max_edge_jump(const cv::Mat& depth, int u, int v, int width, float& other) {
-  const float z = depth.at<float>(v, u);
+inline float max_edge_jump(const cv::Mat& depth, int u, int v, int width, float threshold, float& other) {
+  const float z = depth.ptr<float>(v)[u];
   float best = 0.0f;
   other = z;
   for (int k = 1; k <= width; ++k) {
     const int cand[4][2] = {{u - k, v}, {u + k, v}, {u, v - k}, {u, v + k}};
     for (const auto& c : cand) {
       if (c[0] < 0 || c[1] < 0 || c[0] >= depth.cols || c[1] >= depth.rows) continue;
-      const float q = depth.at<float>(c[1], c[0]);
+      const float q = depth.ptr<float>(c[1])[c[0]];
       if (q <= 0.0f) continue;
-      const float rel = std::abs(q - z) / std::min(q, z);
+      const float diff = std::abs(q - z), lo = std::min(q, z);
+      if (diff <= threshold * lo) continue;  // not an edge: skip the division
+      const float rel = diff / lo;
       if (rel > best) {
         best = rel;
         other = q;
@@ -308,7 +336,7 @@ void apply_mono(const ScanParams& params, const CameraIntrinsics& K, const ViewJ
         double zf = z;
         if (m.flying_pixel_prob > 0.0) {
           float other = z;
-          if (max_edge_jump(job.clean, u, v, m.flying_pixel_width_px, other) > threshold &&
+          if (max_edge_jump(job.clean, u, v, m.flying_pixel_width_px, threshold, other) > threshold &&
               rng.uniform(0) < m.flying_pixel_prob) {
             zf = z + rng.uniform(1) * (other - z);
           }
@@ -331,6 +359,27 @@ Eigen::Isometry3d tracker_pose(const ScanParams& params, int view_index, const E
   if (rot.norm() > 0.0) T.linear() = T_true.linear() * Eigen::AngleAxisd(rot.norm(), rot.normalized()).toRotationMatrix();
   T.translation() += t.translation_sigma_m * dt;
   return T;
+}
+
+std::vector<ViewJob> make_jobs(const Pose2& T_world_scan, const ScanParams& params, const CameraIntrinsics& K,
+                               bool buffers, bool keep_first) {
+  const ScanGeometry& g = params.geometry;
+  const Eigen::Isometry3d T_world_scan3 = scan_frame_in_world(T_world_scan, g.camera_height_m);
+  const std::vector<int> kept = setting_views(g, params.setting, params.center_view);
+  std::vector<ViewJob> jobs(kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    ViewJob& job = jobs[k];
+    job.view_index = kept[k];
+    const Eigen::Isometry3d T_world_camera = T_world_scan3 * view_pose(g, kept[k]);
+    job.R_world_camera = T_world_camera.linear().cast<float>();
+    job.origin_world_m = T_world_camera.translation().cast<float>();
+    if (!buffers) continue;
+    job.clean = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
+    if (params.sensor.kind == SensorKind::kLidar) job.cos_inc = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
+    job.glass = cv::Mat::zeros(K.height_px, K.width_px, CV_8U);
+    if (keep_first) job.first = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
+  }
+  return jobs;
 }
 
 }  // namespace
@@ -360,6 +409,24 @@ Eigen::Isometry3d view_pose(const ScanGeometry& g, int view_index) {
   return T;
 }
 
+std::vector<Ray3> scan_camera_rays(const Pose2& T_world_scan, const ScanParams& params) {
+  validate_scan_params(params);
+  const CameraIntrinsics K = view_intrinsics(params.geometry);
+  const std::vector<ViewJob> jobs = make_jobs(T_world_scan, params, K, false, false);
+  const int tiles_x = (K.width_px + kTile - 1) / kTile, tiles_y = (K.height_px + kTile - 1) / kTile;
+  std::vector<Ray3> out;
+  out.reserve(jobs.size() * static_cast<std::size_t>(K.width_px) * static_cast<std::size_t>(K.height_px));
+  Ray3 rays[kTile * kTile];
+  int px_u[kTile * kTile], px_v[kTile * kTile];
+  for (const ViewJob& job : jobs) {
+    for (int local = 0; local < tiles_x * tiles_y; ++local) {
+      const int n = tile_rays(job, K, params, tiles_x, local, rays, px_u, px_v);
+      out.insert(out.end(), rays, rays + n);
+    }
+  }
+  return out;
+}
+
 Eigen::Isometry3d scan_frame_in_world(const Pose2& T_world_scan, double camera_height_m) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(T_world_scan.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -375,21 +442,7 @@ Scan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, const ScanP
   }
   const ScanGeometry& g = params.geometry;
   const CameraIntrinsics K = view_intrinsics(g);
-  const Eigen::Isometry3d T_world_scan3 = scan_frame_in_world(T_world_scan, g.camera_height_m);
-  const std::vector<int> kept = setting_views(g, params.setting, params.center_view);
-
-  std::vector<ViewJob> jobs(kept.size());
-  for (std::size_t k = 0; k < kept.size(); ++k) {
-    ViewJob& job = jobs[k];
-    job.view_index = kept[k];
-    const Eigen::Isometry3d T_world_camera = T_world_scan3 * view_pose(g, kept[k]);
-    job.R_world_camera = T_world_camera.linear().cast<float>();
-    job.origin_world_m = T_world_camera.translation().cast<float>();
-    job.clean = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
-    job.cos_inc = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
-    job.glass = cv::Mat::zeros(K.height_px, K.width_px, CV_8U);
-    if (options.keep_true_depth) job.first = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
-  }
+  std::vector<ViewJob> jobs = make_jobs(T_world_scan, params, K, true, options.keep_true_depth);
   trace_views(scene, params, K, jobs, options.keep_true_depth);
 
   Scan scan;

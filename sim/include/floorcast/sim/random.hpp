@@ -18,10 +18,24 @@ inline std::uint64_t mix64(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
+namespace detail {
+constexpr int kNormalTableCells = 1 << 14;
+/// Phi^-1 at u_k = k / kNormalTableCells (k = 0..cells), ends clamped; filled at static
+/// initialisation (random.cpp).
+extern const double* const normal_quantile_table;
+}  // namespace detail
+
 /// Standard normal quantile Phi^-1(u) for u in (0, 1) via a precomputed table with linear
 /// interpolation (2^14 cells; |error| < 1e-5 for |z| < 2.5, coarser in the far tails, which are
 /// clamped at |z| = 4.0; the variance is within 1e-4 of 1).
-double normal_quantile_fast(double u);
+inline double normal_quantile_fast(double u) {
+  const double s = u * detail::kNormalTableCells;
+  int k = static_cast<int>(s);
+  k = k < 0 ? 0 : (k > detail::kNormalTableCells - 1 ? detail::kNormalTableCells - 1 : k);
+  const double f = s - k;
+  const double z0 = detail::normal_quantile_table[k], z1 = detail::normal_quantile_table[k + 1];
+  return z0 + f * (z1 - z0);
+}
 
 /// Exact (double precision) standard normal quantile, for tests and table construction.
 double normal_quantile(double u);

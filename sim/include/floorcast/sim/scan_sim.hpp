@@ -31,6 +31,10 @@ Eigen::Isometry3d view_pose(const ScanGeometry& geometry, int view_index);
 /// The scan frame in the world: translation (x, y, camera height), rotation yaw about +z.
 Eigen::Isometry3d scan_frame_in_world(const Pose2& T_world_scan, double camera_height_m);
 
+/// The camera rays a scan casts (world frame, t in units of z-depth), view by view in the
+/// renderer's tile order (16 x 16 pixel tiles, row-major inside each). For benchmarks and tests.
+std::vector<Ray3> scan_camera_rays(const Pose2& T_world_scan, const ScanParams& params);
+
 /// Simulates a scan at T_world_scan. Validates params (InputError). The pose itself is not
 /// checked here (see check_observer_pose).
 Scan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, const ScanParams& params,

@@ -1,0 +1,235 @@
+// `floorcast sim scan|perfect|extrude`: simulated scans, perfect observations, 3D buildings.
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "cli_common.hpp"
+#include "floorcast/floorplans/io.hpp"
+#include "floorcast/sim/clutter.hpp"
+#include "floorcast/sim/gltf_io.hpp"
+#include "floorcast/sim/mesh.hpp"
+#include "floorcast/sim/observation_io.hpp"
+#include "floorcast/sim/perfect_observation.hpp"
+#include "floorcast/sim/scan_io.hpp"
+#include "floorcast/sim/scan_sim.hpp"
+
+namespace floorcast::cli {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Parses "X,Y,YAW_DEG" (metres, metres, degrees).
+Pose2 parse_pose(const std::string& text) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    std::size_t used = 0;
+    double x = 0.0;
+    try {
+      x = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
+    if (item.empty() || used != item.size() || !std::isfinite(x)) {
+      throw InputError("--pose \"" + text + "\": \"" + item + "\" is not a finite number (expected X,Y,YAW_DEG)");
+    }
+    v.push_back(x);
+  }
+  if (v.size() != 3 || (!text.empty() && text.back() == ',')) {
+    throw InputError("--pose \"" + text + "\": expected three numbers X,Y,YAW_DEG");
+  }
+  return {v[0], v[1], v[2] * kPi / 180.0};
+}
+
+std::string format_pose(const Pose2& p) {
+  std::ostringstream s;
+  s << std::setprecision(10) << p.x_m << "," << p.y_m << "," << p.yaw_rad * 180.0 / kPi;
+  return s.str();
+}
+
+/// Options shared by the commands that build a 3D building.
+struct BuildingOptions {
+  double wall_height_m = ExtrusionParams{}.wall_height_m;
+  double door_height_m = ExtrusionParams{}.door_height_m;
+  double clutter_density = 0.0;
+  std::uint64_t clutter_seed = 0;
+};
+
+void add_building_options(CLI::App* cmd, BuildingOptions& o) {
+  cmd->add_option("--wall-height", o.wall_height_m, "Wall (ceiling) height, metres")
+      ->capture_default_str()
+      ->check(CLI::Range(0.5, 100.0));
+  cmd->add_option("--door-height", o.door_height_m, "Door height (lintel underside), metres")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 100.0));
+  cmd->add_option("--clutter", o.clutter_density, "Clutter density in [0, 1] (0 = none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+}
+
+FloorPlan plan_with_clutter(const FloorPlan& plan, const BuildingOptions& o, const std::vector<Vec2>& keep_clear) {
+  if (o.clutter_density <= 0.0) return plan;
+  ClutterParams cp;
+  cp.density = o.clutter_density;
+  cp.seed = o.clutter_seed;
+  cp.keep_clear_m = keep_clear;
+  return with_clutter(plan, cp);
+}
+
+ExtrusionParams extrusion(const BuildingOptions& o) {
+  ExtrusionParams e;
+  e.wall_height_m = o.wall_height_m;
+  e.door_height_m = o.door_height_m;
+  return e;
+}
+
+void register_sim(CLI::App& root) {
+  CLI::App& sim = group(root, "sim", "Simulator: rotating scans, perfect observations, 3D buildings");
+
+  // ---- sim scan ----
+  struct ScanOptions {
+    std::string plan, pose, sensor = "mono", setting = "full", out;
+    int center_view = 0;
+    std::uint64_t seed = 0;
+    double max_range_m = -1.0, scale_sigma = -1.0;
+    BuildingOptions building;
+  };
+  auto so = std::make_shared<ScanOptions>();
+  auto* scan = sim.add_subcommand("scan", "Simulate a rotating scan and write a scan folder");
+  scan->add_option("PLAN", so->plan, "Floor-plan JSON")->required();
+  scan->add_option("--pose", so->pose, "Observer pose X,Y,YAW_DEG (metres, degrees)")->required();
+  scan->add_option("--sensor", so->sensor, "Preset: perfect, lidar, mono, phone")
+      ->capture_default_str()
+      ->check(CLI::IsMember(scan_preset_names()));
+  scan->add_option("--setting", so->setting, "full, partial (3 views) or single (1 view)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"full", "partial", "single"}));
+  scan->add_option("--center-view", so->center_view, "View the partial/single settings keep")->capture_default_str();
+  scan->add_option("--seed", so->seed, "Random seed (sensor noise, clutter)")->capture_default_str();
+  scan->add_option("--max-range", so->max_range_m, "Override the preset's maximum range, metres");
+  scan->add_option("--scale-sigma", so->scale_sigma, "Override the mono per-view log scale sigma");
+  add_building_options(scan, so->building);
+  scan->add_option("-o,--output", so->out, "Output scan folder")->required();
+  scan->callback([so] {
+    const auto t0 = std::chrono::steady_clock::now();
+    const FloorPlan plan = load_floor_plan(so->plan);
+    const Pose2 pose = parse_pose(so->pose);
+    ScanParams params = scan_preset(so->sensor);
+    parse_scan_setting(so->setting, params.setting);
+    params.center_view = so->center_view;
+    params.seed = so->seed;
+    if (so->max_range_m >= 0.0) params.sensor.max_range_m = so->max_range_m;
+    if (so->scale_sigma >= 0.0) params.sensor.mono.scale_sigma_ln = so->scale_sigma;
+    validate_scan_params(params);
+    BuildingOptions b = so->building;
+    b.clutter_seed = so->seed;
+    const FloorPlan full = plan_with_clutter(plan, b, {pose.position_m()});
+    check_observer_pose(full, pose, so->plan);
+    const RayScene scene(extrude_plan(full, extrusion(b)));
+    const auto t1 = std::chrono::steady_clock::now();
+    const Scan s = simulate_scan(scene, pose, params);
+    const auto t2 = std::chrono::steady_clock::now();
+    save_scan(so->out, s);
+    long returns = 0, pixels = 0, glass = 0;
+    for (const DepthView& v : s.views) {
+      returns += cv::countNonZero(v.depth_m > 0.0f);
+      glass += cv::countNonZero(v.glass_mask);
+      pixels += static_cast<long>(v.depth_m.total());
+    }
+    std::cout << std::fixed << std::setprecision(1) << "scan: " << s.views.size() << " views ("
+              << params.geometry.width_px << "x" << params.geometry.height_px << ", " << so->sensor << ", "
+              << so->setting << ") at " << format_pose(pose) << ": " << 100.0 * returns / std::max(1L, pixels)
+              << "% returns, " << 100.0 * glass / std::max(1L, pixels) << "% glass-affected; "
+              << (full.obstacles.size() - plan.obstacles.size()) << " clutter items; scene "
+              << std::chrono::duration<double, std::milli>(t1 - t0).count() << " ms, render "
+              << std::chrono::duration<double, std::milli>(t2 - t1).count() << " ms -> " << so->out << "\n";
+  });
+
+  // ---- sim perfect ----
+  struct PerfectOptions {
+    std::string plan, pose, out;
+    int rays = PerfectObservationParams{}.num_rays;
+    double range_m = PerfectObservationParams{}.max_range_m;
+    bool doors_open = false;
+  };
+  auto po = std::make_shared<PerfectOptions>();
+  auto* perfect = sim.add_subcommand("perfect", "Exact 2D observation (visible wall segments, ray ranges) as JSON");
+  perfect->add_option("PLAN", po->plan, "Floor-plan JSON")->required();
+  perfect->add_option("--pose", po->pose, "Observer pose X,Y,YAW_DEG (metres, degrees)")->required();
+  perfect->add_option("--rays", po->rays, "Equiangular rays (F3Loc: 36 or 180; 0 = none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100000));
+  perfect->add_option("--range", po->range_m, "Maximum range, metres")->capture_default_str()->check(CLI::Range(0.01, 1e4));
+  perfect->add_flag("--doors-open", po->doors_open, "Open doors stay open (default: all doors closed, PALMS+ 4.4)");
+  perfect->add_option("-o,--output", po->out, "Output folder (writes observation.json)")->required();
+  perfect->callback([po] {
+    const FloorPlan plan = load_floor_plan(po->plan);
+    const Pose2 pose = parse_pose(po->pose);
+    check_observer_pose(plan, pose, po->plan);
+    PerfectObservationParams params;
+    params.num_rays = po->rays;
+    params.max_range_m = po->range_m;
+    params.doors_closed = !po->doors_open;
+    const PerfectObserver observer(plan, params);
+    ObservationRecord rec;
+    rec.observation = observer.observe(pose);
+    for (const LabeledSegment& s : observer.visible_world_segments(pose.position_m())) rec.segment_labels.push_back(s.label);
+    if (rec.segment_labels.size() != rec.observation.segments_m.size()) rec.segment_labels.clear();
+    rec.source = "perfect";
+    rec.T_world_observer = pose;
+    rec.metadata["plan"] = po->plan;
+    rec.metadata["doors_closed"] = params.doors_closed ? "true" : "false";
+    rec.metadata["cut_height_m"] = std::to_string(params.cut_height_m);
+    ensure_directory(po->out);
+    const std::string path = po->out + "/observation.json";
+    save_observation(path, rec);
+    std::cout << "perfect: " << rec.observation.segments_m.size() << " visible segments, "
+              << rec.observation.ray_ranges_m.size() << " rays within " << params.max_range_m << " m at "
+              << format_pose(pose) << " -> " << path << "\n";
+  });
+
+  // ---- sim extrude ----
+  struct ExtrudeOptions {
+    std::string plan, out;
+    std::uint64_t seed = 0;
+    BuildingOptions building;
+  };
+  auto eo = std::make_shared<ExtrudeOptions>();
+  auto* ex = sim.add_subcommand("extrude", "Extrude a plan into a labelled 3D mesh (glTF 2.0 binary)");
+  ex->add_option("PLAN", eo->plan, "Floor-plan JSON")->required();
+  add_building_options(ex, eo->building);
+  ex->add_option("--seed", eo->seed, "Clutter seed")->capture_default_str();
+  ex->add_option("-o,--output", eo->out, "Output .glb file")->required();
+  ex->callback([eo] {
+    if (std::filesystem::path(eo->out).extension() != ".glb") {
+      throw InputError(eo->out + ": output must be a .glb file");
+    }
+    const FloorPlan plan = load_floor_plan(eo->plan);
+    BuildingOptions b = eo->building;
+    b.clutter_seed = eo->seed;
+    const FloorPlan full = plan_with_clutter(plan, b, {});
+    const Mesh mesh = extrude_plan(full, extrusion(b));
+    std::map<std::string, std::string> meta{{"plan", eo->plan},
+                                            {"wall_height_m", std::to_string(b.wall_height_m)},
+                                            {"door_height_m", std::to_string(b.door_height_m)},
+                                            {"clutter_density", std::to_string(b.clutter_density)},
+                                            {"seed", std::to_string(eo->seed)}};
+    save_mesh_glb(eo->out, mesh, meta);
+    std::cout << "extrude: " << mesh.num_triangles() << " triangles (";
+    for (int l = 0; l < kNumMeshLabels; ++l) {
+      std::cout << (l ? ", " : "") << mesh_label_name(static_cast<MeshLabel>(l)) << " "
+                << mesh.count(static_cast<MeshLabel>(l));
+    }
+    std::cout << "), " << (full.obstacles.size() - plan.obstacles.size()) << " clutter items -> " << eo->out << "\n";
+  });
+}
+
+}  // namespace
+FLOORCAST_REGISTER_COMMANDS(register_sim);
+}  // namespace floorcast::cli
