@@ -2,6 +2,7 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "floorcast/floorplans/raster.hpp"
@@ -14,6 +15,10 @@ struct PoseHypothesis {
   double y_m = 0.0;
   double yaw_rad = 0.0;
   double score = 0.0;
+  /// Where it came from in the posterior (-1 when not from a posterior cell).
+  int slice = -1;
+  int row = -1;
+  int col = -1;
 };
 
 struct Posterior {
@@ -25,10 +30,15 @@ struct Posterior {
   /// valid area. Unnormalised scores (higher is better).
   std::vector<cv::Mat> scores;
 
-  /// Best cell over all slices (ties: lowest slice, then row, then column).
+  int num_slices() const { return static_cast<int>(scores.size()); }
+
+  /// Best cell over all slices (ties: lowest slice, then row, then column). A posterior whose
+  /// scores are all zero returns score 0 at slice 0, cell (0, 0); an empty one throws.
   PoseHypothesis argmax() const;
-  /// Up to k modes by greedy non-maximum suppression: a candidate is dropped when an accepted
-  /// mode lies within min_separation_m AND within min_separation_rad of it.
+  /// Up to k modes by greedy non-maximum suppression in descending score order: a candidate is
+  /// dropped when an accepted mode lies within min_separation_m (distance <=) AND within
+  /// min_separation_rad (angular distance <=) of it. Only cells with score > 0 are modes; ties are
+  /// taken in argmax order.
   std::vector<PoseHypothesis> top_k(int k, double min_separation_m = 1.0,
                                     double min_separation_rad = 0.5235987755982988) const;
   /// Max over orientation, CV_32F.
@@ -36,6 +46,30 @@ struct Posterior {
   /// Scores divided by their total over all slices (a PDF over cells x slices); all zeros stay
   /// zeros.
   std::vector<cv::Mat> normalised_pdf() const;
+  /// Sum of all scores (double accumulation).
+  double total() const;
+  /// Throws std::invalid_argument when slices, yaws and grid disagree or a score is negative or
+  /// not finite.
+  void check() const;
 };
+
+/// Drawing options of the posterior heatmap.
+struct HeatmapStyle {
+  /// Output pixels per posterior cell; 0 picks the largest integer keeping the long side at most
+  /// max_side_px (at least 1).
+  int pixels_per_cell = 0;
+  int max_side_px = 1600;
+  /// Heat is max-over-yaw divided by its maximum, raised to this power (<1 brightens weak modes).
+  double gamma = 0.5;
+};
+
+/// The posterior's max over yaw as a colour heatmap over the plan raster (CV_8U, non-zero =
+/// wall), with the ground truth (green ring + heading) and the estimate (red cross + heading)
+/// marked when given. Returns a CV_8UC3 BGR image with +y up (row 0 is the plan's top). Pure: no
+/// file I/O. The plan raster must be on posterior.grid.
+cv::Mat render_posterior_heatmap(const Posterior& posterior, const cv::Mat& plan_raster,
+                                 const std::optional<PoseHypothesis>& truth,
+                                 const std::optional<PoseHypothesis>& estimate,
+                                 const HeatmapStyle& style = {});
 
 }  // namespace floorcast

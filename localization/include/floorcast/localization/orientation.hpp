@@ -1,0 +1,77 @@
+// Orientation candidates of the kernel matcher: which world yaws of the observer to test.
+//
+// A candidate yaw psi rotates observer-frame segments into world-aligned displacements
+// (p_world - p_observer = R(psi) p_observer_frame); psi is the observer's heading in the world.
+//
+// - palms  (PALMS sec. III-A): principal orientation of the observed segments and of the plan
+//   (modulo 90 deg), theta = the smallest rotation aligning them, candidates theta + k * 90 deg.
+// - palms+ (PALMS+ sec. 3.3 and supplementary A.1): length-weighted histograms of segment
+//   directions over [0, 180) deg (360 bins), circular cross-correlation of plan and observation
+//   histograms, greedy non-maximum suppression (radius 10 bins), the best O/2 shifts plus their
+//   180 deg complements (O = 10 stationary). Only shifts with a positive correlation count, so
+//   clean observations of a plan with few wall directions give fewer than O candidates.
+// - dense  (F3Loc-style, and PALMS as run in PALMS+ sec. 4.2): every step (10 deg).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "floorcast/floorplans/types.hpp"
+
+namespace floorcast {
+
+enum class OrientationMode { kPalms, kPalmsPlus, kDense };
+
+/// "palms", "palms+", "dense"; throws InputError for anything else.
+OrientationMode parse_orientation_mode(const std::string& name);
+std::string orientation_mode_name(OrientationMode mode);
+
+struct OrientationParams {
+  OrientationMode mode = OrientationMode::kPalmsPlus;
+  /// PALMS+ O: number of candidates (O/2 histogram peaks + their 180 deg complements); O = 10 for
+  /// stationary localization (PALMS+ sec. 3.3; configs/pp_custom_config.yaml orn_slice: 10).
+  int num_orientations = 10;
+  /// Histogram bins over [0, 180) deg (PALMS+ code: 360, i.e. 0.5 deg bins).
+  int histogram_bins = 360;
+  /// Greedy NMS radius on the circular correlation, bins (PALMS+ code: 10 bins = 5 deg).
+  int nms_radius_bins = 10;
+  /// Dense mode step (F3Loc: 36 orientations, 10 deg).
+  double dense_step_deg = 10.0;
+};
+
+/// Length-weighted histogram of segment directions folded into [0, 180) deg: bin
+/// floor(direction / (180 deg / bins)). Zero-length segments are ignored.
+std::vector<double> direction_histogram(const std::vector<Segment2>& segments, int bins);
+
+/// Circular cross-correlation c[s] = sum_k plan[(k + s) mod B] * obs[k]: how well the
+/// observation's directions, rotated by s bins, agree with the plan's.
+std::vector<double> circular_correlation(const std::vector<double>& plan_hist, const std::vector<double>& obs_hist);
+
+/// Greedy NMS on a circular signal: repeatedly the largest remaining value (ties: lowest index)
+/// whose circular distance to every accepted peak exceeds radius; at most max_peaks, only
+/// values > 0.
+std::vector<int> circular_peaks(const std::vector<double>& signal, int radius, int max_peaks);
+
+/// Principal orientation modulo 90 deg, in [0, pi/2): the mode of the length-weighted direction
+/// histogram folded to 90 deg (bins of 90/bins90 deg, smoothed circularly with a 3-bin box),
+/// refined to the length-weighted circular mean of the directions within 2.5 bins of it.
+double principal_orientation_rad(const std::vector<Segment2>& segments, int bins90 = 180);
+
+/// Candidate world yaws of the observer, in [0, 2 pi), in the order they were found (best
+/// first for palms+). plan_segments are the plan's wall surfaces (world frame), obs_segments
+/// the observation (observer frame). Plans and observations without segments give the dense set.
+std::vector<double> orientation_candidates(const OrientationParams& params, const std::vector<Segment2>& plan_segments,
+                                           const std::vector<Segment2>& obs_segments);
+
+/// Same, with the plan's histogram (palms+) / principal orientation (palms) precomputed.
+struct PlanOrientationCache {
+  std::vector<double> histogram;     ///< direction_histogram(plan, params.histogram_bins)
+  double principal_rad = 0.0;        ///< principal_orientation_rad(plan)
+  bool has_segments = false;
+};
+PlanOrientationCache make_plan_orientation_cache(const OrientationParams& params,
+                                                 const std::vector<Segment2>& plan_segments);
+std::vector<double> orientation_candidates(const OrientationParams& params, const PlanOrientationCache& plan,
+                                           const std::vector<Segment2>& obs_segments);
+
+}  // namespace floorcast

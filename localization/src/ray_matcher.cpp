@@ -1,0 +1,280 @@
+#include "floorcast/localization/ray_matcher.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include "floorcast/localization/distance_volume_io.hpp"
+#include "floorcast/localization/plan_raster.hpp"
+#include "param_json.hpp"
+
+namespace floorcast {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kPi = 3.14159265358979323846;
+
+double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+BlockingOptions blocking_of(const RayMatcherParams& p) {
+  BlockingOptions b;
+  b.closed_doors_block = true;
+  b.open_doors_block = p.doors_closed;
+  b.glass_blocks = p.glass_blocks;
+  b.obstacles_block = p.obstacles_block;
+  b.cut_height_m = p.cut_height_m;
+  return b;
+}
+
+/// Cells per tile of the scoring loop: the tile's distances (D x T uint16) and sums (D x T
+/// int32) stay in L1/L2.
+int tile_cells(int D) { return D <= 64 ? 512 : 128; }
+
+/// acc[o * stride + t] = sum_i |min(V[(o + i) mod D][first + t], clip) - rays[i]| for the
+/// T <= stride cells of one tile.
+/// The hot loop of the matcher: vectorised over cells (AVX2 clone where the CPU has it).
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void l1_tile(const std::uint16_t* volume, std::size_t N, std::size_t first, int T, int stride, int D,
+             const std::int32_t* rays_mm, std::int32_t clip_mm, std::int32_t* acc) {
+  for (int o = 0; o < D; ++o) {
+    std::int32_t* a = acc + static_cast<std::size_t>(o) * stride;
+    for (int t = 0; t < T; ++t) a[t] = 0;
+    for (int i = 0; i < D; ++i) {
+      const int d = (o + i) % D;
+      const std::uint16_t* p = volume + static_cast<std::size_t>(d) * N + first;
+      const std::int32_t r = rays_mm[i];
+      for (int t = 0; t < T; ++t) {
+        const std::int32_t v = std::min(static_cast<std::int32_t>(p[t]), clip_mm);
+        const std::int32_t diff = v - r;
+        a[t] += diff < 0 ? -diff : diff;
+      }
+    }
+  }
+}
+
+/// out[t] = exp(-acc[t] * k) for k > 0, as 2^y with y = -acc * k * log2(e): y = n + f with n an
+/// integer and f in [-1/2, 1/2], 2^f by its degree-6 Taylor polynomial (relative error < 2e-7,
+/// float precision) and 2^n put into the exponent bits, so the loop vectorises. 0 below 2^-126.
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void exp_neg_scaled(const std::int32_t* acc, int T, float k, float* out) {
+  constexpr float kLog2e = 1.4426950408889634f;
+  for (int t = 0; t < T; ++t) {
+    float y = -static_cast<float>(acc[t]) * k * kLog2e;  // <= 0
+    const bool underflow = y <= -126.0f;
+    y = underflow ? -126.0f : y;
+    const float n = std::floor(y + 0.5f);
+    const float f = y - n;
+    // sum_j (f ln 2)^j / j!
+    float p = 1.5403530e-4f;
+    p = p * f + 1.3333558e-3f;
+    p = p * f + 9.6181291e-3f;
+    p = p * f + 5.5504109e-2f;
+    p = p * f + 2.4022651e-1f;
+    p = p * f + 6.9314718e-1f;
+    p = p * f + 1.0f;
+    const std::int32_t bits = (static_cast<std::int32_t>(n) + 127) << 23;
+    float scale;
+    std::memcpy(&scale, &bits, sizeof(float));
+    out[t] = underflow ? 0.0f : p * scale;
+  }
+}
+
+std::string hex64(std::uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+std::uint64_t fnv1a(const std::string& s) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char ch : s) {
+    h ^= ch;
+    h *= 1099511628211ULL;
+  }
+  return h;
+}
+
+}  // namespace
+
+nlohmann::ordered_json RayMatcherParams::to_json() const {
+  nlohmann::ordered_json j;
+  j["resolution_m"] = resolution_m;
+  j["grid_margin_m"] = grid_margin_m;
+  j["num_directions"] = num_directions;
+  j["max_range_m"] = max_range_m;
+  j["lambda_m"] = lambda_m;
+  j["ray_source"] = ray_source;
+  j["doors_closed"] = doors_closed;
+  j["glass_blocks"] = glass_blocks;
+  j["obstacles_block"] = obstacles_block;
+  j["cut_height_m"] = cut_height_m;
+  j["cache_dir"] = cache_dir;
+  return j;
+}
+
+void RayMatcherParams::apply_overrides(const nlohmann::json& overrides) {
+  detail::ParamReader r(overrides, "matcher ray");
+  r.read("resolution_m", resolution_m, 0.01, 1.0);
+  r.read("grid_margin_m", grid_margin_m, 0.0, 100.0);
+  r.read("num_directions", num_directions, 4, 3600);
+  r.read("max_range_m", max_range_m, 0.1, 65.0);
+  r.read("lambda_m", lambda_m, 1e-6, 1e9);
+  r.read("ray_source", ray_source);
+  if (ray_source != "auto" && ray_source != "ranges" && ray_source != "segments") {
+    r.fail("ray_source", "expected auto, ranges or segments, got \"" + ray_source + "\"");
+  }
+  r.read("doors_closed", doors_closed);
+  r.read("glass_blocks", glass_blocks);
+  r.read("obstacles_block", obstacles_block);
+  r.read("cut_height_m", cut_height_m, 0.0, 100.0);
+  r.read("cache_dir", cache_dir);
+  r.finish();
+}
+
+RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params) : params_(params) {
+  const auto t0 = Clock::now();
+  const GridSpec grid = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
+  std::string cache_path, key;
+  if (!params_.cache_dir.empty()) {
+    nlohmann::ordered_json k = params_.to_json();
+    k.erase("cache_dir");
+    k.erase("lambda_m");
+    k.erase("ray_source");
+    k["plan_hash"] = hex64(plan_hash(plan));
+    k["algorithm"] = "zbuffer-parallelogram-v1";
+    key = k.dump();
+    cache_path = (std::filesystem::path(params_.cache_dir) / ("distance_volume_" + hex64(fnv1a(key)) + ".bin")).string();
+    if (auto v = load_distance_volume(cache_path, key)) {
+      volume_ = std::move(*v);
+      from_cache_ = true;
+    }
+  }
+  if (!from_cache_) {
+    const std::vector<Segment2> outline = outline_segments(blocking_outline(plan, blocking_of(params_)));
+    const cv::Mat valid = matcher_valid_mask(plan, grid, blocking_of(params_));
+    volume_ = compute_distance_volume(outline, grid, valid, params_.num_directions, params_.max_range_m);
+    if (!cache_path.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(params_.cache_dir, ec);
+      if (ec) throw InputError(params_.cache_dir + ": cannot create the cache directory: " + ec.message());
+      save_distance_volume(cache_path, volume_, key);
+    }
+  }
+  precompute_s_ = seconds(t0, Clock::now());
+}
+
+RayMatcher::~RayMatcher() = default;
+
+std::vector<double> RayMatcher::observation_rays(const Observation2D& obs) const {
+  const int D = params_.num_directions;
+  const bool have_ranges = static_cast<int>(obs.ray_ranges_m.size()) == D;
+  std::vector<double> rays;
+  if (params_.ray_source == "ranges" || (params_.ray_source == "auto" && have_ranges)) {
+    if (!have_ranges) {
+      throw InputError("matcher ray: the observation has " + std::to_string(obs.ray_ranges_m.size()) +
+                       " ray ranges but the matcher needs " + std::to_string(D) + " (ray_source \"ranges\")");
+    }
+    rays = obs.ray_ranges_m;
+  } else {
+    rays = cast_rays_on_segments(obs.segments_m, D, params_.max_range_m);
+  }
+  for (double& r : rays) {
+    if (!std::isfinite(r) || r < 0.0) throw InputError("matcher ray: observation ray range is negative or not finite");
+  }
+  return rays;
+}
+
+MatchResult RayMatcher::match(const Observation2D& obs) const {
+  const auto t0 = Clock::now();
+  MatchResult result;
+  const int D = params_.num_directions;
+  const std::vector<double> rays = observation_rays(obs);
+  // Both sides are clipped at the smaller of the volume's and the observation's range.
+  const double clip_m = std::min(volume_.max_range_m, obs.max_range_m > 0.0 ? obs.max_range_m : volume_.max_range_m);
+  const std::int32_t clip_mm = static_cast<std::int32_t>(std::lround(clip_m * 1000.0));
+  std::vector<std::int32_t> rays_mm(static_cast<std::size_t>(D));
+  for (int i = 0; i < D; ++i) {
+    rays_mm[static_cast<std::size_t>(i)] =
+        std::min(clip_mm, static_cast<std::int32_t>(std::lround(rays[static_cast<std::size_t>(i)] * 1000.0)));
+  }
+  const auto t1 = Clock::now();
+
+  Posterior& post = result.posterior;
+  post.grid = volume_.grid;
+  post.yaw_rad.resize(static_cast<std::size_t>(D));
+  post.scores.resize(static_cast<std::size_t>(D));
+  for (int o = 0; o < D; ++o) {
+    post.yaw_rad[static_cast<std::size_t>(o)] = 2.0 * kPi * o / D;
+    post.scores[static_cast<std::size_t>(o)] = cv::Mat::zeros(post.grid.height_px, post.grid.width_px, CV_32F);
+  }
+  const auto t2 = Clock::now();
+
+  const std::size_t N = volume_.num_cells();
+  const int T = tile_cells(D);
+  const std::size_t tiles = (N + static_cast<std::size_t>(T) - 1) / static_cast<std::size_t>(T);
+  const float k = static_cast<float>(1e-3 / params_.lambda_m);
+  struct Scratch {
+    std::vector<std::int32_t> acc;
+    std::vector<float> score;
+    double l1_s = 0.0, exp_s = 0.0;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  std::vector<float*> slices(static_cast<std::size_t>(D));
+  for (int o = 0; o < D; ++o) slices[static_cast<std::size_t>(o)] = post.scores[static_cast<std::size_t>(o)].ptr<float>();
+  tbb::parallel_for(std::size_t{0}, tiles, [&](std::size_t tile) {
+    Scratch& s = scratch.local();
+    s.acc.resize(static_cast<std::size_t>(D) * T);
+    s.score.resize(static_cast<std::size_t>(T));
+    const std::size_t first = tile * static_cast<std::size_t>(T);
+    const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(T), N - first));
+    const auto a = Clock::now();
+    l1_tile(volume_.mm.data(), N, first, n, T, D, rays_mm.data(), clip_mm, s.acc.data());
+    const auto b = Clock::now();
+    for (int o = 0; o < D; ++o) {
+      exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * T, n, k, s.score.data());
+      float* dst = slices[static_cast<std::size_t>(o)];
+      for (int t = 0; t < n; ++t) dst[volume_.cells[first + static_cast<std::size_t>(t)]] = s.score[static_cast<std::size_t>(t)];
+    }
+    s.l1_s += seconds(a, b);
+    s.exp_s += seconds(b, Clock::now());
+  });
+  double l1_s = 0.0, exp_s = 0.0;
+  for (const Scratch& s : scratch) {
+    l1_s += s.l1_s;
+    exp_s += s.exp_s;
+  }
+  result.stage_s["observation_rays"] = seconds(t0, t1);
+  result.stage_s["posterior_alloc"] = seconds(t1, t2);
+  // Summed over worker threads (CPU seconds).
+  result.stage_s["l1_distances"] = l1_s;
+  result.stage_s["exp_scatter"] = exp_s;
+  result.match_s = seconds(t0, Clock::now());
+  return result;
+}
+
+std::vector<double> ray_scores_reference(const DistanceVolume& v, std::size_t cell, const std::vector<double>& rays,
+                                         double clip_m, double lambda_m) {
+  const int D = v.num_directions;
+  std::vector<double> out(static_cast<std::size_t>(D));
+  for (int o = 0; o < D; ++o) {
+    double l1 = 0.0;
+    for (int i = 0; i < D; ++i) {
+      const double vm = std::min(v.range_m(cell, (o + i) % D), clip_m);
+      l1 += std::abs(vm - std::min(rays[static_cast<std::size_t>(i)], clip_m));
+    }
+    out[static_cast<std::size_t>(o)] = std::exp(-l1 / lambda_m);
+  }
+  return out;
+}
+
+}  // namespace floorcast
