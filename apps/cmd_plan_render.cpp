@@ -1,0 +1,78 @@
+// `floorcast plan render`: draw a plan to PNG or SVG (floorplans/render.hpp).
+#include <algorithm>
+#include <iostream>
+#include <memory>
+#include <opencv2/imgcodecs.hpp>
+#include <vector>
+
+#include "cli_common.hpp"
+#include "floorcast/floorplans/io.hpp"
+#include "floorcast/floorplans/render.hpp"
+
+namespace floorcast::cli {
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  const auto dot = path.find_last_of('.');
+  const auto slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot + 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+void register_plan_render(CLI::App& root) {
+  CLI::App& plan = group(root, "plan", "Floor plans: inspect, validate, import, generate, render");
+  auto* cmd = plan.add_subcommand(
+      "render", "Draw a plan as PNG or SVG: walls black, glass blue, doors (open: swing arc, closed: orange "
+                "leaf), obstacles grey, scale bar, name");
+  struct Options {
+    std::string file;
+    std::string output;
+    double px_per_m = 0.0;
+    double margin_m = 1.5;
+    bool no_obstacles = false;
+    bool no_interior = false;
+  };
+  auto opts = std::make_shared<Options>();
+  cmd->add_option("FILE", opts->file, "Floor-plan JSON")->required();
+  cmd->add_option("-o,--output", opts->output, "Output image: .png or .svg")->required();
+  cmd->add_option("--px-per-m", opts->px_per_m,
+                  "Pixels per metre (default: automatic, the longer side ~2400 px, at most 80 px/m)");
+  cmd->add_option("--margin-m", opts->margin_m, "Blank border around the plan, metres")->capture_default_str();
+  cmd->add_flag("--no-obstacles", opts->no_obstacles, "Leave out clutter obstacles");
+  cmd->add_flag("--no-interior", opts->no_interior, "Do not tint the building interior");
+  cmd->callback([opts] {
+    const std::string ext = lower_extension(opts->output);
+    if (ext != "png" && ext != "svg") {
+      throw InputError(opts->output + ": unsupported image format \"" + ext + "\" (use .png or .svg)");
+    }
+    const FloorPlan p = load_floor_plan(opts->file);
+    RenderOptions ro;
+    ro.margin_m = opts->margin_m;
+    ro.draw_obstacles = !opts->no_obstacles;
+    ro.draw_interior = !opts->no_interior;
+    if (opts->px_per_m != 0.0) {
+      ro.px_per_m = opts->px_per_m;
+    } else {
+      const Eigen::Vector4d box = drawing_extent_m(p);
+      const double extent = std::max({box[2] - box[0], box[3] - box[1], 1.0}) + 2.0 * ro.margin_m;
+      ro.px_per_m = std::clamp(std::floor(2400.0 / extent), 4.0, 80.0);
+    }
+    if (ext == "svg") {
+      write_text_file_atomic(opts->output, render_plan_svg(p, ro));
+      std::cout << "wrote " << opts->output << " (" << ro.px_per_m << " px/m)\n";
+      return;
+    }
+    const PlanImage img = render_plan(p, ro);
+    std::vector<unsigned char> png;
+    if (!cv::imencode(".png", img.bgr, png)) throw InputError(opts->output + ": PNG encoding failed");
+    write_text_file_atomic(opts->output, std::string(png.begin(), png.end()));
+    std::cout << "wrote " << opts->output << " (" << img.bgr.cols << " x " << img.bgr.rows << " px, " << ro.px_per_m
+              << " px/m)\n";
+  });
+}
+
+}  // namespace
+FLOORCAST_REGISTER_COMMANDS(register_plan_render);
+}  // namespace floorcast::cli

@@ -1,0 +1,41 @@
+// Procedural buildings: archetype names and dispatch (the archetypes live in generate_*.cpp).
+#include "floorcast/floorplans/generate.hpp"
+
+#include "floorcast/floorplans/types.hpp"
+
+namespace floorcast {
+
+const char* archetype_name(Archetype archetype) {
+  switch (archetype) {
+    case Archetype::kApartment: return "apartment";
+    case Archetype::kOffice: return "office";
+    case Archetype::kCampus: return "campus";
+    case Archetype::kAngled: return "angled";
+  }
+  return "?";
+}
+
+std::vector<Archetype> all_archetypes() {
+  return {Archetype::kApartment, Archetype::kOffice, Archetype::kCampus, Archetype::kAngled};
+}
+
+Archetype parse_archetype(const std::string& name) {
+  std::string valid;
+  for (Archetype a : all_archetypes()) {
+    if (name == archetype_name(a)) return a;
+    valid += (valid.empty() ? "" : ", ") + std::string(archetype_name(a));
+  }
+  throw InputError("unknown archetype \"" + name + "\" (valid: " + valid + ")");
+}
+
+GeneratedBuilding generate_building(Archetype archetype, std::uint64_t seed) {
+  switch (archetype) {
+    case Archetype::kApartment: return generate_apartment(seed);
+    case Archetype::kOffice: return generate_office(seed);
+    case Archetype::kCampus: return generate_campus(seed);
+    case Archetype::kAngled: return generate_angled(seed);
+  }
+  throw InputError("unknown archetype");
+}
+
+}  // namespace floorcast

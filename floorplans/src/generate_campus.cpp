@@ -1,0 +1,332 @@
+// Campus archetype: a large teaching building.
+//
+// Layout (x east, y north), all bands in metres:
+//   y: outer row S (rd) | hallway H0 (cw) | inner block 1 (2 rd) | H1 | inner block 2 (2 rd) | H2 |
+//      outer row N (rd)
+//   x: end rooms (rd) | cross hallway V0 (cw) | segment 0 | V1 | segment 1 | ... | V_n | end rooms
+// H0..H2 run the full length (exits or end windows at the facades); cross hallways V_k cross the
+// inner blocks and reach the facade through the outer rows (exits) or stop at a stairwell. Each
+// segment's strips are rows of identical module rooms facing a hallway, except the reserved
+// special rooms: lobby + atrium + cafeteria in the middle segment, lecture halls, cores (stairwell,
+// elevator, toilets) and lounge niches.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "generate_layout.hpp"
+
+namespace floorcast {
+
+using namespace generate_detail;
+
+namespace {
+
+enum Strip { kS = 0, kI1b, kI1t, kI2b, kI2t, kN, kStripCount };
+
+std::string seg_name(int j) { return "seg" + std::to_string(j); }
+
+}  // namespace
+
+GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
+  Rng rng(mix_seed(seed, 0xCA3905ULL));
+  const BuildingStyle& st = p.style;
+  Layout L(st);
+  const Frame F;  // the campus is axis aligned
+
+  const double rd = snap(rng.uniform(p.room_depth_min_m, p.room_depth_max_m), 0.1);
+  const double cw = snap(rng.uniform(p.hallway_width_min_m, p.hallway_width_max_m), 0.1);
+  const double module = snap(rng.uniform(p.module_width_min_m, p.module_width_max_m), 0.05);
+  const double target_m2 = rng.uniform(p.target_area_min_m2, p.target_area_max_m2);
+
+  // Free floor area is ~0.84 of the gross block area (walls, furniture).
+  constexpr double kFreeShare = 0.84;
+  const double depth = 6.0 * rd + 3.0 * cw;
+  const double length_goal = target_m2 / kFreeShare / depth;
+  const int nseg = std::max(
+      2, static_cast<int>(std::lround((length_goal - 2.0 * rd - cw) / (p.segment_length_m + cw))));
+  const double seg = snap((length_goal - 2.0 * rd - (nseg + 1) * cw) / nseg, 0.1);
+  std::vector<double> vx(static_cast<std::size_t>(nseg + 1));  // west x of cross hallway k
+  for (int k = 0; k <= nseg; ++k) vx[static_cast<std::size_t>(k)] = rd + k * (cw + seg);
+  const double Lx = vx.back() + cw + rd;
+
+  // y bands.
+  const std::array<double, 3> yh = {rd, 3.0 * rd + cw, 5.0 * rd + 2.0 * cw};  // south edge of H0..H2
+  const double ytop = 6.0 * rd + 3.0 * cw;
+  // Strip extents (y0, y1, facing, hallway index).
+  struct StripGeom {
+    double y0, y1;
+    int facing, hall;
+    bool outer;
+    const char* name;
+  };
+  const std::array<StripGeom, kStripCount> strips = {{
+      {0.0, rd, +1, 0, true, "S"},
+      {rd + cw, 2.0 * rd + cw, -1, 0, false, "I1b"},
+      {2.0 * rd + cw, 3.0 * rd + cw, +1, 1, false, "I1t"},
+      {3.0 * rd + 2.0 * cw, 4.0 * rd + 2.0 * cw, -1, 1, false, "I2b"},
+      {4.0 * rd + 2.0 * cw, 5.0 * rd + 2.0 * cw, +1, 2, false, "I2t"},
+      {5.0 * rd + 3.0 * cw, ytop, -1, 2, true, "N"},
+  }};
+
+  const WindowSpec win = standard_windows(st);
+  const double dd = st.double_door_width_m, sd = st.door_width_m;
+
+  // Hallways: three long east-west ones.
+  std::array<int, 3> H{};
+  for (int k = 0; k < 3; ++k) {
+    const double y0 = yh[static_cast<std::size_t>(k)];
+    H[static_cast<std::size_t>(k)] =
+        L.add_rect("H" + std::to_string(k), "hallway", F, 0.0, y0, Lx, y0 + cw, hallway_end_windows(st));
+    if (k != 1) {  // exits at both ends of the outer hallways
+      L.add_door(H[static_cast<std::size_t>(k)], kOutside, dd, true, F.to_world(0.0, y0 + 0.5 * cw));
+      L.add_door(H[static_cast<std::size_t>(k)], kOutside, dd, true, F.to_world(Lx, y0 + 0.5 * cw));
+    }
+  }
+
+  // Cross hallways.
+  for (int k = 0; k <= nseg; ++k) {
+    const double x0 = vx[static_cast<std::size_t>(k)], x1 = x0 + cw;
+    const std::string v = "V" + std::to_string(k);
+    L.add_rect(v + ".I1", "hallway", F, x0, rd + cw, x1, 3.0 * rd + cw, no_windows());
+    L.add_rect(v + ".I2", "hallway", F, x0, 3.0 * rd + 2.0 * cw, x1, 5.0 * rd + 2.0 * cw, no_windows());
+    for (int side = 0; side < 2; ++side) {
+      const double y0 = side == 0 ? 0.0 : 5.0 * rd + 3.0 * cw, y1 = side == 0 ? rd : ytop;
+      const int hall = H[side == 0 ? 0 : 2];
+      const int facing = side == 0 ? +1 : -1;
+      const std::string id = v + (side == 0 ? ".S" : ".N");
+      if (rng.bernoulli(p.cross_hallway_exit_probability)) {
+        const int stub = L.add_rect(id, "hallway", F, x0, y0, x1, y1, no_windows());
+        L.add_door(stub, kOutside, dd, true, F.to_world(0.5 * (x0 + x1), side == 0 ? 0.0 : ytop));
+      } else {
+        const int stair = L.add_rect(id, "stairwell", F, x0, y0, x1, y1, win);
+        L.add_door(stair, hall, sd, true, F.to_world(0.5 * (x0 + x1), facing > 0 ? y1 : y0));
+        if (st.furniture) add_stairs(L, id, F, x0, y0, x1, y1);
+      }
+    }
+  }
+
+  // End rooms (west and east of V0 / V_n): one per strip, facing its hallway.
+  for (int e = 0; e < 2; ++e) {
+    const double x0 = e == 0 ? 0.0 : Lx - rd, x1 = e == 0 ? rd : Lx;
+    for (int s = 0; s < kStripCount; ++s) {
+      const StripGeom& g = strips[static_cast<std::size_t>(s)];
+      const std::string id = std::string(e == 0 ? "west." : "east.") + g.name;
+      const std::string kind = rng.bernoulli(0.5) ? "classroom" : "lab";
+      const double door_x = e == 0 ? x1 - 1.5 : x0 + 1.5;
+      add_facing_room(L, id, kind, F, x0, g.y0, x1, g.y1, g.facing, H[static_cast<std::size_t>(g.hall)], win, door_x,
+                      sd, rng.bernoulli(st.room_door_closed_probability), rng);
+    }
+  }
+
+  // Segments: reservations for special rooms, then rows.
+  const double min_gap = 2.0 * st.door_jamb_m + sd + 0.6;
+  std::vector<std::array<StripReservations, kStripCount>> res;
+  for (int j = 0; j < nseg; ++j) {
+    const double xa = vx[static_cast<std::size_t>(j)] + cw, xb = vx[static_cast<std::size_t>(j + 1)];
+    res.push_back({StripReservations(xa, xb, min_gap), StripReservations(xa, xb, min_gap),
+                   StripReservations(xa, xb, min_gap), StripReservations(xa, xb, min_gap),
+                   StripReservations(xa, xb, min_gap), StripReservations(xa, xb, min_gap)});
+  }
+  auto strip_res = [&res](int j, int s) -> StripReservations& {
+    return res[static_cast<std::size_t>(j)][static_cast<std::size_t>(s)];
+  };
+
+  const int jm = nseg / 2;
+  const double xc = snap(0.5 * (strip_res(jm, kS).x0() + strip_res(jm, kS).x1()), 0.1);
+
+  // Lobby (south row, glass facade, open onto H0) with the atrium behind it across H0.
+  {
+    const double ll = snap(rng.uniform(p.lobby_length_min_m, p.lobby_length_max_m), 0.1);
+    const double x0 = xc - 0.5 * ll, x1 = xc + 0.5 * ll;
+    strip_res(jm, kS).reserve(x0, x1);
+    const int lobby = L.add_rect("lobby", "lobby", F, x0, 0.0, x1, rd, no_windows());
+    L.set_open(lobby, H[0]);
+    L.set_glass(lobby, kOutside, 0.0, std::nullopt, Vec2(0.0, -1.0));
+    L.add_door(lobby, kOutside, dd, true, F.to_world(xc - 0.25 * ll, 0.0));
+    L.add_door(lobby, kOutside, dd, rng.bernoulli(0.5), F.to_world(xc + 0.25 * ll, 0.0));
+    if (st.furniture) {
+      L.add_obstacle("lobby_reception", ObstacleKind::kBox, F.to_world(x0 + 2.5, 0.6 * rd), Vec2(3.0, 0.8), 0.0, 1.1);
+      for (int k = -1; k <= 1; k += 2) {
+        L.add_obstacle("lobby_pillar", ObstacleKind::kPillar, F.to_world(xc + k * 0.25 * ll, 0.55 * rd),
+                       Vec2(0.6, 0.6), 0.0, 3.5);
+      }
+    }
+
+    const double la = snap(rng.uniform(p.atrium_length_min_m, p.atrium_length_max_m), 0.1);
+    const double a0 = xc - 0.5 * la, a1 = xc + 0.5 * la;
+    strip_res(jm, kI1b).reserve(a0, a1);
+    strip_res(jm, kI1t).reserve(a0, a1);
+    const double ay0 = rd + cw, ay1 = 3.0 * rd + cw;
+    const int atrium = L.add_rect("atrium", "atrium", F, a0, ay0, a1, ay1, no_windows());
+    L.set_glass(atrium, H[0]);
+    L.set_glass(atrium, H[1]);
+    L.add_door(atrium, H[0], dd, false, F.to_world(xc - 0.25 * la, ay0));
+    L.add_door(atrium, H[0], dd, false, F.to_world(xc + 0.25 * la, ay0));
+    L.add_door(atrium, H[1], dd, rng.bernoulli(0.5), F.to_world(xc, ay1));
+    if (st.furniture) {
+      const int cols = std::max(2, static_cast<int>(std::floor(la / 7.0)));
+      for (int c = 1; c < cols; ++c) {
+        for (int r = 1; r <= 2; ++r) {
+          L.add_obstacle("atrium_pillar", ObstacleKind::kPillar,
+                         F.to_world(a0 + c * la / cols, ay0 + r * (ay1 - ay0) / 3.0), Vec2(0.5, 0.5), 0.0, 4.0);
+        }
+      }
+      L.add_obstacle("atrium_bench", ObstacleKind::kBox, F.to_world(xc, 0.5 * (ay0 + ay1)), Vec2(4.0, 0.5), 0.0, 0.45);
+    }
+
+    // Cafeteria in the north row of the middle segment.
+    const double lc = snap(rng.uniform(16.0, 22.0), 0.1);
+    const double c0 = xc - 0.5 * lc, c1 = xc + 0.5 * lc;
+    if (strip_res(jm, kN).reserve(c0, c1)) {
+      const double cy0 = 5.0 * rd + 3.0 * cw;
+      const int caf = L.add_rect("cafeteria", "cafeteria", F, c0, cy0, c1, ytop, win);
+      L.add_door(caf, H[2], dd, false, F.to_world(c0 + 0.25 * lc, cy0));
+      L.add_door(caf, H[2], dd, rng.bernoulli(0.5), F.to_world(c1 - 0.25 * lc, cy0));
+      if (st.furniture) furnish_room(L, "cafeteria", "cafeteria", F, c0, cy0, c1, ytop, -1, rng);
+    }
+  }
+
+  // Lecture halls: full inner-block depth, at one end of a segment, lectern against the cross
+  // hallway, doors to both hallways at the back.
+  {
+    struct Slot {
+      int j, block;  // block 0: inner block 1, 1: inner block 2
+    };
+    std::vector<Slot> slots;
+    for (int j = 0; j < nseg; ++j) {
+      for (int b = 0; b < 2; ++b) {
+        if (j == jm && b == 0) continue;  // atrium
+        slots.push_back({j, b});
+      }
+    }
+    for (std::size_t i = slots.size(); i > 1; --i) {  // Fisher-Yates with our own generator
+      const int k = rng.integer(0, static_cast<int>(i) - 1);
+      std::swap(slots[i - 1], slots[static_cast<std::size_t>(k)]);
+    }
+    const int count = rng.integer(p.lecture_halls_min, p.lecture_halls_max);
+    int placed = 0;
+    for (const Slot& slot : slots) {
+      if (placed >= count) break;
+      const int sb = slot.block == 0 ? kI1b : kI2b, stp = sb + 1;
+      StripReservations& rb = strip_res(slot.j, sb);
+      StripReservations& rt = strip_res(slot.j, stp);
+      const double lh = snap(rng.uniform(p.lecture_hall_length_min_m, p.lecture_hall_length_max_m), 0.1);
+      const bool at_start = rng.bernoulli(0.5);
+      const double x0 = at_start ? rb.x0() : rb.x1() - lh, x1 = x0 + lh;
+      if (!rb.fits(x0, x1) || !rt.fits(x0, x1)) continue;
+      rb.reserve(x0, x1);
+      rt.reserve(x0, x1);
+      ++placed;
+      const double y0 = strips[static_cast<std::size_t>(sb)].y0, y1 = strips[static_cast<std::size_t>(stp)].y1;
+      const std::string id = "lecture" + std::to_string(placed);
+      const int hall = L.add_rect(id, "lecture_hall", F, x0, y0, x1, y1, no_windows());
+      const int hall_lo = H[static_cast<std::size_t>(strips[static_cast<std::size_t>(sb)].hall)];
+      const int hall_hi = H[static_cast<std::size_t>(strips[static_cast<std::size_t>(stp)].hall)];
+      const double front = at_start ? x0 : x1, dir = at_start ? 1.0 : -1.0;  // lectern at `front`
+      L.add_door(hall, hall_lo, dd, false, F.to_world(front + dir * 0.75 * lh, y0));
+      L.add_door(hall, hall_hi, dd, rng.bernoulli(0.5), F.to_world(front + dir * 0.75 * lh, y1));
+      L.add_door(hall, hall_lo, sd, true, F.to_world(front + dir * 1.6, y0));
+      if (st.furniture) {
+        L.add_obstacle(id + "_lectern", ObstacleKind::kBox, F.to_world(front + dir * 1.8, 0.5 * (y0 + y1)),
+                       Vec2(0.6, 1.2), 0.0, 1.1);
+        const double aisle = 1.2;
+        for (double a = 3.5; a < lh - 1.6; a += 0.95) {
+          L.add_obstacle(id + "_seats", ObstacleKind::kBox, F.to_world(front + dir * a, 0.5 * (y0 + y1)),
+                         Vec2(0.5, (y1 - y0) - 2.0 * aisle - 0.3), 0.0, 0.8);
+        }
+      }
+    }
+  }
+
+  // Cores: stairwell, elevator, two toilets at one end of an inner strip of every segment.
+  for (int j = 0; j < nseg; ++j) {
+    const double core_len = 3.6 + 2.6 + 2.0 * 3.0;
+    bool done = false;
+    const int first = rng.integer(0, 3);
+    for (int t = 0; t < 8 && !done; ++t) {
+      const int s = kI1b + (first + t % 4) % 4;
+      const bool at_start = (t / 4 == 0) == ((j % 2) == 0);
+      StripReservations& r = strip_res(j, s);
+      const double x0 = at_start ? r.x0() : r.x1() - core_len;
+      if (!r.reserve(x0, x0 + core_len)) continue;
+      done = true;
+      const StripGeom& g = strips[static_cast<std::size_t>(s)];
+      const int hall = H[static_cast<std::size_t>(g.hall)];
+      const std::string pre = seg_name(j) + ".core";
+      // Order along x from the segment end inward: stairwell, elevator, toilets.
+      std::array<double, 4> widths = {3.6, 2.6, 3.0, 3.0};
+      std::array<const char*, 4> kinds = {"stairwell", "elevator", "toilet", "toilet"};
+      std::array<const char*, 4> names = {".stair", ".lift", ".wc1", ".wc2"};
+      double x = at_start ? x0 : x0 + core_len;
+      for (int k = 0; k < 4; ++k) {
+        const double w = widths[static_cast<std::size_t>(k)];
+        const double a = at_start ? x : x - w, b = at_start ? x + w : x;
+        x = at_start ? b : a;
+        const std::string id = pre + names[static_cast<std::size_t>(k)];
+        const std::string kind = kinds[static_cast<std::size_t>(k)];
+        const bool closed = kind == "toilet" ? rng.bernoulli(0.7) : true;
+        const double dw = kind == "elevator" ? 1.0 : sd;
+        add_facing_room(L, id, kind, F, a, g.y0, b, g.y1, g.facing, hall, no_windows(), 0.5 * (a + b), dw, closed, rng);
+        if (kind == "stairwell" && st.furniture) add_stairs(L, id, F, a, g.y0, b, g.y1);
+      }
+    }
+  }
+
+  // Lounge niches: open to their hallway, a widening with sofas.
+  for (int j = 0; j < nseg; ++j) {
+    if (!rng.bernoulli(p.lounge_probability)) continue;
+    const int s = kI1b + rng.integer(0, 3);
+    StripReservations& r = strip_res(j, s);
+    const double len = 2.0 * module;
+    for (const Interval1& f : r.free_intervals()) {
+      if (f.x1 - f.x0 < len) continue;
+      double x0 = f.x0;
+      if (!r.reserve(x0, x0 + len)) {
+        x0 = f.x1 - len;
+        if (!r.reserve(x0, x0 + len)) continue;
+      }
+      const StripGeom& g = strips[static_cast<std::size_t>(s)];
+      const std::string id = seg_name(j) + ".lounge";
+      const int lounge = L.add_rect(id, "lounge", F, x0, g.y0, x0 + len, g.y1, no_windows());
+      L.set_open(lounge, H[static_cast<std::size_t>(g.hall)]);
+      if (st.furniture) furnish_room(L, id, "lounge", F, x0, g.y0, x0 + len, g.y1, g.facing, rng);
+      break;
+    }
+  }
+
+  // Rows of module rooms in what is left.
+  RowFill fill;
+  fill.module_m = module;
+  fill.p_double = 0.25;
+  fill.p_triple = 0.1;
+  fill.kind_single = "office";
+  fill.kind_double = "classroom";
+  fill.kind_triple = "lab";
+  fill.glass_double_probability = 0.1;
+  fill.min_room_m = 2.4;  // narrower leftovers widen the last room instead of becoming closets
+  for (int j = 0; j < nseg; ++j) {
+    for (int s = 0; s < kStripCount; ++s) {
+      const StripGeom& g = strips[static_cast<std::size_t>(s)];
+      int part = 0;
+      for (const Interval1& f : strip_res(j, s).free_intervals()) {
+        RowStrip row;
+        row.frame = F;
+        row.x0 = f.x0;
+        row.x1 = f.x1;
+        row.y0 = g.y0;
+        row.y1 = g.y1;
+        row.facing = g.facing;
+        row.hallway = H[static_cast<std::size_t>(g.hall)];
+        row.id_prefix = seg_name(j) + "." + g.name + (part > 0 ? std::string(1, static_cast<char>('a' + part)) : "");
+        row.windows = g.outer ? win : no_windows();
+        fill_row(L, row, fill, rng);
+        ++part;
+      }
+    }
+  }
+
+  return L.assemble("campus (seed " + std::to_string(seed) + ")");
+}
+
+}  // namespace floorcast

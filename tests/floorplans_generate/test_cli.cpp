@@ -1,0 +1,75 @@
+// End to end through the CLI: `floorcast plan generate` and `floorcast plan render`.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+
+#include "floorcast/floorplans/generate.hpp"
+#include "floorcast/floorplans/io.hpp"
+
+namespace floorcast {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Runs the CLI with `args`; returns its exit code. Output goes to `log`.
+int run_cli(const std::string& args, const fs::path& log) {
+  const std::string cmd = std::string("\"") + FLOORCAST_CLI + "\" " + args + " > \"" + log.string() + "\" 2>&1";
+  const int status = std::system(cmd.c_str());
+  if (status == -1) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("floorcast_generate_cli_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(Cli, GenerateWritesTheSameBytesAsTheLibrary) {
+  const fs::path out = dir_ / "apt.json", rooms = dir_ / "rooms.json";
+  ASSERT_EQ(run_cli("plan generate --archetype apartment --seed 3 -o " + out.string() + " --rooms " + rooms.string(),
+                    dir_ / "log"),
+            0)
+      << read_text_file((dir_ / "log").string());
+  EXPECT_EQ(read_text_file(out.string()), floor_plan_to_json(generate_apartment(3).plan));
+  const std::string r = read_text_file(rooms.string());
+  EXPECT_NE(r.find("\"kind\": \"bedroom\""), std::string::npos);
+  EXPECT_NE(r.find("\"polygon\""), std::string::npos);
+}
+
+TEST_F(Cli, RenderWritesPngAndSvg) {
+  const std::string plan = std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/apartment.json";
+  const fs::path png = dir_ / "apt.png", svg = dir_ / "apt.svg";
+  ASSERT_EQ(run_cli("plan render " + plan + " -o " + png.string() + " --px-per-m 25", dir_ / "log"), 0)
+      << read_text_file((dir_ / "log").string());
+  const cv::Mat img = cv::imread(png.string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(img.empty());
+  EXPECT_GE(img.cols, 25 * 11);
+  ASSERT_EQ(run_cli("plan render " + plan + " -o " + svg.string(), dir_ / "log"), 0);
+  const std::string text = read_text_file(svg.string());
+  EXPECT_EQ(text.rfind("<?xml", 0), 0u);
+  EXPECT_NE(text.find("</svg>"), std::string::npos);
+}
+
+TEST_F(Cli, BadInputExitsWithCode2) {
+  const std::string plan = std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/two_rooms.json";
+  EXPECT_EQ(run_cli("plan render " + plan + " -o " + (dir_ / "x.bmp").string(), dir_ / "log"), 2);
+  EXPECT_NE(read_text_file((dir_ / "log").string()).find("use .png or .svg"), std::string::npos);
+  EXPECT_EQ(run_cli("plan render " + plan + " -o " + (dir_ / "x.png").string() + " --px-per-m -1", dir_ / "log"), 2);
+  EXPECT_EQ(run_cli("plan generate --archetype castle -o " + (dir_ / "c.json").string(), dir_ / "log"), 2);
+  EXPECT_NE(read_text_file((dir_ / "log").string()).find("castle"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "c.json"));
+}
+
+}  // namespace
+}  // namespace floorcast

@@ -1,0 +1,424 @@
+// Procedural buildings: determinism, sizes, required features, validity, connectivity.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <regex>
+#include <set>
+#include <string>
+
+#include "floorcast/floorplans/generate.hpp"
+#include "floorcast/floorplans/io.hpp"
+#include "floorcast/floorplans/raster.hpp"
+#include "generate_checks.hpp"
+
+namespace floorcast {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+const std::vector<Archetype>& archetypes() {
+  static const std::vector<Archetype> a = all_archetypes();
+  return a;
+}
+
+/// Generation is cheap; keep one copy per (archetype, seed) for the whole test binary.
+const GeneratedBuilding& building(Archetype a, std::uint64_t seed) {
+  static std::map<std::pair<int, std::uint64_t>, GeneratedBuilding> cache;
+  const auto key = std::make_pair(static_cast<int>(a), seed);
+  auto it = cache.find(key);
+  if (it == cache.end()) it = cache.emplace(key, generate_building(a, seed)).first;
+  return it->second;
+}
+
+std::string shipped_path(Archetype a) {
+  return std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/" + archetype_name(a) + ".json";
+}
+
+TEST(Generate, ArchetypeNamesRoundTripAndUnknownNamesAreRefused) {
+  for (Archetype a : archetypes()) EXPECT_EQ(parse_archetype(archetype_name(a)), a);
+  try {
+    parse_archetype("castle");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("castle"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("campus"), std::string::npos);
+  }
+}
+
+TEST(Generate, SameSeedGivesIdenticalBytes) {
+  for (Archetype a : archetypes()) {
+    for (std::uint64_t seed : {0ULL, 7ULL, 123456789ULL}) {
+      const std::string first = floor_plan_to_json(generate_building(a, seed).plan);
+      const std::string second = floor_plan_to_json(generate_building(a, seed).plan);
+      EXPECT_EQ(first, second) << archetype_name(a) << " seed " << seed;
+    }
+  }
+}
+
+TEST(Generate, DifferentSeedsGiveDifferentPlans) {
+  for (Archetype a : archetypes()) {
+    std::set<std::uint64_t> hashes;
+    for (std::uint64_t seed = 1; seed <= 6; ++seed) hashes.insert(plan_hash(building(a, seed).plan));
+    EXPECT_EQ(hashes.size(), 6u) << archetype_name(a);
+  }
+}
+
+TEST(Generate, ShippedBuildingsEqualAFreshGenerationWithTheirRecordedSeed) {
+  const std::string readme = read_text_file(std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/README.md");
+  for (Archetype a : archetypes()) {
+    const std::string path = shipped_path(a);
+    const std::string text = read_text_file(path);
+    const FloorPlan shipped = parse_floor_plan_json(text, path);
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(shipped.name, m, std::regex("\\(seed ([0-9]+)\\)"))) << shipped.name;
+    const std::uint64_t seed = std::stoull(m[1].str());
+    EXPECT_EQ(text, floor_plan_to_json(generate_building(a, seed).plan))
+        << path << " differs from `floorcast plan generate --archetype " << archetype_name(a) << " --seed " << seed
+        << "`; regenerate it with the command in floorplans/README.md";
+    // The README records the command that regenerates the file.
+    const std::string command = std::string("--archetype ") + archetype_name(a) + " --seed " + std::to_string(seed) +
+                                " -o floorplans/buildings/" + archetype_name(a) + ".json";
+    EXPECT_NE(readme.find(command), std::string::npos) << "floorplans/README.md lacks: " << command;
+  }
+}
+
+TEST(Generate, PlansAreValidAndRoomsAreWellFormed) {
+  for (Archetype a : archetypes()) {
+    for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+      const GeneratedBuilding& b = building(a, seed);
+      SCOPED_TRACE(std::string(archetype_name(a)) + " seed " + std::to_string(seed));
+      EXPECT_NO_THROW(validate_floor_plan(b.plan, "generated"));
+      // Round trip through the file format.
+      const std::string json = floor_plan_to_json(b.plan);
+      EXPECT_EQ(floor_plan_to_json(parse_floor_plan_json(json, "roundtrip")), json);
+      std::set<std::string> ids;
+      for (const GeneratedRoom& r : b.rooms) {
+        EXPECT_TRUE(ids.insert(r.id).second) << "duplicate room id " << r.id;
+        EXPECT_GT(test::polygon_area(r.polygon_m), 1.0) << r.id;  // counter-clockwise, not a sliver
+      }
+    }
+  }
+}
+
+TEST(Generate, RoomsDoNotOverlap) {
+  for (Archetype a : archetypes()) {
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+      const GeneratedBuilding& b = building(a, seed);
+      SCOPED_TRACE(std::string(archetype_name(a)) + " seed " + std::to_string(seed));
+      std::vector<Eigen::Vector4d> boxes;
+      for (const GeneratedRoom& r : b.rooms) {
+        Eigen::Vector4d box(1e300, 1e300, -1e300, -1e300);
+        for (const Vec2& p : r.polygon_m) {
+          box = Eigen::Vector4d(std::min(box[0], p.x()), std::min(box[1], p.y()), std::max(box[2], p.x()),
+                                std::max(box[3], p.y()));
+        }
+        boxes.push_back(box);
+      }
+      int overlaps = 0;
+      for (std::size_t i = 0; i < b.rooms.size(); ++i) {
+        const Eigen::Vector4d& bi = boxes[i];
+        for (double x = bi[0] + 0.05; x < bi[2]; x += 0.5) {
+          for (double y = bi[1] + 0.05; y < bi[3]; y += 0.5) {
+            const Vec2 p(x, y);
+            if (!test::inside_polygon(b.rooms[i].polygon_m, p)) continue;
+            for (std::size_t j = 0; j < b.rooms.size(); ++j) {
+              if (j == i) continue;
+              const Eigen::Vector4d& bj = boxes[j];
+              if (x < bj[0] || x > bj[2] || y < bj[1] || y > bj[3]) continue;
+              if (test::inside_polygon(b.rooms[j].polygon_m, p)) ++overlaps;
+            }
+          }
+        }
+      }
+      EXPECT_EQ(overlaps, 0);
+    }
+  }
+}
+
+TEST(Generate, EnvelopeIsClosedAndEveryRoomIsReachableThroughDoors) {
+  for (Archetype a : archetypes()) {
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+      const GeneratedBuilding& b = building(a, seed);
+      SCOPED_TRACE(std::string(archetype_name(a)) + " seed " + std::to_string(seed));
+      // Every door and window closed: no room reaches the outside (no gap bridging at all).
+      const test::EnvelopeRaster env = test::envelope_raster(b.plan, 0.1);
+      for (const GeneratedRoom& r : b.rooms) {
+        int row, col;
+        ASSERT_TRUE(env.grid.world_to_cell(test::polygon_centroid(r.polygon_m), row, col));
+        EXPECT_EQ(env.outside.at<std::uint8_t>(row, col), 0) << r.id << " leaks to the outside";
+      }
+      // Every door open: the interior is one connected free space.
+      EXPECT_EQ(test::interior_components_doors_open(b.plan, 0.1), 1);
+      // With the doors as generated, closed doors really separate something.
+      const auto c = plan_counts(b.plan);
+      EXPECT_GT(c.doors_closed, 0);
+      EXPECT_LT(c.doors_closed, c.doors);
+    }
+  }
+}
+
+TEST(Generate, RealisticDimensions) {
+  for (Archetype a : archetypes()) {
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+      const GeneratedBuilding& b = building(a, seed);
+      SCOPED_TRACE(std::string(archetype_name(a)) + " seed " + std::to_string(seed));
+      std::set<std::string> exterior_walls;
+      for (const Wall& w : b.plan.walls) {
+        if (w.material == WallMaterial::kGlass) {
+          EXPECT_NEAR(w.thickness_m, 0.05, 1e-9) << w.id;
+        } else if (w.id.rfind("ext", 0) == 0) {
+          EXPECT_NEAR(w.thickness_m, 0.30, 1e-9) << w.id;
+          exterior_walls.insert(w.id);
+        } else {
+          EXPECT_GE(w.thickness_m, 0.10 - 1e-9) << w.id;
+          EXPECT_LE(w.thickness_m, 0.15 + 1e-9) << w.id;
+        }
+      }
+      for (const Door& d : b.plan.doors) {
+        const bool single = d.width_m >= 0.8 - 1e-9 && d.width_m <= 1.0 + 1e-9;
+        const bool dbl = d.width_m >= 1.5 - 1e-9 && d.width_m <= 1.9 + 1e-9;
+        EXPECT_TRUE(single || dbl) << d.id << " width " << d.width_m;
+      }
+      // Windows sit in exterior walls: one side of every window is the outside.
+      const test::EnvelopeRaster env = test::envelope_raster(b.plan, 0.1);
+      ASSERT_GT(b.plan.windows.size(), 0u);
+      for (const Window& w : b.plan.windows) {
+        EXPECT_EQ(exterior_walls.count(w.wall_id), 1u) << w.id << " in " << w.wall_id;
+        const Wall& wall = b.plan.walls[static_cast<std::size_t>(b.plan.wall_index(w.wall_id))];
+        const Vec2 d = wall.direction();
+        const Vec2 n(-d.y(), d.x());
+        int outside_sides = 0;
+        for (double s : {-0.6, 0.6}) {
+          int row, col;
+          ASSERT_TRUE(env.grid.world_to_cell(w.center_m + s * n, row, col));
+          outside_sides += env.outside.at<std::uint8_t>(row, col) ? 1 : 0;
+        }
+        EXPECT_EQ(outside_sides, 1) << w.id;
+      }
+    }
+  }
+}
+
+TEST(Generate, EveryArchetypeHasClosedDoorsWindowsAndGlass) {
+  for (Archetype a : archetypes()) {
+    for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+      const PlanCounts c = plan_counts(building(a, seed).plan);
+      SCOPED_TRACE(std::string(archetype_name(a)) + " seed " + std::to_string(seed));
+      EXPECT_GT(c.doors_closed, 0);
+      EXPECT_GT(c.windows, 0);
+      EXPECT_GT(c.glass_walls, 0);
+    }
+  }
+}
+
+TEST(Generate, FreeFloorAreasAreWithinTheArchetypeRanges) {
+  const std::map<Archetype, std::pair<double, double>> ranges = {
+      {Archetype::kApartment, {80.0, 150.0}},
+      {Archetype::kOffice, {1500.0, 3000.0}},
+      {Archetype::kCampus, {8000.0, 15000.0}},
+  };
+  for (const auto& [a, range] : ranges) {
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      const double area = free_floor_area_m2(building(a, seed).plan);
+      EXPECT_GE(area, range.first) << archetype_name(a) << " seed " << seed;
+      EXPECT_LE(area, range.second) << archetype_name(a) << " seed " << seed;
+    }
+  }
+}
+
+std::map<std::string, int> kind_counts(const GeneratedBuilding& b) {
+  std::map<std::string, int> n;
+  for (const GeneratedRoom& r : b.rooms) ++n[r.kind];
+  return n;
+}
+
+/// Number of rooms of `kind` sharing the most common footprint size (rounded to 1 cm).
+int largest_identical_group(const GeneratedBuilding& b, const std::string& kind) {
+  std::map<std::pair<long, long>, int> sizes;
+  for (const GeneratedRoom& r : b.rooms) {
+    if (r.kind != kind || r.polygon_m.size() != 4) continue;
+    const double e1 = (r.polygon_m[1] - r.polygon_m[0]).norm(), e2 = (r.polygon_m[2] - r.polygon_m[1]).norm();
+    ++sizes[{std::lround(100.0 * std::min(e1, e2)), std::lround(100.0 * std::max(e1, e2))}];
+  }
+  int best = 0;
+  for (const auto& [size, count] : sizes) best = std::max(best, count);
+  return best;
+}
+
+/// Length of the longer side of a rectangle room.
+double room_length(const GeneratedRoom& r) {
+  double best = 0.0;
+  for (std::size_t i = 0; i < r.polygon_m.size(); ++i) {
+    best = std::max(best, (r.polygon_m[(i + 1) % r.polygon_m.size()] - r.polygon_m[i]).norm());
+  }
+  return best;
+}
+
+/// Pairs of hallway rooms sharing at least 1 m of boundary (hallway junctions).
+int hallway_junctions(const GeneratedBuilding& b) {
+  std::vector<const GeneratedRoom*> halls;
+  for (const GeneratedRoom& r : b.rooms) {
+    if (r.kind == "hallway") halls.push_back(&r);
+  }
+  int count = 0;
+  for (std::size_t i = 0; i < halls.size(); ++i) {
+    for (std::size_t j = i + 1; j < halls.size(); ++j) {
+      double shared = 0.0;
+      const auto& p = halls[i]->polygon_m;
+      const auto& q = halls[j]->polygon_m;
+      for (std::size_t a = 0; a < p.size(); ++a) {
+        const Vec2 p0 = p[a], p1 = p[(a + 1) % p.size()];
+        const Vec2 d = (p1 - p0).normalized();
+        for (std::size_t c = 0; c < q.size(); ++c) {
+          const Vec2 q0 = q[c], q1 = q[(c + 1) % q.size()];
+          const Vec2 n(-d.y(), d.x());
+          if (std::abs(n.dot(q0 - p0)) > 1e-3 || std::abs(n.dot(q1 - p0)) > 1e-3) continue;
+          const double t0 = std::max(0.0, std::min(d.dot(q0 - p0), d.dot(q1 - p0)));
+          const double t1 = std::min((p1 - p0).norm(), std::max(d.dot(q0 - p0), d.dot(q1 - p0)));
+          shared += std::max(0.0, t1 - t0);
+        }
+      }
+      if (shared >= 1.0) ++count;
+    }
+  }
+  return count;
+}
+
+TEST(Generate, CampusHasLongHallwaysIntersectionsLobbyAtriumAndLectureHalls) {
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    const GeneratedBuilding& b = building(Archetype::kCampus, seed);
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    int long_hallways = 0;
+    for (const GeneratedRoom& r : b.rooms) {
+      if (r.kind == "hallway" && room_length(r) >= 100.0) ++long_hallways;
+    }
+    EXPECT_GE(long_hallways, 3);
+    EXPECT_GE(hallway_junctions(b), 8);
+    const auto kinds = kind_counts(b);
+    EXPECT_EQ(kinds.count("lobby"), 1u);
+    EXPECT_EQ(kinds.count("atrium"), 1u);
+    ASSERT_GE(kinds.count("lecture_hall"), 1u);
+    EXPECT_GE(kinds.at("lecture_hall"), 2);
+    for (const GeneratedRoom& r : b.rooms) {
+      if (r.kind == "lecture_hall") {
+        EXPECT_GE(test::polygon_area(r.polygon_m), 200.0) << r.id;
+      }
+    }
+    EXPECT_GE(largest_identical_group(b, "office"), 30);
+    EXPECT_GE(plan_counts(b.plan).glass_walls, 3);  // lobby facade + atrium walls
+  }
+}
+
+TEST(Generate, OfficeHasDoubleLoadedCorridorsStairsAndMeetingRooms) {
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    const GeneratedBuilding& b = building(Archetype::kOffice, seed);
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const auto kinds = kind_counts(b);
+    ASSERT_GE(kinds.count("stairwell"), 1u);
+    EXPECT_GE(kinds.at("stairwell"), 2);
+    ASSERT_GE(kinds.count("meeting"), 1u);
+    EXPECT_GE(largest_identical_group(b, "office"), 20);
+    EXPECT_GE(hallway_junctions(b), 2);  // corner junction, fire partitions
+  }
+}
+
+TEST(Generate, ApartmentHasTheUsualRooms) {
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    const auto kinds = kind_counts(building(Archetype::kApartment, seed));
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    EXPECT_EQ(kinds.count("living"), 1u);
+    EXPECT_EQ(kinds.count("kitchen"), 1u);
+    EXPECT_EQ(kinds.count("bath"), 1u);
+    EXPECT_EQ(kinds.count("hall"), 1u);
+    ASSERT_EQ(kinds.count("bedroom"), 1u);
+    EXPECT_GE(kinds.at("bedroom"), 2);
+  }
+}
+
+TEST(Generate, AngledHasWallsAt30And45Degrees) {
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    const GeneratedBuilding& b = building(Archetype::kAngled, seed);
+    int at0 = 0, at30 = 0, at45 = 0, at60 = 0, other = 0;
+    for (const Wall& w : b.plan.walls) {
+      if (w.length_m() < 2.0) continue;  // short walls: rounding to 0.1 mm bends them slightly
+      double deg = std::fmod(std::atan2(w.b_m.y() - w.a_m.y(), w.b_m.x() - w.a_m.x()) * 180.0 / kPi + 360.0, 90.0);
+      if (deg > 89.99) deg -= 90.0;
+      if (std::abs(deg) < 0.01) ++at0;
+      else if (std::abs(deg - 30.0) < 0.01) ++at30;
+      else if (std::abs(deg - 45.0) < 0.01) ++at45;
+      else if (std::abs(deg - 60.0) < 0.01) ++at60;
+      else ++other;  // hub facades between wings
+    }
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    EXPECT_GT(at0, 5);
+    EXPECT_GT(at30, 5);
+    EXPECT_GT(at45, 5);
+    EXPECT_LE(other, 4);
+  }
+}
+
+TEST(Generate, ParametersChangeTheBuilding) {
+  CampusParams small;
+  small.target_area_min_m2 = 8500.0;
+  small.target_area_max_m2 = 8500.0;
+  CampusParams large;
+  large.target_area_min_m2 = 14000.0;
+  large.target_area_max_m2 = 14000.0;
+  const double a_small = free_floor_area_m2(generate_campus(5, small).plan, 0.1);
+  const double a_large = free_floor_area_m2(generate_campus(5, large).plan, 0.1);
+  EXPECT_GT(a_large, a_small + 3000.0);
+  EXPECT_GT(a_small, 8000.0);
+  EXPECT_LT(a_large, 15000.0);
+
+  BuildingStyle bare;
+  bare.furniture = false;
+  OfficeParams office;
+  office.style = bare;
+  EXPECT_TRUE(generate_office(3, office).plan.obstacles.empty());
+
+  AngledParams fan;
+  fan.wing_directions_deg = {0, 90, 225};
+  const GeneratedBuilding b = generate_angled(2, fan);
+  EXPECT_EQ(test::interior_components_doors_open(b.plan, 0.1), 1);
+}
+
+}  // namespace
+}  // namespace floorcast
+
+namespace floorcast {
+namespace {
+
+TEST(GenerateChecks, DetectBrokenBuildings) {
+  // The checks above must be able to fail: remove the only door of the bathroom, or a piece of
+  // the envelope, and they do.
+  FloorPlan p = generate_apartment(1).plan;
+  const auto bath_door = std::find_if(p.doors.begin(), p.doors.end(), [](const Door& d) {
+    return d.id.rfind("door_bath_", 0) == 0;
+  });
+  ASSERT_NE(bath_door, p.doors.end());
+  p.doors.erase(bath_door);
+  EXPECT_EQ(test::interior_components_doors_open(p, 0.1), 2);
+
+  FloorPlan q = generate_apartment(1).plan;
+  const auto ext = std::find_if(q.walls.begin(), q.walls.end(), [](const Wall& w) { return w.id.rfind("ext", 0) == 0; });
+  ASSERT_NE(ext, q.walls.end());
+  const std::string ext_id = ext->id;
+  q.windows.erase(std::remove_if(q.windows.begin(), q.windows.end(), [&](const Window& w) { return w.wall_id == ext_id; }),
+                  q.windows.end());
+  q.doors.erase(std::remove_if(q.doors.begin(), q.doors.end(), [&](const Door& d) { return d.wall_id == ext_id; }),
+                q.doors.end());
+  q.walls.erase(q.walls.begin() + (ext - q.walls.begin()));
+  const test::EnvelopeRaster env = test::envelope_raster(q, 0.1);
+  int leaking = 0;
+  for (const GeneratedRoom& r : generate_apartment(1).rooms) {
+    int row, col;
+    ASSERT_TRUE(env.grid.world_to_cell(test::polygon_centroid(r.polygon_m), row, col));
+    leaking += env.outside.at<std::uint8_t>(row, col) ? 1 : 0;
+  }
+  EXPECT_GT(leaking, 0);
+}
+
+}  // namespace
+}  // namespace floorcast
