@@ -32,11 +32,13 @@ double time_ms(F&& f) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// The most open interior point of the plan (largest distance to any wall): a deterministic,
-/// valid observer position.
+/// The most open interior point of the plan (largest distance to any wall or obstacle): a
+/// deterministic, valid observer position.
 Pose2 most_open_pose(const FloorPlan& plan) {
   RasterOptions ro;
   ro.resolution_m_per_px = 0.1;
+  ro.blocking.obstacles_block = true;  // obstacles of any height count
+  ro.blocking.cut_height_m = 0.01;
   const PlanRasters r = make_plan_rasters(plan, ro);
   double best = -1.0;
   Pose2 pose;
@@ -51,6 +53,7 @@ Pose2 most_open_pose(const FloorPlan& plan) {
       }
     }
   if (best < 0.0) throw InputError("bench sim: the plan has no interior");
+  check_observer_pose(plan, pose, "bench sim");
   return pose;
 }
 

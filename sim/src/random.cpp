@@ -41,19 +41,19 @@ double normal_quantile(double u) {
 
 namespace {
 
-std::array<double, detail::kNormalTableCells + 1> make_table() {
-  std::array<double, detail::kNormalTableCells + 1> z{};
+std::array<float, detail::kNormalTableCells + 1> make_table() {
+  std::array<float, detail::kNormalTableCells + 1> z{};
   for (int k = 0; k <= detail::kNormalTableCells; ++k) {
     const double u = std::clamp(static_cast<double>(k) / detail::kNormalTableCells, 3.17e-5, 1.0 - 3.17e-5);
-    z[static_cast<std::size_t>(k)] = normal_quantile(u);
+    z[static_cast<std::size_t>(k)] = static_cast<float>(normal_quantile(u));
   }
   return z;
 }
 
-const std::array<double, detail::kNormalTableCells + 1> g_table = make_table();
+const std::array<float, detail::kNormalTableCells + 1> g_table = make_table();
 
 }  // namespace
 
-const double* const detail::normal_quantile_table = g_table.data();
+const float* const detail::normal_quantile_table = g_table.data();
 
 }  // namespace floorcast

@@ -5,7 +5,10 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "floorcast/floorplans/types.hpp"
@@ -32,6 +35,35 @@ PreparedRays& PreparedRays::operator=(PreparedRays&&) noexcept = default;
 std::size_t PreparedRays::size() const { return data_ ? data_->pristine.size() : 0; }
 
 namespace {
+
+// StreamRayHit mirrors RTCRayHit exactly.
+static_assert(sizeof(StreamRayHit) == sizeof(RTCRayHit), "StreamRayHit size");
+static_assert(alignof(StreamRayHit) == alignof(RTCRayHit), "StreamRayHit alignment");
+static_assert(RTC_MAX_INSTANCE_LEVEL_COUNT == 1, "StreamRayHit has one instance id");
+#define FLOORCAST_SAME_OFFSET(a, b) \
+  static_assert(offsetof(StreamRayHit, a) == offsetof(RTCRayHit, b), "StreamRayHit::" #a " offset")
+FLOORCAST_SAME_OFFSET(org_x, ray.org_x);
+FLOORCAST_SAME_OFFSET(org_y, ray.org_y);
+FLOORCAST_SAME_OFFSET(org_z, ray.org_z);
+FLOORCAST_SAME_OFFSET(tnear, ray.tnear);
+FLOORCAST_SAME_OFFSET(dir_x, ray.dir_x);
+FLOORCAST_SAME_OFFSET(dir_y, ray.dir_y);
+FLOORCAST_SAME_OFFSET(dir_z, ray.dir_z);
+FLOORCAST_SAME_OFFSET(time, ray.time);
+FLOORCAST_SAME_OFFSET(tfar, ray.tfar);
+FLOORCAST_SAME_OFFSET(mask, ray.mask);
+FLOORCAST_SAME_OFFSET(id, ray.id);
+FLOORCAST_SAME_OFFSET(flags, ray.flags);
+FLOORCAST_SAME_OFFSET(Ng_x, hit.Ng_x);
+FLOORCAST_SAME_OFFSET(Ng_y, hit.Ng_y);
+FLOORCAST_SAME_OFFSET(Ng_z, hit.Ng_z);
+FLOORCAST_SAME_OFFSET(u, hit.u);
+FLOORCAST_SAME_OFFSET(v, hit.v);
+FLOORCAST_SAME_OFFSET(primID, hit.primID);
+FLOORCAST_SAME_OFFSET(geomID, hit.geomID);
+FLOORCAST_SAME_OFFSET(instID, hit.instID);
+#undef FLOORCAST_SAME_OFFSET
+static_assert(StreamRayHit::kInvalid == RTC_INVALID_GEOMETRY_ID, "invalid id");
 
 void embree_error(void*, RTCError code, const char* message) {
   // Errors are checked with rtcGetDeviceError after each call sequence; nothing to do here.
@@ -72,6 +104,29 @@ RayScene::RayScene(Mesh mesh) : mesh_(std::move(mesh)), impl_(std::make_unique<I
   if (mesh_.triangles.empty()) throw InputError("ray scene: the mesh has no triangles");
   normals_.reserve(mesh_.triangles.size());
   for (std::size_t i = 0; i < mesh_.triangles.size(); ++i) normals_.push_back(mesh_.normal(i));
+  {
+    std::vector<std::vector<std::size_t>> by_part;
+    for (std::size_t i = 0; i < mesh_.part_ids.size() && i < mesh_.triangles.size(); ++i) {
+      const int p = mesh_.part_ids[i];
+      if (p < 0) continue;
+      if (static_cast<std::size_t>(p) >= by_part.size()) by_part.resize(static_cast<std::size_t>(p) + 1);
+      by_part[static_cast<std::size_t>(p)].push_back(i);
+    }
+    part_thickness_.assign(by_part.size(), 0.0f);
+    for (std::size_t p = 0; p < by_part.size(); ++p) {
+      float best = std::numeric_limits<float>::infinity();
+      for (std::size_t a : by_part[p]) {
+        for (std::size_t b : by_part[p]) {
+          if (normals_[a].dot(normals_[b]) > -0.999f) continue;
+          const Eigen::Vector3f& va = mesh_.vertices_m[static_cast<std::size_t>(mesh_.triangles[a][0])];
+          const Eigen::Vector3f& vb = mesh_.vertices_m[static_cast<std::size_t>(mesh_.triangles[b][0])];
+          const float dist = std::abs(normals_[a].dot(vb - va));
+          if (dist > 1e-6f) best = std::min(best, dist);
+        }
+      }
+      part_thickness_[p] = std::isfinite(best) ? best : 0.0f;
+    }
+  }
 
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device) throw InputError("ray scene: Embree device creation failed");
@@ -137,6 +192,14 @@ void RayScene::intersect_stream(const Ray3* rays, RayHit3* hits, std::size_t n, 
     rtcIntersect1M(impl_->scene, &ctx, buffer, static_cast<unsigned>(m), sizeof(RTCRayHit));
     for (std::size_t i = 0; i < m; ++i) hits[begin + i] = result(buffer[i]);
   }
+}
+
+void RayScene::intersect_stream(StreamRayHit* rays, std::size_t n, bool coherent) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  rtcIntersect1M(impl_->scene, &ctx, reinterpret_cast<RTCRayHit*>(rays), static_cast<unsigned>(n),
+                 sizeof(StreamRayHit));
 }
 
 PreparedRays RayScene::prepare(const std::vector<Ray3>& rays) const {

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
@@ -48,72 +49,77 @@ struct Tracer {
     return std::abs(scene.normals()[static_cast<std::size_t>(tri)].dot(d)) / d_len;
   }
 
-  /// Resolves what a camera ray reports given its first hit (glass outcomes included).
-  Result resolve(const Eigen::Vector3f& o, const Eigen::Vector3f& d, const RayHit3& first, int view_index,
-                 std::uint64_t pixel) const {
+  enum class Outcome { kReturn, kThrough, kReflect };
+
+  /// What glass triangle `tri` does to the ray of `pixel` at its `interaction`-th pane.
+  Outcome decide(int tri, int interaction, int view_index, std::uint64_t pixel) const {
+    const GlassModel& g = sensor.glass;
+    if (interaction >= g.max_interactions) return Outcome::kReturn;  // seen through enough panes
+    const CounterRng view_rng(seed, kRngGlass, static_cast<std::uint64_t>(view_index));
+    const int part = scene.mesh().part_ids[static_cast<std::size_t>(tri)];
+    const CounterRng rng = g.per_pixel ? view_rng.child((std::uint64_t{1} << 40) + pixel)
+                                       : view_rng.child(static_cast<std::uint64_t>(part + 1));
+    const double u = rng.uniform(static_cast<std::uint64_t>(interaction));
+    if (u < g.p_see_through) return Outcome::kThrough;
+    if (u < g.p_see_through + g.p_reflect) return Outcome::kReflect;
+    return Outcome::kReturn;
+  }
+
+  /// The ray that follows outcome `out` at the glass hit (t, tri) of camera ray o + t d.
+  /// Through: the same ray, starting behind the pane (its slab thickness along the ray);
+  /// reflect: the mirrored ray from the hit point, limited to the remaining range.
+  Ray3 secondary_ray(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t, int tri, Outcome out,
+                     float t_far, float eps) const {
+    const Eigen::Vector3f& n = scene.normals()[static_cast<std::size_t>(tri)];
+    const float nd = n.dot(d);
+    if (out == Outcome::kThrough) {
+      const float thickness = scene.part_thickness(scene.mesh().part_ids[static_cast<std::size_t>(tri)]);
+      const float skip = std::abs(nd) > 1e-6f ? thickness / std::abs(nd) : 0.0f;
+      return {o, d, t + std::min(skip, 0.5f * (t_far - t)) + eps, t_far};
+    }
+    const Eigen::Vector3f p = o + t * d + 1e-4f * (nd < 0.0f ? n : Eigen::Vector3f(-n));
+    return {p, d - 2.0f * nd * n, 0.0f, t_far - t};
+  }
+
+  /// Finishes a ray whose first hit (t, tri) is glass, given the outcome there and the hit of the
+  /// secondary ray (already cast). Further panes are handled here with single rays.
+  Result glass_chain(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t, int tri, Outcome out, RayHit3 h,
+                     int view_index, std::uint64_t pixel) const {
     Result r;
-    if (!first.hit()) return r;
+    r.glass = true;
     const float d_len = d.norm();
     const float t_far = static_cast<float>(sensor.max_range_m) / d_len;
-    if (!is_glass(first.triangle)) {
-      r.depth = first.t;
-      r.cos_inc = cos_incidence(first.triangle, d, d_len);
-      return finish(r, d_len);
-    }
-    r.glass = true;
-    const GlassModel& g = sensor.glass;
-    const CounterRng view_rng(seed, kRngGlass, static_cast<std::uint64_t>(view_index));
-    float t = first.t;
-    int tri = first.triangle;
     const float eps = 1e-4f / d_len;
-    for (int interaction = 0;; ++interaction) {
-      const int part = scene.mesh().part_ids[static_cast<std::size_t>(tri)];
-      const CounterRng rng = g.per_pixel ? view_rng.child((std::uint64_t{1} << 40) + pixel)
-                                         : view_rng.child(static_cast<std::uint64_t>(part + 1));
-      const double u = rng.uniform(static_cast<std::uint64_t>(interaction));
-      if (interaction >= g.max_interactions) {  // seen through enough panes: this one returns
+    for (int interaction = 0;;) {
+      if (out == Outcome::kReturn) {
         r.depth = t;
         r.cos_inc = cos_incidence(tri, d, d_len);
         return finish(r, d_len);
       }
-      if (u < g.p_see_through) {
-        // Continue behind the pane: skip faces we leave (the pane's back face), stop at the next
-        // surface we enter.
-        Ray3 ray{o, d, t + eps, t_far};
-        RayHit3 h;
-        for (int guard = 0; guard < 64; ++guard) {
-          h = scene.intersect(ray);
-          if (!h.hit()) break;
-          const bool leaving = scene.normals()[static_cast<std::size_t>(h.triangle)].dot(d) > 0.0f;
-          if (leaving && is_glass(h.triangle)) {
-            ray.t_near = h.t + eps;
-            continue;
-          }
-          break;
-        }
-        if (!h.hit()) return r;  // nothing behind within range: no return
-        t = h.t;
-        tri = h.triangle;
-        if (is_glass(tri)) continue;  // another pane: decide again
-        r.depth = t;
-        r.cos_inc = cos_incidence(tri, d, d_len);
-        return finish(r, d_len);
-      }
-      if (u < g.p_see_through + g.p_reflect) {
-        // Mirror reflection: the sensor reports the total path length along the original ray.
-        const Eigen::Vector3f n = scene.normals()[static_cast<std::size_t>(tri)];
-        const Eigen::Vector3f p = o + t * d + 1e-4f * (n.dot(d) < 0.0f ? n : -n);
-        const Eigen::Vector3f refl = d - 2.0f * d.dot(n) * n;
-        Ray3 ray{p, refl, 0.0f, t_far - t};
-        const RayHit3 h = scene.intersect(ray);
-        if (!h.hit()) return r;
+      if (out == Outcome::kReflect) {
+        if (!h.hit()) return r;  // the mirrored path meets nothing within range
+        const Eigen::Vector3f& n = scene.normals()[static_cast<std::size_t>(tri)];
         r.depth = t + h.t;
-        r.cos_inc = cos_incidence(h.triangle, refl, d_len);
+        r.cos_inc = cos_incidence(h.triangle, d - 2.0f * n.dot(d) * n, d_len);
         return finish(r, d_len);
       }
-      r.depth = t;  // the glass itself returns
-      r.cos_inc = cos_incidence(tri, d, d_len);
-      return finish(r, d_len);
+      // Through: skip faces we leave (a pane's back face), stop at the next surface we enter.
+      for (int guard = 0; guard < 64 && h.hit(); ++guard) {
+        const bool leaving = scene.normals()[static_cast<std::size_t>(h.triangle)].dot(d) > 0.0f;
+        if (!(leaving && is_glass(h.triangle))) break;
+        h = scene.intersect({o, d, h.t + eps, t_far});
+      }
+      if (!h.hit()) return r;  // nothing behind within range: no return
+      if (!is_glass(h.triangle)) {
+        r.depth = h.t;
+        r.cos_inc = cos_incidence(h.triangle, d, d_len);
+        return finish(r, d_len);
+      }
+      // Another pane: decide again.
+      t = h.t;
+      tri = h.triangle;
+      out = decide(tri, ++interaction, view_index, pixel);
+      if (out != Outcome::kReturn) h = scene.intersect(secondary_ray(o, d, t, tri, out, t_far, eps));
     }
   }
 
@@ -128,33 +134,58 @@ struct Tracer {
   }
 };
 
+/// Per-pixel camera-ray geometry shared by all views of a scan (same intrinsics).
+struct PixelRays {
+  std::vector<float> x, y;    ///< (u - cx) / fx per column, (v - cy) / fy per row
+  std::vector<float> inv_norm;  ///< 1 / |(x, y, 1)| per pixel (empty when rays are jittered)
+};
+
+PixelRays pixel_rays(const CameraIntrinsics& K, bool jitter) {
+  PixelRays p;
+  p.x.resize(static_cast<std::size_t>(K.width_px));
+  p.y.resize(static_cast<std::size_t>(K.height_px));
+  for (int u = 0; u < K.width_px; ++u) p.x[static_cast<std::size_t>(u)] = static_cast<float>((u - K.cx_px) / K.fx_px);
+  for (int v = 0; v < K.height_px; ++v) p.y[static_cast<std::size_t>(v)] = static_cast<float>((v - K.cy_px) / K.fy_px);
+  if (!jitter) {
+    p.inv_norm.resize(static_cast<std::size_t>(K.width_px) * static_cast<std::size_t>(K.height_px));
+    for (int v = 0; v < K.height_px; ++v)
+      for (int u = 0; u < K.width_px; ++u) {
+        const float x = p.x[static_cast<std::size_t>(u)], y = p.y[static_cast<std::size_t>(v)];
+        p.inv_norm[static_cast<std::size_t>(v) * static_cast<std::size_t>(K.width_px) + static_cast<std::size_t>(u)] =
+            1.0f / std::sqrt(x * x + y * y + 1.0f);
+      }
+  }
+  return p;
+}
+
 /// Fills the camera rays of one tile (row-major inside the tile); returns their count.
-int tile_rays(const ViewJob& job, const CameraIntrinsics& K, const ScanParams& params, int tiles_x, int local,
-              Ray3* rays, int* px_u, int* px_v) {
+int tile_rays(const ViewJob& job, const CameraIntrinsics& K, const ScanParams& params, const PixelRays& pr,
+              int tiles_x, int local, StreamRayHit* rays, int* px_u, int* px_v) {
   const int W = K.width_px, H = K.height_px;
   const int u0 = (local % tiles_x) * kTile, v0 = (local / tiles_x) * kTile;
   const int u1 = std::min(u0 + kTile, W), v1 = std::min(v0 + kTile, H);
-  const bool jitter = params.sensor.kind == SensorKind::kLidar && params.sensor.lidar.lateral_sigma_px > 0.0;
+  const bool jitter = pr.inv_norm.empty();
   const double jitter_sigma = params.sensor.lidar.lateral_sigma_px;
   const CounterRng jitter_rng(params.seed, kRngPixelJitter, static_cast<std::uint64_t>(job.view_index));
-  const float fx = static_cast<float>(K.fx_px), fy = static_cast<float>(K.fy_px);
-  const float cx = static_cast<float>(K.cx_px), cy = static_cast<float>(K.cy_px);
+  const float inv_fx = static_cast<float>(1.0 / K.fx_px), inv_fy = static_cast<float>(1.0 / K.fy_px);
   const float max_range = static_cast<float>(params.sensor.max_range_m);
+  const Eigen::Matrix3f& R = job.R_world_camera;
   int n = 0;
   for (int v = v0; v < v1; ++v) {
     for (int u = u0; u < u1; ++u) {
-      float fu = static_cast<float>(u), fv = static_cast<float>(v);
+      float x = pr.x[static_cast<std::size_t>(u)], y = pr.y[static_cast<std::size_t>(v)];
+      float inv_norm;
       if (jitter) {
         const CounterRng rng = jitter_rng.child(static_cast<std::uint64_t>(v) * W + u);
-        fu += static_cast<float>(jitter_sigma * rng.normal(0));
-        fv += static_cast<float>(jitter_sigma * rng.normal(1));
+        x += static_cast<float>(jitter_sigma * rng.normal(0)) * inv_fx;
+        y += static_cast<float>(jitter_sigma * rng.normal(1)) * inv_fy;
+        inv_norm = 1.0f / std::sqrt(x * x + y * y + 1.0f);
+      } else {
+        inv_norm = pr.inv_norm[static_cast<std::size_t>(v) * static_cast<std::size_t>(W) + static_cast<std::size_t>(u)];
       }
-      const Eigen::Vector3f dc((fu - cx) / fx, (fv - cy) / fy, 1.0f);
-      Ray3& ray = rays[n];
-      ray.origin_m = job.origin_world_m;
-      ray.direction = job.R_world_camera * dc;
-      ray.t_near = 0.0f;
-      ray.t_far = max_range / dc.norm();
+      // World direction = R * (x, y, 1): unit z in the camera frame, so t is z-depth.
+      const Eigen::Vector3f d = R.col(0) * x + R.col(1) * y + R.col(2);
+      rays[n].set(job.origin_world_m, d, 0.0f, max_range * inv_norm);
       px_u[n] = u;
       px_v[n] = v;
       ++n;
@@ -173,41 +204,76 @@ void trace_views(const RayScene& scene, const ScanParams& params, const CameraIn
   const bool glass_effects = params.sensor.glass.p_see_through > 0.0 || params.sensor.glass.p_reflect > 0.0;
   const std::vector<MeshLabel>& labels = scene.mesh().labels;
   const bool need_incidence = params.sensor.kind == SensorKind::kLidar;
-  // Camera rays start at the camera centre; only a minimum range above the closest possible
-  // surface needs checking per pixel.
   const bool need_min_range = params.sensor.min_range_m > 0.0;
+  const float max_range = static_cast<float>(params.sensor.max_range_m);
+  const PixelRays pr =
+      pixel_rays(K, params.sensor.kind == SensorKind::kLidar && params.sensor.lidar.lateral_sigma_px > 0.0);
 
   tbb::parallel_for(tbb::blocked_range<int>(0, total, 1), [&](const tbb::blocked_range<int>& range) {
-    Ray3 rays[kTile * kTile];
-    RayHit3 hits[kTile * kTile];
-    int px_u[kTile * kTile], px_v[kTile * kTile];
+    StreamRayHit rays[kTile * kTile], sec[kTile * kTile];
+    Tracer::Result results[kTile * kTile];
+    Tracer::Outcome sec_outcome[kTile * kTile];
+    int px_u[kTile * kTile], px_v[kTile * kTile], sec_pixel[kTile * kTile];
     for (int tile = range.begin(); tile != range.end(); ++tile) {
       ViewJob& job = jobs[static_cast<std::size_t>(tile / tiles_per_view)];
-      const int n = tile_rays(job, K, params, tiles_x, tile % tiles_per_view, rays, px_u, px_v);
-      scene.intersect_stream(rays, hits, static_cast<std::size_t>(n), true);
+      const int n = tile_rays(job, K, params, pr, tiles_x, tile % tiles_per_view, rays, px_u, px_v);
+      scene.intersect_stream(rays, static_cast<std::size_t>(n), true);
+      int n_sec = 0;
+      for (int i = 0; i < n; ++i) {
+        Tracer::Result& r = results[i];
+        r = Tracer::Result{};
+        const StreamRayHit& h = rays[i];
+        if (!h.hit()) continue;
+        const int tri = static_cast<int>(h.primID);
+        const bool glass = labels[static_cast<std::size_t>(tri)] == MeshLabel::kGlass;
+        if (glass && glass_effects) {
+          const std::uint64_t pixel = static_cast<std::uint64_t>(px_v[i]) * W + px_u[i];
+          const Tracer::Outcome out = tracer.decide(tri, 0, job.view_index, pixel);
+          if (out != Tracer::Outcome::kReturn) {
+            const Eigen::Vector3f d = h.direction();
+            const float d_len = d.norm();
+            const Ray3 ray = tracer.secondary_ray(h.origin(), d, h.tfar, tri, out, max_range / d_len, 1e-4f / d_len);
+            sec[n_sec].set(ray.origin_m, ray.direction, ray.t_near, ray.t_far);
+            sec_pixel[n_sec] = i;
+            sec_outcome[n_sec] = out;
+            ++n_sec;
+            continue;
+          }
+        }
+        // An opaque surface or a glass return.
+        r.depth = h.tfar;
+        r.glass = glass;
+        if (need_incidence || need_min_range) {
+          const Eigen::Vector3f d = h.direction();
+          const float d_len = d.norm();
+          if (need_incidence) r.cos_inc = tracer.cos_incidence(tri, d, d_len);
+          if (need_min_range) r = tracer.finish(r, d_len);
+        }
+      }
+      if (n_sec > 0) {
+        // Secondary rays of the tile's glass pixels as one (incoherent) stream.
+        scene.intersect_stream(sec, static_cast<std::size_t>(n_sec), false);
+        for (int k = 0; k < n_sec; ++k) {
+          const int i = sec_pixel[k];
+          const std::uint64_t pixel = static_cast<std::uint64_t>(px_v[i]) * W + px_u[i];
+          RayHit3 sh;
+          if (sec[k].hit()) {
+            sh.t = sec[k].tfar;
+            sh.triangle = static_cast<int>(sec[k].primID);
+          }
+          results[i] = tracer.glass_chain(rays[i].origin(), rays[i].direction(), rays[i].tfar,
+                                          static_cast<int>(rays[i].primID), sec_outcome[k], sh, job.view_index, pixel);
+        }
+      }
       for (int i = 0; i < n; ++i) {
         const int u = px_u[i], v = px_v[i];
-        Tracer::Result r;
-        const RayHit3& h = hits[i];
-        if (h.hit() && (!glass_effects || labels[static_cast<std::size_t>(h.triangle)] != MeshLabel::kGlass)) {
-          // Fast path: an opaque surface (or glass that always returns).
-          r.depth = h.t;
-          r.glass = labels[static_cast<std::size_t>(h.triangle)] == MeshLabel::kGlass;
-          if (need_incidence || need_min_range) {
-            const float d_len = rays[i].direction.norm();
-            if (need_incidence) r.cos_inc = tracer.cos_incidence(h.triangle, rays[i].direction, d_len);
-            if (need_min_range) r = tracer.finish(r, d_len);
-          }
-        } else if (h.hit()) {
-          const std::uint64_t pixel = static_cast<std::uint64_t>(v) * W + u;
-          r = tracer.resolve(rays[i].origin_m, rays[i].direction, h, job.view_index, pixel);
-        }
+        const Tracer::Result& r = results[i];
         job.clean.ptr<float>(v)[u] = r.depth;
         if (need_incidence) job.cos_inc.ptr<float>(v)[u] = r.cos_inc;
         job.glass.ptr<unsigned char>(v)[u] = r.glass ? 255 : 0;
         if (keep_first) {
-          float f = h.hit() ? h.t : 0.0f;
-          const double range_m = static_cast<double>(f) * rays[i].direction.norm();
+          float f = rays[i].hit() ? rays[i].tfar : 0.0f;
+          const double range_m = static_cast<double>(f) * rays[i].direction().norm();
           if (range_m < params.sensor.min_range_m) f = 0.0f;
           job.first.ptr<float>(v)[u] = f;
         }
@@ -294,6 +360,31 @@ void apply_lidar(const ScanParams& params, const CameraIntrinsics& K, const View
   });
 }
 
+/// Catmull-Rom interpolation of n control points spread evenly over pixels 0..size-1: for each
+/// pixel the four (clamped) control indices and their weights.
+struct Spline1D {
+  std::vector<std::array<int, 4>> idx;
+  std::vector<std::array<float, 4>> w;
+};
+
+Spline1D catmull_rom(int size, int n) {
+  Spline1D sp;
+  sp.idx.resize(static_cast<std::size_t>(size));
+  sp.w.resize(static_cast<std::size_t>(size));
+  for (int p = 0; p < size; ++p) {
+    const double s = size > 1 ? static_cast<double>(p) / (size - 1) * (n - 1) : 0.0;
+    const int k = std::min(static_cast<int>(s), n - 2);
+    const double f = s - k, f2 = f * f, f3 = f2 * f;
+    const double w[4] = {0.5 * (-f3 + 2.0 * f2 - f), 0.5 * (3.0 * f3 - 5.0 * f2 + 2.0), 0.5 * (-3.0 * f3 + 4.0 * f2 + f),
+                         0.5 * (f3 - f2)};
+    for (int j = 0; j < 4; ++j) {
+      sp.idx[static_cast<std::size_t>(p)][static_cast<std::size_t>(j)] = std::clamp(k - 1 + j, 0, n - 1);
+      sp.w[static_cast<std::size_t>(p)][static_cast<std::size_t>(j)] = static_cast<float>(w[j]);
+    }
+  }
+  return sp;
+}
+
 double mono_view_scale(const ScanParams& params, int view_index) {
   const CounterRng rng(params.seed, kRngViewScale, static_cast<std::uint64_t>(view_index));
   return std::exp(params.sensor.mono.scale_sigma_ln * rng.normal(0));
@@ -303,46 +394,68 @@ void apply_mono(const ScanParams& params, const CameraIntrinsics& K, const ViewJ
                 DepthView& out) {
   const MonoModel& m = params.sensor.mono;
   const int W = K.width_px, H = K.height_px;
-  // Low-frequency warp: zero-mean (in log) random grid, exponentiated, bicubically upsampled.
-  cv::Mat grid(m.warp_grid_y, m.warp_grid_x, CV_32F);
+  // Low-frequency warp: zero-mean (in log) random grid, exponentiated, upsampled with
+  // Catmull-Rom splines (separable, C1-smooth).
+  const int gx = m.warp_grid_x, gy = m.warp_grid_y;
+  std::vector<float> grid(static_cast<std::size_t>(gx * gy));
   {
     const CounterRng rng(params.seed, kRngViewWarp, static_cast<std::uint64_t>(job.view_index));
     double mean = 0.0;
-    std::vector<double> g(static_cast<std::size_t>(m.warp_grid_x * m.warp_grid_y));
+    std::vector<double> g(grid.size());
     for (std::size_t j = 0; j < g.size(); ++j) {
       g[j] = m.warp_sigma_ln * rng.normal(j);
       mean += g[j];
     }
     mean /= static_cast<double>(g.size());
-    for (int r = 0; r < m.warp_grid_y; ++r)
-      for (int c = 0; c < m.warp_grid_x; ++c)
-        grid.at<float>(r, c) = static_cast<float>(std::exp(g[static_cast<std::size_t>(r * m.warp_grid_x + c)] - mean));
+    for (std::size_t j = 0; j < g.size(); ++j) grid[j] = static_cast<float>(std::exp(g[j] - mean));
   }
-  cv::Mat warp;
-  cv::resize(grid, warp, cv::Size(W, H), 0.0, 0.0, cv::INTER_CUBIC);
+  const Spline1D su = catmull_rom(W, gx), sv = catmull_rom(H, gy);
 
-  out.depth_m = cv::Mat::zeros(H, W, CV_32F);
+  out.depth_m.create(H, W, CV_32F);
   const CounterRng view_rng(params.seed, kRngPixelNoise, static_cast<std::uint64_t>(job.view_index));
+  const CounterRng fly_rng(params.seed, kRngFlying, static_cast<std::uint64_t>(job.view_index));
   const float threshold = static_cast<float>(m.edge_threshold_rel);
+  const bool flying = m.flying_pixel_prob > 0.0;
+  const int width = m.flying_pixel_width_px;
   tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v != rows.end(); ++v) {
       const float* clean = job.clean.ptr<float>(v);
-      const float* wp = warp.ptr<float>(v);
+      const float* up = v > 0 ? job.clean.ptr<float>(v - 1) : nullptr;
+      const float* down = v + 1 < H ? job.clean.ptr<float>(v + 1) : nullptr;
+      // This row's warp control values along x, then 4 weights per pixel.
+      float row_ctrl[32];
+      for (int i = 0; i < gx; ++i) {
+        float acc = 0.0f;
+        for (int k = 0; k < 4; ++k) acc += sv.w[static_cast<std::size_t>(v)][k] * grid[static_cast<std::size_t>(sv.idx[static_cast<std::size_t>(v)][k] * gx + i)];
+        row_ctrl[i] = acc;
+      }
       float* dst = out.depth_m.ptr<float>(v);
       for (int u = 0; u < W; ++u) {
         const float z = clean[u];
-        if (z <= 0.0f) continue;
-        const CounterRng rng = view_rng.child(static_cast<std::uint64_t>(v) * W + u);
-        double zf = z;
-        if (m.flying_pixel_prob > 0.0) {
+        if (z <= 0.0f) {
+          dst[u] = 0.0f;
+          continue;
+        }
+        const std::uint64_t pixel = static_cast<std::uint64_t>(v) * W + u;
+        float zf = z;
+        if (flying) {
+          // Cheap test against the 4-neighbours first; the full search only near edges.
+          auto jump = [&](float q) { return q > 0.0f && std::abs(q - z) > threshold * std::min(q, z); };
+          bool edge = (u > 0 && jump(clean[u - 1])) || (u + 1 < W && jump(clean[u + 1])) || (up && jump(up[u])) ||
+                      (down && jump(down[u]));
           float other = z;
-          if (max_edge_jump(job.clean, u, v, m.flying_pixel_width_px, threshold, other) > threshold &&
-              rng.uniform(0) < m.flying_pixel_prob) {
-            zf = z + rng.uniform(1) * (other - z);
+          if (edge || width > 1) edge = max_edge_jump(job.clean, u, v, width, threshold, other) > threshold;
+          if (edge) {
+            const CounterRng rng = fly_rng.child(pixel);
+            if (rng.uniform(0) < m.flying_pixel_prob) zf = z + static_cast<float>(rng.uniform(1)) * (other - z);
           }
         }
-        const double noisy = scale * wp[u] * zf * (1.0 + m.noise_sigma_rel * rng.normal(2));
-        dst[u] = noisy > 0.0 ? static_cast<float>(noisy) : 0.0f;
+        const auto& wu = su.w[static_cast<std::size_t>(u)];
+        const auto& iu = su.idx[static_cast<std::size_t>(u)];
+        const float warp = wu[0] * row_ctrl[iu[0]] + wu[1] * row_ctrl[iu[1]] + wu[2] * row_ctrl[iu[2]] + wu[3] * row_ctrl[iu[3]];
+        const float noisy =
+            static_cast<float>(scale) * warp * zf * (1.0f + static_cast<float>(m.noise_sigma_rel * view_rng.item_normal(pixel)));
+        dst[u] = noisy > 0.0f ? noisy : 0.0f;
       }
     }
   });
@@ -374,10 +487,11 @@ std::vector<ViewJob> make_jobs(const Pose2& T_world_scan, const ScanParams& para
     job.R_world_camera = T_world_camera.linear().cast<float>();
     job.origin_world_m = T_world_camera.translation().cast<float>();
     if (!buffers) continue;
-    job.clean = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
-    if (params.sensor.kind == SensorKind::kLidar) job.cos_inc = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
-    job.glass = cv::Mat::zeros(K.height_px, K.width_px, CV_8U);
-    if (keep_first) job.first = cv::Mat::zeros(K.height_px, K.width_px, CV_32F);
+    // Every pixel is written by the tracer: no need to clear.
+    job.clean.create(K.height_px, K.width_px, CV_32F);
+    if (params.sensor.kind == SensorKind::kLidar) job.cos_inc.create(K.height_px, K.width_px, CV_32F);
+    job.glass.create(K.height_px, K.width_px, CV_8U);
+    if (keep_first) job.first.create(K.height_px, K.width_px, CV_32F);
   }
   return jobs;
 }
@@ -413,15 +527,17 @@ std::vector<Ray3> scan_camera_rays(const Pose2& T_world_scan, const ScanParams& 
   validate_scan_params(params);
   const CameraIntrinsics K = view_intrinsics(params.geometry);
   const std::vector<ViewJob> jobs = make_jobs(T_world_scan, params, K, false, false);
+  const PixelRays pr =
+      pixel_rays(K, params.sensor.kind == SensorKind::kLidar && params.sensor.lidar.lateral_sigma_px > 0.0);
   const int tiles_x = (K.width_px + kTile - 1) / kTile, tiles_y = (K.height_px + kTile - 1) / kTile;
   std::vector<Ray3> out;
   out.reserve(jobs.size() * static_cast<std::size_t>(K.width_px) * static_cast<std::size_t>(K.height_px));
-  Ray3 rays[kTile * kTile];
+  StreamRayHit rays[kTile * kTile];
   int px_u[kTile * kTile], px_v[kTile * kTile];
   for (const ViewJob& job : jobs) {
     for (int local = 0; local < tiles_x * tiles_y; ++local) {
-      const int n = tile_rays(job, K, params, tiles_x, local, rays, px_u, px_v);
-      out.insert(out.end(), rays, rays + n);
+      const int n = tile_rays(job, K, params, pr, tiles_x, local, rays, px_u, px_v);
+      for (int i = 0; i < n; ++i) out.push_back({rays[i].origin(), rays[i].direction(), rays[i].tnear, rays[i].tfar});
     }
   }
   return out;
