@@ -220,6 +220,8 @@ void register_sim(CLI::App& root) {
                                             {"door_height_m", std::to_string(b.door_height_m)},
                                             {"clutter_density", std::to_string(b.clutter_density)},
                                             {"seed", std::to_string(eo->seed)}};
+    const std::filesystem::path parent = std::filesystem::path(eo->out).parent_path();
+    if (!parent.empty()) ensure_directory(parent.string());
     save_mesh_glb(eo->out, mesh, meta);
     std::cout << "extrude: " << mesh.num_triangles() << " triangles (";
     for (int l = 0; l < kNumMeshLabels; ++l) {
