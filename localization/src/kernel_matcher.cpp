@@ -12,6 +12,7 @@
 #include "floorcast/localization/fft_correlator.hpp"
 #include "floorcast/localization/plan_raster.hpp"
 #include "param_json.hpp"
+#include "timing.hpp"
 
 namespace floorcast {
 namespace {
@@ -97,8 +98,31 @@ int kernel_radius_px(const KernelMatcherParams& p) {
   return static_cast<int>(std::ceil(reach_m / p.resolution_m)) + p.blur_size_px / 2 + 1;
 }
 
+cv::Mat distance_weight_image(const KernelMatcherParams& params, int R) {
+  const int K = 2 * R + 1;
+  cv::Mat w(K, K, CV_32F, cv::Scalar(1.0f));
+  if (params.distance_sigma_m > 0.0) {
+    const double res = params.resolution_m;
+    const double inv2s2 = 1.0 / (2.0 * params.distance_sigma_m * params.distance_sigma_m);
+    for (int r = 0; r < K; ++r) {
+      float* row = w.ptr<float>(r);
+      const double dy = (r - R) * res;
+      for (int q = 0; q < K; ++q) {
+        const double dx = (q - R) * res;
+        row[q] = static_cast<float>(std::exp(-(dx * dx + dy * dy) * inv2s2));
+      }
+    }
+  }
+  return w;
+}
+
 LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::vector<Segment2>& obs, double yaw,
                                   double scale, int R) {
+  return make_layout_kernels(params, obs, yaw, scale, R, distance_weight_image(params, R));
+}
+
+LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::vector<Segment2>& obs, double yaw,
+                                  double scale, int R, const cv::Mat& weight) {
   const int K = 2 * R + 1;
   const double res = params.resolution_m;
   // The observer sits at the centre of pixel (R, R).
@@ -132,17 +156,7 @@ LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::
     cv::GaussianBlur(rw, rw, cv::Size(params.blur_size_px, params.blur_size_px), params.blur_sigma_px,
                      params.blur_sigma_px, cv::BORDER_CONSTANT);
   }
-  if (params.distance_sigma_m > 0.0) {
-    const double inv2s2 = 1.0 / (2.0 * params.distance_sigma_m * params.distance_sigma_m);
-    for (int r = 0; r < K; ++r) {
-      float* row = rw.ptr<float>(r);
-      const double dy = (r - R) * res;
-      for (int q = 0; q < K; ++q) {
-        const double dx = (q - R) * res;
-        row[q] = static_cast<float>(row[q] * std::exp(-(dx * dx + dy * dy) * inv2s2));
-      }
-    }
-  }
+  rw = rw.mul(weight);
   double mn = 0.0, mx = 0.0;
   cv::minMaxLoc(rw, &mn, &mx);
   if (mx > mn) {
@@ -175,6 +189,7 @@ LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::
 struct KernelMatcher::Impl {
   std::unique_ptr<FftCorrelator> correlator;
   int radius_px = 0;
+  cv::Mat distance_weight;
   std::vector<Segment2> plan_segments;
   mutable tbb::enumerable_thread_specific<std::unique_ptr<FftCorrelator::Workspace>> workspaces;
 };
@@ -190,6 +205,7 @@ KernelMatcher::KernelMatcher(const FloorPlan& plan, const KernelMatcherParams& p
   valid_ = matcher_valid_mask(plan, grid_, blocking_of(params_));
   orientation_cache_ = make_plan_orientation_cache(params_.orientation, impl_->plan_segments);
   impl_->radius_px = kernel_radius_px(params_);
+  impl_->distance_weight = distance_weight_image(params_, impl_->radius_px);
   cv::Mat plan_f;
   plan_raster_.convertTo(plan_f, CV_32F, 1.0 / 255.0);
   impl_->correlator = std::make_unique<FftCorrelator>(plan_f, impl_->radius_px);
@@ -197,6 +213,9 @@ KernelMatcher::KernelMatcher(const FloorPlan& plan, const KernelMatcherParams& p
 }
 
 KernelMatcher::~KernelMatcher() = default;
+
+int KernelMatcher::fft_cols() const { return impl_->correlator->fft_cols(); }
+int KernelMatcher::fft_rows() const { return impl_->correlator->fft_rows(); }
 
 std::size_t KernelMatcher::precompute_bytes() const {
   return impl_->correlator->spectrum_bytes() + plan_raster_.total() + valid_.total();
@@ -233,18 +252,17 @@ MatchResult KernelMatcher::match_yaws(const Observation2D& obs, const std::vecto
     if (!ws) ws = impl_->correlator->make_workspace();
     Times& tm = times.local();
     cv::Mat best = cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_32F);
-    cv::Mat heat;
     for (double scale : params_.scales) {
-      const auto a = Clock::now();
-      const LayoutKernels k = make_layout_kernels(params_, obs.segments_m, yaws[o], scale, R);
+      const double a = detail::thread_cpu_s();
+      const LayoutKernels k = make_layout_kernels(params_, obs.segments_m, yaws[o], scale, R, impl_->distance_weight);
       cv::Mat kernel = k.p - alpha * k.ces;
-      const auto b = Clock::now();
+      const double b = detail::thread_cpu_s();
       FftCorrelator::StageTimes st;
-      impl_->correlator->correlate(kernel, heat, *ws, &st);
-      const auto c = Clock::now();
+      impl_->correlator->run(kernel, *ws, &st);
+      const double c = detail::thread_cpu_s();
       // Clip at 0, drop FFT round-off, restrict to the valid area, max over scales.
       for (int row = 0; row < grid_.height_px; ++row) {
-        const float* h = heat.ptr<float>(row);
+        const float* h = impl_->correlator->result_row(*ws, row);
         const std::uint8_t* v = valid_.ptr<std::uint8_t>(row);
         float* out = best.ptr<float>(row);
         for (int col = 0; col < grid_.width_px; ++col) {
@@ -252,11 +270,11 @@ MatchResult KernelMatcher::match_yaws(const Observation2D& obs, const std::vecto
           out[col] = std::max(out[col], x);
         }
       }
-      tm.kernels += seconds(a, b);
+      tm.kernels += b - a;
       tm.forward += st.forward_s;
       tm.product += st.product_s;
       tm.inverse += st.inverse_s;
-      tm.combine += seconds(c, Clock::now());
+      tm.combine += detail::thread_cpu_s() - c;
     }
     post.scores[o] = best;
   });
@@ -269,7 +287,7 @@ MatchResult KernelMatcher::match_yaws(const Observation2D& obs, const std::vecto
     sum.inverse += t.inverse;
     sum.combine += t.combine;
   }
-  // Stage times are summed over worker threads (CPU seconds), match_s is wall time.
+  // Stage times are thread CPU seconds summed over workers; match_s is wall time.
   result.stage_s["kernel_build"] = sum.kernels;
   result.stage_s["fft_forward"] = sum.forward;
   result.stage_s["spectrum_product"] = sum.product;

@@ -65,7 +65,8 @@ TEST(FftCorrelator, EqualsDirectCorrelation) {
 TEST(FftCorrelator, SizesAndErrors) {
   EXPECT_EQ(next_fast_fft_size(1), 1);
   EXPECT_EQ(next_fast_fft_size(11), 12);
-  EXPECT_EQ(next_fast_fft_size(97), 98);
+  EXPECT_EQ(next_fast_fft_size(97), 100);
+  EXPECT_EQ(next_fast_fft_size(696), 720);
   EXPECT_EQ(next_fast_fft_size(1021), 1024);
   const FftCorrelator corr(cv::Mat::zeros(10, 10, CV_32F), 3);
   auto ws = corr.make_workspace();

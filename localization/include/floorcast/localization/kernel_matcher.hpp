@@ -90,6 +90,11 @@ struct LayoutKernels {
 /// Builds the kernels for observer-frame segments rotated by yaw_rad and scaled by scale.
 LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::vector<Segment2>& obs_segments,
                                   double yaw_rad, double scale, int radius_px);
+/// Same, with the distance weight image (distance_weight_image) precomputed.
+LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::vector<Segment2>& obs_segments,
+                                  double yaw_rad, double scale, int radius_px, const cv::Mat& distance_weight);
+/// exp(-d^2 / (2 sigma^2)) of each kernel pixel's distance d to the centre (all ones for sigma 0).
+cv::Mat distance_weight_image(const KernelMatcherParams& params, int radius_px);
 
 /// The CES weight actually correlated. corr(plan, P) <= sum(P) = 1 (the plan raster is 0/1), so
 /// for alpha >= 1 any CES hit drives the score to <= 0 and the clipped heatmap is the same for
@@ -120,6 +125,9 @@ class KernelMatcher final : public Matcher {
   const cv::Mat& plan_raster() const { return plan_raster_; }
   const cv::Mat& valid_mask() const { return valid_; }
   const KernelMatcherParams& params() const { return params_; }
+  /// Size of the correlation transform (columns, rows): the grid padded by the kernel radius.
+  int fft_cols() const;
+  int fft_rows() const;
 
  private:
   struct Impl;

@@ -69,6 +69,7 @@ class RayMatcher final : public Matcher {
  private:
   RayMatcherParams params_;
   DistanceVolume volume_;
+  std::vector<std::int64_t> row_start_;  ///< first stored cell of each grid row, plus the end
   double precompute_s_ = 0.0;
   bool from_cache_ = false;
 };

@@ -1,0 +1,175 @@
+// `floorcast localize PLAN OBS --matcher kernel|ray`: one observation -> posterior over the plan,
+// estimate.json and posterior.png.
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "cli_common.hpp"
+#include "floorcast/floorplans/io.hpp"
+#include "floorcast/localization/matcher.hpp"
+#include "floorcast/localization/plan_raster.hpp"
+#include "floorcast/sim/observation_io.hpp"
+
+namespace floorcast::cli {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// What the localizer consumes: the 2D observation, plus the ground truth when the file knows it.
+struct LocalizationInput {
+  ObservationRecord record;
+  std::string description;  ///< "observation JSON", ...
+};
+
+/// Loads OBS: an observation JSON (`floorcast sim perfect` writes DIR/observation.json; the
+/// folder itself is accepted too). Scan folders (a rotating scan to be turned into 2D segments by
+/// the observation module) will be read here as well.
+LocalizationInput load_localization_input(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    const fs::path obs = fs::path(path) / "observation.json";
+    if (fs::exists(obs)) return {load_observation(obs.string()), "observation JSON"};
+    throw InputError(path + ": folder without observation.json (scan folders need the observation module)");
+  }
+  if (!fs::exists(path, ec)) throw InputError(path + ": no such file or folder");
+  return {load_observation(path), "observation JSON"};
+}
+
+/// "key=value": value parsed as JSON when it is valid JSON, else taken as a string.
+void add_override(nlohmann::json& overrides, const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError("--param \"" + text + "\": expected KEY=VALUE");
+  const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
+  const nlohmann::json parsed = nlohmann::json::parse(value, nullptr, false);
+  overrides[key] = parsed.is_discarded() ? nlohmann::json(value) : parsed;
+}
+
+nlohmann::ordered_json hypothesis_json(const PoseHypothesis& h) {
+  nlohmann::ordered_json j;
+  j["x_m"] = h.x_m;
+  j["y_m"] = h.y_m;
+  j["yaw_deg"] = h.yaw_rad * 180.0 / kPi;
+  j["score"] = h.score;
+  return j;
+}
+
+BlockingOptions raster_blocking(const nlohmann::ordered_json& params) {
+  BlockingOptions b;
+  b.open_doors_block = params.value("doors_closed", true);
+  b.glass_blocks = params.value("glass_blocks", true);
+  b.obstacles_block = params.value("obstacles_block", false);
+  b.cut_height_m = params.value("cut_height_m", 1.5);
+  return b;
+}
+
+void register_localize(CLI::App& root) {
+  struct Options {
+    std::string plan, obs, matcher = "kernel", orientations, out;
+    int rays = 0;
+    int top_k = 5;
+    std::vector<std::string> params;
+  };
+  auto o = std::make_shared<Options>();
+  auto* cmd = root.add_subcommand("localize", "Posterior over (x, y, yaw) for one observation; estimate.json, posterior.png");
+  cmd->add_option("PLAN", o->plan, "Floor-plan JSON")->required();
+  cmd->add_option("OBS", o->obs, "Observation JSON (from `floorcast sim perfect`), or its folder")->required();
+  cmd->add_option("--matcher", o->matcher, "Layout matcher")->capture_default_str()->check(CLI::IsMember(matcher_names()));
+  cmd->add_option("--orientations", o->orientations, "Kernel matcher orientation candidates: palms, palms+ (default), dense")
+      ->check(CLI::IsMember({"palms", "palms+", "dense"}));
+  cmd->add_option("--rays", o->rays, "Ray matcher: equiangular rays = volume directions (default 36)")
+      ->check(CLI::Range(4, 3600));
+  cmd->add_option("--param", o->params, "Matcher parameter override KEY=VALUE (repeatable; keys as in estimate.json)");
+  cmd->add_option("--top-k", o->top_k, "Modes to report (NMS 1 m, 30 deg)")->capture_default_str()->check(CLI::Range(1, 100));
+  cmd->add_option("-o,--output", o->out, "Output folder")->required();
+  cmd->callback([o] {
+    const FloorPlan plan = load_floor_plan(o->plan);
+    const LocalizationInput input = load_localization_input(o->obs);
+    nlohmann::json overrides = nlohmann::json::object();
+    for (const std::string& p : o->params) add_override(overrides, p);
+    if (!o->orientations.empty()) {
+      if (o->matcher != "kernel") throw InputError("--orientations applies to the kernel matcher only");
+      overrides["orientations"] = o->orientations;
+    }
+    if (o->rays > 0) {
+      if (o->matcher != "ray") throw InputError("--rays applies to the ray matcher only");
+      overrides["num_directions"] = o->rays;
+    }
+    const std::unique_ptr<Matcher> matcher = make_matcher(o->matcher, plan, overrides);
+    const MatchResult result = matcher->match(input.record.observation);
+    const Posterior& post = result.posterior;
+    const PoseHypothesis best = post.argmax();
+    const std::vector<PoseHypothesis> modes = post.top_k(o->top_k, 1.0, kPi / 6.0);
+
+    nlohmann::ordered_json j;
+    j["x_m"] = best.x_m;
+    j["y_m"] = best.y_m;
+    j["yaw_deg"] = best.yaw_rad * 180.0 / kPi;
+    j["score"] = best.score;
+    nlohmann::ordered_json top = nlohmann::ordered_json::array();
+    for (const PoseHypothesis& h : modes) top.push_back(hypothesis_json(h));
+    j["top_k"] = top;
+    if (input.record.T_world_observer) {
+      const Pose2& t = *input.record.T_world_observer;
+      nlohmann::ordered_json g;
+      g["x_m"] = t.x_m;
+      g["y_m"] = t.y_m;
+      g["yaw_deg"] = t.yaw_rad * 180.0 / kPi;
+      j["ground_truth"] = g;
+      j["position_error_m"] = std::hypot(best.x_m - t.x_m, best.y_m - t.y_m);
+      j["yaw_error_deg"] = angle_distance_rad(best.yaw_rad, t.yaw_rad) * 180.0 / kPi;
+    }
+    nlohmann::ordered_json timings;
+    timings["precompute_s"] = matcher->precompute_s();
+    timings["match_s"] = result.match_s;
+    nlohmann::ordered_json stages;
+    for (const auto& [k, v] : result.stage_s) stages[k] = v;
+    timings["stages_s"] = stages;
+    j["timings"] = timings;
+    j["matcher"] = matcher->name();
+    j["parameters"] = matcher->parameters();
+    j["precompute_mb"] = matcher->precompute_bytes() / 1e6;
+    j["plan"] = o->plan;
+    j["observation"] = o->obs;
+    j["observation_segments"] = input.record.observation.segments_m.size();
+    nlohmann::ordered_json grid;
+    grid["origin_m"] = {post.grid.origin_x_m, post.grid.origin_y_m};
+    grid["resolution_m"] = post.grid.resolution_m_per_px;
+    grid["size_px"] = {post.grid.width_px, post.grid.height_px};
+    grid["slices"] = post.num_slices();
+    j["grid"] = grid;
+
+    ensure_directory(o->out);
+    write_json(o->out + "/estimate.json", j);
+    const cv::Mat raster = rasterize_outline(blocking_outline(plan, raster_blocking(j["parameters"])), post.grid);
+    std::optional<PoseHypothesis> truth;
+    if (input.record.T_world_observer) {
+      PoseHypothesis t;
+      t.x_m = input.record.T_world_observer->x_m;
+      t.y_m = input.record.T_world_observer->y_m;
+      t.yaw_rad = input.record.T_world_observer->yaw_rad;
+      truth = t;
+    }
+    const cv::Mat img = render_posterior_heatmap(post, raster, truth, best);
+    const std::string png = o->out + "/posterior.png";
+    if (!cv::imwrite(png, img)) throw InputError(png + ": cannot write the image");
+
+    std::cout << std::fixed << std::setprecision(2) << matcher->name() << ": x " << best.x_m << " m, y " << best.y_m
+              << " m, yaw " << std::setprecision(1) << best.yaw_rad * 180.0 / kPi << " deg (score "
+              << std::setprecision(4) << best.score << ")";
+    if (input.record.T_world_observer) {
+      std::cout << std::setprecision(2) << "; error " << j["position_error_m"].get<double>() << " m, "
+                << std::setprecision(1) << j["yaw_error_deg"].get<double>() << " deg";
+    }
+    std::cout << std::setprecision(3) << "; precompute " << matcher->precompute_s() << " s, match " << result.match_s
+              << " s -> " << o->out << "\n";
+  });
+}
+
+}  // namespace
+FLOORCAST_REGISTER_COMMANDS(register_localize);
+}  // namespace floorcast::cli
