@@ -73,6 +73,17 @@ GeneratedBuilding generate_apartment(std::uint64_t seed, const ApartmentParams& 
   const int bath_pos = rng.integer(0, 1);
   widths.insert(widths.begin() + bath_pos, bw);
   kinds.insert(kinds.begin() + bath_pos, "bath");
+  // The last room reaches over the closet; give it at least 1.8 m of wall on the hall for its door
+  // (taken from its neighbour, a bedroom of at least 2.8 m).
+  {
+    double before_last = 0.0;
+    for (std::size_t i = 0; i + 1 < widths.size(); ++i) before_last += widths[i];
+    const double short_by = 1.8 - (x_closet - before_last);
+    if (short_by > 0.0) {
+      widths[widths.size() - 2] -= short_by;
+      widths.back() += short_by;
+    }
+  }
   double x = 0.0;
   int bed_no = 0;
   for (std::size_t i = 0; i < widths.size(); ++i) {

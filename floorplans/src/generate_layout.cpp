@@ -491,8 +491,15 @@ GeneratedBuilding Layout::assemble(const std::string& name) const {
       }
     }
     if (!best_run) {
-      throw std::logic_error("generator: door between " + room_name(req.a) + " and " + room_name(req.b) +
-                             " does not fit in their shared wall");
+      std::string runs_text;
+      for (const Run& run : it->second) {
+        const Vec2 p0 = run.origin + run.t0 * run.dir, p1 = run.origin + run.t1 * run.dir;
+        runs_text += " (" + std::to_string(p0.x()) + "," + std::to_string(p0.y()) + ")-(" + std::to_string(p1.x()) +
+                     "," + std::to_string(p1.y()) + ") with " +
+                     std::to_string(openings[static_cast<std::size_t>(run.wall)].size()) + " openings on its wall;";
+      }
+      throw std::logic_error("generator: door (" + std::to_string(w) + " m) between " + room_name(req.a) + " and " +
+                             room_name(req.b) + " does not fit in their shared wall:" + runs_text);
     }
     openings[static_cast<std::size_t>(best_run->wall)].push_back({best_t - 0.5 * w, best_t + 0.5 * w});
     Door door;
@@ -668,7 +675,7 @@ std::vector<int> fill_row(Layout& layout, const RowStrip& s, const RowFill& f, R
   const BuildingStyle& st = layout.style();
   const double len = s.x1 - s.x0;
   std::vector<int> out;
-  if (len < f.min_room_m) return out;
+  if (len <= 1e-6) return out;  // any longer strip becomes rooms: never leave a hole
   const int units = static_cast<int>(std::floor((len + 1e-9) / f.module_m));
   std::vector<int> groups;
   for (int remaining = units; remaining > 0;) {
@@ -683,9 +690,9 @@ std::vector<int> fill_row(Layout& layout, const RowStrip& s, const RowFill& f, R
   for (int g : groups) widths.push_back(g * f.module_m);
   const double leftover = len - units * f.module_m;
   int storage_index = -1;
-  if (widths.empty()) {
+  if (widths.empty()) {  // shorter than a module: one room (named like a leftover)
     widths.push_back(len);
-    groups.push_back(1);
+    groups.push_back(0);
   } else if (leftover < f.min_room_m) {
     widths.back() += leftover;
   } else {
@@ -760,8 +767,19 @@ int add_facing_room(Layout& layout, const std::string& id, const std::string& ki
 }
 
 bool StripReservations::fits(double x0, double x1) const {
+  if (x1 <= x0) return false;
+  return fits_interval(x0, x1);
+}
+
+bool StripReservations::cut(double x) {
+  if (x <= x0_ || x >= x1_ || !fits_interval(x, x)) return false;
+  taken_.push_back({x, x});
+  return true;
+}
+
+bool StripReservations::fits_interval(double x0, double x1) const {
   const double eps = 1e-6;
-  if (x0 < x0_ - eps || x1 > x1_ + eps || x1 <= x0) return false;
+  if (x0 < x0_ - eps || x1 > x1_ + eps) return false;
   std::vector<Interval1> all = taken_;
   all.push_back({x0, x1});
   std::sort(all.begin(), all.end(), [](const Interval1& a, const Interval1& b) { return a.x0 < b.x0; });

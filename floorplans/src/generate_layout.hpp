@@ -195,11 +195,15 @@ class StripReservations {
   StripReservations(double x0, double x1, double min_gap_m) : x0_(x0), x1_(x1), min_gap_m_(min_gap_m) {}
   bool fits(double x0, double x1) const;
   bool reserve(double x0, double x1);
+  /// Splits the strip at x (e.g. under a fire partition): no room will straddle it. False (and
+  /// no cut) if it would leave a sliver.
+  bool cut(double x);
   std::vector<Interval1> free_intervals() const;
   double x0() const { return x0_; }
   double x1() const { return x1_; }
 
  private:
+  bool fits_interval(double x0, double x1) const;
   double x0_, x1_, min_gap_m_;
   std::vector<Interval1> taken_;
 };

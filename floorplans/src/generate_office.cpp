@@ -106,7 +106,10 @@ GeneratedBuilding generate_office(std::uint64_t seed, const OfficeParams& p) {
   }
   const double min_gap = 2.0 * st.door_jamb_m + sd + 0.6;
   std::vector<StripReservations> res;
-  for (const StripDef& d : defs) res.emplace_back(d.x0, d.x1, min_gap);
+  for (const StripDef& d : defs) {
+    res.emplace_back(d.x0, d.x1, min_gap);
+    for (std::size_t k = 1; k < d.halls.size(); ++k) res.back().cut(d.halls[k].first);  // fire partitions
+  }
   auto hall_at = [](const StripDef& d, double x) {
     std::size_t k = 0;
     while (k + 1 < d.halls.size() && d.halls[k + 1].first <= x) ++k;

@@ -159,6 +159,46 @@ TEST(Generate, EnvelopeIsClosedAndEveryRoomIsReachableThroughDoors) {
   }
 }
 
+TEST(Generate, ManySeedsGiveValidConnectedBuildings) {
+  // A wider sweep than the detailed tests (which use seeds 1-6): generation must never fail and
+  // every building must be one connected interior with all doors open.
+  for (Archetype a : archetypes()) {
+    for (std::uint64_t seed = 100; seed < 125; ++seed) {
+      SCOPED_TRACE(std::string(archetype_name(a)) + " seed " + std::to_string(seed));
+      BuildingStyle bare;
+      bare.furniture = false;
+      GeneratedBuilding b;
+      switch (a) {
+        case Archetype::kApartment: {
+          ApartmentParams p;
+          p.style.furniture = false;
+          b = generate_apartment(seed, p);
+          break;
+        }
+        case Archetype::kOffice: {
+          OfficeParams p;
+          p.style = bare;
+          b = generate_office(seed, p);
+          break;
+        }
+        case Archetype::kCampus: {
+          CampusParams p;
+          p.style.furniture = false;
+          b = generate_campus(seed, p);
+          break;
+        }
+        case Archetype::kAngled: {
+          AngledParams p;
+          p.style = bare;
+          b = generate_angled(seed, p);
+          break;
+        }
+      }
+      EXPECT_EQ(test::interior_components_doors_open(b.plan, 0.2), 1);
+    }
+  }
+}
+
 TEST(Generate, RealisticDimensions) {
   for (Archetype a : archetypes()) {
     for (std::uint64_t seed = 1; seed <= 3; ++seed) {
