@@ -1,10 +1,11 @@
 # Every dependency comes from a Debian 12 package (see scripts/install_deps.sh).
 find_package(Threads REQUIRED)
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
-find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs)
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs ximgproc)
 find_package(embree 3 REQUIRED)
 find_package(TinyGLTF REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
+find_package(pugixml 1.13 REQUIRED)
 find_package(yaml-cpp REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(TBB REQUIRED)

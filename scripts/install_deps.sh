@@ -5,10 +5,10 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake pkg-config
-  libembree-dev libeigen3-dev libopencv-dev libosmesa6-dev libtinygltf-dev libpcl-dev
+  libembree-dev libeigen3-dev libopencv-dev libopencv-contrib-dev libosmesa6-dev libtinygltf-dev libpcl-dev
   libgtest-dev libbenchmark-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libtbb-dev libfftw3-dev liblbfgspp-dev
-  libnanoflann-dev
+  libnanoflann-dev libpugixml-dev
 )
 
 missing=()

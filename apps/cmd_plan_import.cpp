@@ -1,0 +1,146 @@
+// `floorcast plan import SRC --format F [--level L] [--resolution M_PER_PX] -o plan.json`.
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+
+#include "cli_common.hpp"
+#include "floorcast/floorplans/import.hpp"
+#include "floorcast/floorplans/io.hpp"
+
+namespace floorcast::cli {
+namespace {
+
+struct ImportCliOptions {
+  std::string source;
+  std::string format;
+  std::string output;
+  std::string level;
+  double resolution_m_per_px = 0.0;
+  double wall_thickness_m = 0.0;
+  std::vector<double> png_origin_m;
+  std::string name;
+  double snap_tolerance_m = CleanupOptions{}.snap_tolerance_m;
+  double angle_tolerance_deg = CleanupOptions{}.angle_tolerance_rad * 180.0 / 3.14159265358979323846;
+  double door_width_m = ImportOptions{}.default_door_width_m;
+  bool doors_closed = false;
+  bool drop_bad_openings = false;
+  bool include_outwall = false;
+  std::vector<std::string> imdf_open_categories;
+  bool json = false;
+};
+
+void print_report(const ImportResult& r, const std::string& output) {
+  const CleanupReport& c = r.cleanup;
+  const PlanCounts counts = plan_counts(r.plan);
+  std::cout << "imported " << r.plan.name;
+  if (!r.level_description.empty()) std::cout << " (" << r.level_description << ")";
+  std::cout << " -> " << output << "\n";
+  std::cout << "source:";
+  for (const auto& [what, n] : r.source_counts) std::cout << " " << what << "=" << n;
+  std::cout << "\n";
+  std::cout << std::fixed << std::setprecision(3);
+  std::cout << "cleanup: walls " << c.input_walls << " -> " << c.output_walls << " (dropped degenerate "
+            << c.dropped_degenerate_walls << ", merged away " << c.walls_merged_away << ", collinear groups merged "
+            << c.collinear_groups_merged << ", duplicate length " << c.duplicate_length_m << " m, gaps closed "
+            << c.gaps_closed << ")\n";
+  std::cout << "         endpoints snapped " << c.snapped_endpoints << ", onto walls " << c.endpoints_snapped_to_walls
+            << "; openings re-attached " << c.openings_reattached << ", merged " << c.openings_merged << ", trimmed "
+            << c.openings_trimmed << ", dropped " << c.openings_dropped << "\n";
+  std::cout << "plan: walls " << counts.walls << ", doors " << counts.doors << " (closed " << counts.doors_closed
+            << "), windows " << counts.windows << "\n";
+  for (const std::string& n : c.notes) std::cout << "note: " << n << "\n";
+  for (const std::string& n : r.notes) std::cout << "note: " << n << "\n";
+}
+
+nlohmann::ordered_json report_json(const ImportResult& r, const std::string& output) {
+  const CleanupReport& c = r.cleanup;
+  nlohmann::ordered_json j;
+  j["output"] = output;
+  j["name"] = r.plan.name;
+  j["level"] = r.level_description;
+  nlohmann::ordered_json src = nlohmann::ordered_json::object();
+  for (const auto& [what, n] : r.source_counts) src[what] = n;
+  j["source"] = src;
+  j["cleanup"] = {{"input_walls", c.input_walls},
+                  {"output_walls", c.output_walls},
+                  {"dropped_degenerate_walls", c.dropped_degenerate_walls},
+                  {"snapped_endpoints", c.snapped_endpoints},
+                  {"endpoints_snapped_to_walls", c.endpoints_snapped_to_walls},
+                  {"collinear_groups_merged", c.collinear_groups_merged},
+                  {"walls_merged_away", c.walls_merged_away},
+                  {"duplicate_length_m", c.duplicate_length_m},
+                  {"gaps_closed", c.gaps_closed},
+                  {"openings_reattached", c.openings_reattached},
+                  {"openings_merged", c.openings_merged},
+                  {"openings_trimmed", c.openings_trimmed},
+                  {"openings_dropped", c.openings_dropped}};
+  const PlanCounts counts = plan_counts(r.plan);
+  j["plan"] = {{"walls", counts.walls}, {"doors", counts.doors}, {"doors_closed", counts.doors_closed}, {"windows", counts.windows}};
+  nlohmann::ordered_json notes = nlohmann::ordered_json::array();
+  for (const std::string& n : c.notes) notes.push_back(n);
+  for (const std::string& n : r.notes) notes.push_back(n);
+  j["notes"] = notes;
+  return j;
+}
+
+void register_plan_import(CLI::App& root) {
+  CLI::App& plan = group(root, "plan", "Floor plans: inspect, validate, import, generate, render");
+  auto o = std::make_shared<ImportCliOptions>();
+  auto* cmd = plan.add_subcommand(
+      "import", "Import a floor plan from csv (PALMS segments), s3d (Structured3D annotation_3d.json), png "
+                "(occupancy image), imdf (IMDF folder) or osm (Simple Indoor Tagging); cleans it up and validates it");
+  cmd->add_option("SRC", o->source, "Source file (imdf: folder; s3d: annotation_3d.json or its scene folder)")->required();
+  cmd->add_option("--format,-f", o->format, "csv | s3d | png | imdf | osm")->required();
+  cmd->add_option("-o,--output", o->output, "Output plan JSON")->required();
+  cmd->add_option("--level", o->level,
+                  "Level to import: imdf ordinal (or level id), osm level value; csv/s3d/png: the plan's storey number");
+  cmd->add_option("--resolution", o->resolution_m_per_px, "png: metres per pixel (required for png)");
+  cmd->add_option("--png-origin", o->png_origin_m, "png: world x y (m) of the image's bottom-left corner (default 0 0)")
+      ->expected(2);
+  cmd->add_option("--thickness", o->wall_thickness_m,
+                  "Wall thickness in metres (default 0.10; s3d 0.02; png measures it)");
+  cmd->add_option("--name", o->name, "Plan name (default: from the source file name)");
+  cmd->add_option("--snap-tolerance", o->snap_tolerance_m, "Clean-up: snap/merge tolerance in metres")
+      ->default_val(o->snap_tolerance_m);
+  cmd->add_option("--angle-tolerance", o->angle_tolerance_deg, "Clean-up: collinearity tolerance in degrees")
+      ->default_val(o->angle_tolerance_deg);
+  cmd->add_option("--door-width", o->door_width_m, "osm: width of doors without width=* (m)")->default_val(o->door_width_m);
+  cmd->add_flag("--doors-closed", o->doors_closed, "Import doors as closed (default: open)");
+  cmd->add_flag("--drop-bad-openings", o->drop_bad_openings,
+                "Drop doors/windows that fit on no wall (listed as notes) instead of failing");
+  cmd->add_flag("--include-outwall", o->include_outwall, "s3d: also import the exterior (outwall) surfaces");
+  cmd->add_option("--imdf-open-category", o->imdf_open_categories,
+                  "imdf: unit category whose shared boundaries are open, repeatable (default: walkway)");
+  cmd->add_flag("--json", o->json, "Print the import report as JSON");
+  cmd->callback([o] {
+    ImportOptions opts;
+    if (!o->level.empty()) opts.level = o->level;
+    if (o->resolution_m_per_px != 0.0) opts.resolution_m_per_px = o->resolution_m_per_px;
+    if (o->wall_thickness_m != 0.0) opts.wall_thickness_m = o->wall_thickness_m;
+    if (o->png_origin_m.size() == 2) opts.png_origin_m = Vec2(o->png_origin_m[0], o->png_origin_m[1]);
+    opts.name = o->name;
+    opts.cleanup.snap_tolerance_m = o->snap_tolerance_m;
+    opts.cleanup.angle_tolerance_rad = o->angle_tolerance_deg * 3.14159265358979323846 / 180.0;
+    opts.cleanup.drop_unattachable_openings = o->drop_bad_openings;
+    opts.default_door_width_m = o->door_width_m;
+    if (!(opts.default_door_width_m > 0.0) || !std::isfinite(opts.default_door_width_m)) {
+      throw InputError("--door-width must be a positive number of metres");
+    }
+    opts.doors_closed = o->doors_closed;
+    opts.s3d_include_outwall = o->include_outwall;
+    if (!o->imdf_open_categories.empty()) opts.imdf_open_unit_categories = o->imdf_open_categories;
+    const ImportFormat format = parse_import_format(o->format);
+    const ImportResult r = import_floor_plan(o->source, format, opts);
+    save_floor_plan(r.plan, o->output);
+    if (o->json) {
+      std::cout << report_json(r, o->output).dump(2) << "\n";
+    } else {
+      print_report(r, o->output);
+    }
+  });
+}
+
+}  // namespace
+FLOORCAST_REGISTER_COMMANDS(register_plan_import);
+}  // namespace floorcast::cli

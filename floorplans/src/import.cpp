@@ -1,0 +1,331 @@
+// Importer entry point, shared helpers, WGS84 local tangent plane, OSM level values.
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "floorcast/floorplans/import.hpp"
+#include "floorcast/floorplans/io.hpp"
+#include "import_common.hpp"
+
+namespace floorcast {
+namespace import_detail {
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+
+std::string stem_of(const std::string& path) {
+  std::string p = path;
+  while (!p.empty() && (p.back() == '/' || p.back() == '\\')) p.pop_back();
+  const auto slash = p.find_last_of("/\\");
+  std::string base = slash == std::string::npos ? p : p.substr(slash + 1);
+  const auto dot = base.find_last_of('.');
+  if (dot != std::string::npos && dot > 0) base = base.substr(0, dot);
+  return base;
+}
+
+double wall_thickness_or(const ImportOptions& options, double fallback_m, const std::string& source) {
+  const double t = options.wall_thickness_m.value_or(fallback_m);
+  if (!std::isfinite(t) || t <= 0.0 || t > 5.0) {
+    throw InputError(source + ": wall thickness " + fmt(t) + " m is outside (0, 5]");
+  }
+  return t;
+}
+
+int plain_level(const ImportOptions& options, const std::string& source) {
+  if (!options.level) return 0;
+  const std::string& s = *options.level;
+  char* end = nullptr;
+  const long v = std::strtol(s.c_str(), &end, 10);
+  if (s.empty() || *end != '\0' || v < -1000 || v > 1000) {
+    throw InputError(source + ": --level " + quoted(s) + " must be an integer storey for this format");
+  }
+  return static_cast<int>(v);
+}
+
+ImportResult finish_import(FloorPlan plan, const std::string& source, const std::string& default_name,
+                           const ImportOptions& options, ImportResult partial) {
+  plan.name = options.name.empty() ? default_name : options.name;
+  if (plan.walls.empty()) throw InputError(source + ": no walls found");
+  partial.cleanup = cleanup_floor_plan(plan, options.cleanup, source);
+  if (plan.walls.empty()) throw InputError(source + ": no walls left after clean-up (all degenerate)");
+  validate_floor_plan(plan, source);
+  partial.plan = std::move(plan);
+  return partial;
+}
+
+double distance_to_segments(const Vec2& p, const std::vector<Segment2>& segments) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Segment2& s : segments) {
+    const Vec2 d = s.b_m - s.a_m;
+    const double len2 = d.squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((p - s.a_m).dot(d) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, (p - (s.a_m + t * d)).norm());
+  }
+  return best;
+}
+
+BoundaryPieces classify_boundaries(const std::vector<BoundaryEdge>& edges, double tolerance_m,
+                                   double angle_tolerance_rad) {
+  BoundaryPieces out;
+  std::vector<Segment2> segs;
+  segs.reserve(edges.size());
+  for (const BoundaryEdge& e : edges) segs.push_back(e.segment_m);
+  const std::vector<int> group = collinear_groups(segs, tolerance_m, angle_tolerance_rad);
+  int groups = 0;
+  for (int g : group) groups = std::max(groups, g + 1);
+  std::vector<std::vector<int>> members(static_cast<std::size_t>(groups));
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    if (segs[i].length_m() > 0.0) members[static_cast<std::size_t>(group[i])].push_back(static_cast<int>(i));
+  }
+  for (const std::vector<int>& mem : members) {
+    if (mem.empty()) continue;
+    const GroupLine line = fit_group_line(segs, mem);
+    std::vector<std::pair<double, double>> iv;
+    std::vector<double> cuts;
+    for (int m : mem) {
+      double t0 = line.param(segs[static_cast<std::size_t>(m)].a_m), t1 = line.param(segs[static_cast<std::size_t>(m)].b_m);
+      if (t1 < t0) std::swap(t0, t1);
+      iv.emplace_back(t0, t1);
+      cuts.push_back(t0);
+      cuts.push_back(t1);
+    }
+    std::sort(cuts.begin(), cuts.end());
+    cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+    // 0 = uncovered, 1 = wall, 2 = open.
+    int run_class = 0;
+    double run_start = 0.0;
+    auto flush = [&](double t_end) {
+      if (run_class == 0) return;
+      Segment2 s{line.at(run_start), line.at(t_end)};
+      (run_class == 1 ? out.walls : out.open).push_back(s);
+    };
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+      const double mid = 0.5 * (cuts[k] + cuts[k + 1]);
+      bool walled = false, all_open = true;
+      std::set<int> owners;
+      bool covered = false;
+      for (std::size_t q = 0; q < mem.size(); ++q) {
+        if (iv[q].first <= mid && mid <= iv[q].second) {
+          const BoundaryEdge& e = edges[static_cast<std::size_t>(mem[q])];
+          covered = true;
+          walled = walled || e.walled;
+          all_open = all_open && e.open;
+          owners.insert(e.owner);
+        }
+      }
+      int cls = 0;
+      if (covered) cls = (walled && !(owners.size() >= 2 && all_open)) ? 1 : 2;
+      if (cls != run_class) {
+        flush(cuts[k]);
+        run_class = cls;
+        run_start = cuts[k];
+      }
+    }
+    if (!cuts.empty()) flush(cuts.back());
+  }
+  return out;
+}
+
+}  // namespace import_detail
+
+using import_detail::fmt;
+using import_detail::quoted;
+
+ImportFormat parse_import_format(const std::string& name) {
+  std::string n = name;
+  std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (n == "csv") return ImportFormat::kCsv;
+  if (n == "s3d" || n == "structured3d") return ImportFormat::kS3d;
+  if (n == "png") return ImportFormat::kPng;
+  if (n == "imdf") return ImportFormat::kImdf;
+  if (n == "osm") return ImportFormat::kOsm;
+  throw InputError("unknown import format " + quoted(name) + " (expected csv, s3d, png, imdf or osm)");
+}
+
+const char* import_format_name(ImportFormat format) {
+  switch (format) {
+    case ImportFormat::kCsv: return "csv";
+    case ImportFormat::kS3d: return "s3d";
+    case ImportFormat::kPng: return "png";
+    case ImportFormat::kImdf: return "imdf";
+    case ImportFormat::kOsm: return "osm";
+  }
+  return "?";
+}
+
+namespace {
+
+bool is_directory(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+bool is_file(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+}  // namespace
+
+ImportResult import_floor_plan(const std::string& path, ImportFormat format, const ImportOptions& options) {
+  ImportOptions opts = options;
+  if (opts.name.empty()) opts.name = import_detail::stem_of(path);
+  switch (format) {
+    case ImportFormat::kCsv:
+      return import_csv_text(read_text_file(path), path, opts);
+    case ImportFormat::kS3d: {
+      // A scene folder or its annotation_3d.json; the plan is named after the scene folder.
+      std::string file = path;
+      if (is_directory(path)) file = path + "/annotation_3d.json";
+      if (options.name.empty() && import_detail::stem_of(file) == "annotation_3d") {
+        const auto slash = file.find_last_of('/');
+        const std::string folder = slash == std::string::npos ? std::string(".") : file.substr(0, slash);
+        opts.name = import_detail::stem_of(folder == "." ? "structured3d" : folder);
+      }
+      return import_s3d_json(read_text_file(file), file, opts);
+    }
+    case ImportFormat::kPng: {
+      if (!is_file(path)) throw InputError(path + ": cannot read image (no such file)");
+      const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
+      if (image.empty()) throw InputError(path + ": cannot decode image");
+      return import_png_image(image, path, opts);
+    }
+    case ImportFormat::kImdf: {
+      if (!is_directory(path)) {
+        throw InputError(path + ": imdf import expects a folder holding level.geojson, unit.geojson and "
+                                "opening.geojson (unzip an .imdf archive first)");
+      }
+      const std::string level = read_text_file(path + "/level.geojson");
+      const std::string unit = read_text_file(path + "/unit.geojson");
+      std::string opening;
+      const bool has_openings = is_file(path + "/opening.geojson");
+      if (has_openings) opening = read_text_file(path + "/opening.geojson");
+      ImportResult r = import_imdf_texts(level, unit, opening, path, opts);
+      if (!has_openings) r.notes.insert(r.notes.begin(), path + ": no opening.geojson, so no doors");
+      return r;
+    }
+    case ImportFormat::kOsm:
+      return import_osm_xml(read_text_file(path), path, opts);
+  }
+  throw InputError(path + ": unknown import format");
+}
+
+// ---- WGS84 local tangent plane ------------------------------------------------------------------
+
+namespace {
+constexpr double kWgs84A = 6378137.0;
+constexpr double kWgs84F = 1.0 / 298.257223563;
+constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+Eigen::Vector3d geodetic_to_ecef(double lat_deg, double lon_deg) {
+  const double phi = lat_deg * kDegToRad, lam = lon_deg * kDegToRad;
+  const double s = std::sin(phi);
+  const double n = kWgs84A / std::sqrt(1.0 - kWgs84E2 * s * s);
+  return {n * std::cos(phi) * std::cos(lam), n * std::cos(phi) * std::sin(lam), n * (1.0 - kWgs84E2) * s};
+}
+}  // namespace
+
+LocalTangentPlane::LocalTangentPlane(double lat0_deg, double lon0_deg) {
+  origin_ecef_ = geodetic_to_ecef(lat0_deg, lon0_deg);
+  const double phi = lat0_deg * kDegToRad, lam = lon0_deg * kDegToRad;
+  R_enu_ecef_ << -std::sin(lam), std::cos(lam), 0.0,
+      -std::sin(phi) * std::cos(lam), -std::sin(phi) * std::sin(lam), std::cos(phi),
+      std::cos(phi) * std::cos(lam), std::cos(phi) * std::sin(lam), std::sin(phi);
+}
+
+Vec2 LocalTangentPlane::to_local_m(double lat_deg, double lon_deg) const {
+  const Eigen::Vector3d enu = R_enu_ecef_ * (geodetic_to_ecef(lat_deg, lon_deg) - origin_ecef_);
+  return {enu.x(), enu.y()};
+}
+
+double LocalTangentPlane::meridian_radius_m(double lat_deg) {
+  const double s = std::sin(lat_deg * kDegToRad);
+  return kWgs84A * (1.0 - kWgs84E2) / std::pow(1.0 - kWgs84E2 * s * s, 1.5);
+}
+
+double LocalTangentPlane::prime_vertical_radius_m(double lat_deg) {
+  const double s = std::sin(lat_deg * kDegToRad);
+  return kWgs84A / std::sqrt(1.0 - kWgs84E2 * s * s);
+}
+
+// ---- OSM level values ---------------------------------------------------------------------------
+
+namespace {
+
+std::string trim(const std::string& s) {
+  std::size_t a = 0, b = s.size();
+  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
+  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
+  return s.substr(a, b - a);
+}
+
+bool parse_level_number(const std::string& text, double& out) {
+  const std::string s = trim(text);
+  if (s.empty()) return false;
+  // digits with an optional sign and fraction; no exponents, no hex, no inf/nan.
+  std::size_t i = 0;
+  if (s[i] == '-' || s[i] == '+') ++i;
+  bool digits = false, dot = false;
+  for (; i < s.size(); ++i) {
+    if (std::isdigit(static_cast<unsigned char>(s[i]))) {
+      digits = true;
+    } else if (s[i] == '.' && !dot) {
+      dot = true;
+    } else {
+      return false;
+    }
+  }
+  if (!digits) return false;
+  out = std::strtod(s.c_str(), nullptr);
+  return std::isfinite(out);
+}
+
+}  // namespace
+
+bool parse_osm_levels(const std::string& value, std::vector<std::pair<double, double>>& ranges) {
+  ranges.clear();
+  std::string token;
+  std::stringstream ss(value);
+  while (std::getline(ss, token, ';')) {
+    const std::string t = trim(token);
+    if (t.empty()) return false;
+    double single = 0.0;
+    if (parse_level_number(t, single)) {
+      ranges.emplace_back(single, single);
+      continue;
+    }
+    // A range "a-b": the separating dash follows a digit (or a dot) of the first number.
+    bool ok = false;
+    for (std::size_t k = 1; k < t.size(); ++k) {
+      if (t[k] != '-') continue;
+      const char prev = t[k - 1];
+      if (!(std::isdigit(static_cast<unsigned char>(prev)) || prev == '.' || prev == ' ')) continue;
+      double lo = 0.0, hi = 0.0;
+      if (parse_level_number(t.substr(0, k), lo) && parse_level_number(t.substr(k + 1), hi)) {
+        if (hi < lo) std::swap(lo, hi);
+        ranges.emplace_back(lo, hi);
+        ok = true;
+        break;
+      }
+    }
+    if (!ok) return false;
+  }
+  if (value.empty() || value.back() == ';') return false;
+  return !ranges.empty();
+}
+
+}  // namespace floorcast
