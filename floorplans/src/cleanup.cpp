@@ -182,10 +182,18 @@ std::pair<int, int> snap_endpoints(std::vector<Wall>& walls, double tol) {
     incident[it->second].push_back(k);
   }
   // A cluster's point: where the incident walls' lines meet (length-weighted least squares, so a
-  // corner stays a corner and a T-junction stays on the through wall), unless that lies farther
-  // than tol from the cluster's mean (near-parallel lines); then the mean.
+  // corner stays a corner and a T-junction stays on the through wall); along directions the lines
+  // do not fix (near-parallel lines) the cluster's mean; the mean if that point lies farther than
+  // tol from it.
   for (std::size_t v = 0; v < vertices.size(); ++v) {
     if (incident[v].size() < 2) continue;
+    // Already one point (e.g. a corner shared exactly): leave it, so clean-up is idempotent.
+    bool coincident = true;
+    for (std::size_t k : incident[v]) coincident = coincident && point(k) == point(incident[v].front());
+    if (coincident) {
+      vertices[v] = point(incident[v].front());
+      continue;
+    }
     const Vec2 mean = vertices[v];
     Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
     Vec2 b = Vec2::Zero();
@@ -201,15 +209,24 @@ std::pair<int, int> snap_endpoints(std::vector<Wall>& walls, double tol) {
       total += len;
     }
     if (total <= 0.0) continue;
-    const double eps = 1e-9 * total;
-    A += eps * Eigen::Matrix2d::Identity();
-    b += eps * mean;
-    const Vec2 x = A.ldlt().solve(b);
+    // Solve A x = b only along well-constrained directions: lines meeting at a small angle fix
+    // the point across them but not along them (there the mean stays).
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(A);
+    const Vec2 residual = b - A * mean;
+    Vec2 x = mean;
+    const double lmax = eig.eigenvalues()(1);
+    for (int i = 0; i < 2; ++i) {
+      const double l = eig.eigenvalues()(i);
+      if (l <= 0.02 * lmax || l <= 0.0) continue;
+      const Vec2 e = eig.eigenvectors().col(i);
+      x += (e.dot(residual) / l) * e;
+    }
     if (x.allFinite() && (x - mean).norm() <= tol) vertices[v] = x;
   }
+  constexpr double kMoved = 1e-9;  // smaller moves are rounding, not snapping
   int snapped = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    if (incident[vertex_of[k]].size() > 1 && (point(k) - vertices[vertex_of[k]]).norm() > 0.0) ++snapped;
+    if (incident[vertex_of[k]].size() > 1 && (point(k) - vertices[vertex_of[k]]).norm() > kMoved) ++snapped;
   }
 
   // 2. Vertices within tol of another wall's interior move onto it (T-junction gaps).
@@ -234,7 +251,7 @@ std::pair<int, int> snap_endpoints(std::vector<Wall>& walls, double tol) {
       if (t <= 0.0 || t >= len) continue;
       const Vec2 foot = s.a_m + t * u;
       const double d = (vertices[v] - foot).norm();
-      if (d <= tol && d < best && d > 0.0) {
+      if (d <= tol && d < best && d > kMoved) {
         best = d;
         target = foot;
       }
@@ -274,8 +291,9 @@ struct Attributes {
   double glass_sill_m = 0.0;
   double glass_head_m = -1.0;  // -1: none
 
-  bool operator==(const Attributes& o) const {
-    return material == o.material && std::abs(thickness_m - o.thickness_m) <= 1e-9 &&
+  /// Same kind of wall, thicknesses within `thickness_tol`.
+  bool same(const Attributes& o, double thickness_tol) const {
+    return material == o.material && std::abs(thickness_m - o.thickness_m) <= thickness_tol + 1e-12 &&
            std::abs(glass_sill_m - o.glass_sill_m) <= 1e-9 && std::abs(glass_head_m - o.glass_head_m) <= 1e-9;
   }
   /// Priority where pieces overlap: solid beats glass, then the thicker wall.
@@ -367,6 +385,44 @@ std::vector<int> collinear_groups(const std::vector<Segment2>& segments, double 
   return group;
 }
 
+std::vector<std::vector<int>> collinear_runs(const std::vector<Segment2>& segments, double offset_tolerance_m,
+                                             double angle_tolerance_rad) {
+  const std::vector<int> group = collinear_groups(segments, offset_tolerance_m, angle_tolerance_rad);
+  int groups = 0;
+  for (int g : group) groups = std::max(groups, g + 1);
+  std::vector<std::vector<int>> members(static_cast<std::size_t>(groups));
+  for (std::size_t i = 0; i < segments.size(); ++i) members[static_cast<std::size_t>(group[i])].push_back(static_cast<int>(i));
+  std::vector<std::vector<int>> runs;
+  for (const std::vector<int>& mem : members) {
+    const GroupLine line = fit_group_line(segments, mem);
+    struct Extent { double t0, t1; int index; };
+    std::vector<Extent> ext;
+    for (int m : mem) {
+      double t0 = line.param(segments[static_cast<std::size_t>(m)].a_m), t1 = line.param(segments[static_cast<std::size_t>(m)].b_m);
+      if (t1 < t0) std::swap(t0, t1);
+      ext.push_back({t0, t1, m});
+    }
+    std::sort(ext.begin(), ext.end(), [](const Extent& a, const Extent& b) { return a.t0 < b.t0 || (a.t0 == b.t0 && a.index < b.index); });
+    std::vector<int> run;
+    double reach = -std::numeric_limits<double>::infinity();
+    for (const Extent& e : ext) {
+      if (!run.empty() && e.t0 > reach + offset_tolerance_m) {
+        std::sort(run.begin(), run.end());
+        runs.push_back(std::move(run));
+        run.clear();
+      }
+      run.push_back(e.index);
+      reach = std::max(reach, e.t1);
+    }
+    if (!run.empty()) {
+      std::sort(run.begin(), run.end());
+      runs.push_back(std::move(run));
+    }
+  }
+  std::sort(runs.begin(), runs.end(), [](const std::vector<int>& a, const std::vector<int>& b) { return a.front() < b.front(); });
+  return runs;
+}
+
 GroupLine fit_group_line(const std::vector<Segment2>& segments, const std::vector<int>& members) {
   GroupLine line;
   if (members.empty()) return line;
@@ -409,6 +465,7 @@ GroupLine fit_group_line(const std::vector<Segment2>& segments, const std::vecto
 
 CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options, const std::string& source) {
   if (!(options.snap_tolerance_m >= 0.0) || !(options.angle_tolerance_rad >= 0.0) ||
+      !(options.thickness_tolerance_m >= 0.0) || !std::isfinite(options.thickness_tolerance_m) ||
       !(options.min_wall_length_m >= 0.0) || !(options.opening_attach_tolerance_m >= 0.0) ||
       !std::isfinite(options.snap_tolerance_m) || !std::isfinite(options.angle_tolerance_rad) ||
       !std::isfinite(options.min_wall_length_m) || !std::isfinite(options.opening_attach_tolerance_m)) {
@@ -441,11 +498,12 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
   std::vector<Segment2> segs;
   segs.reserve(walls.size());
   for (const Wall& w : walls) segs.push_back(w.centerline());
-  const std::vector<int> group = collinear_groups(segs, tol, options.angle_tolerance_rad);
-  int group_count = 0;
-  for (int g : group) group_count = std::max(group_count, g + 1);
-  std::vector<std::vector<int>> members(static_cast<std::size_t>(group_count));
-  for (std::size_t i = 0; i < walls.size(); ++i) members[static_cast<std::size_t>(group[i])].push_back(static_cast<int>(i));
+  const std::vector<std::vector<int>> members = collinear_runs(segs, tol, options.angle_tolerance_rad);
+  const int group_count = static_cast<int>(members.size());
+  std::vector<int> group(walls.size(), -1);
+  for (int g = 0; g < group_count; ++g) {
+    for (int m : members[static_cast<std::size_t>(g)]) group[static_cast<std::size_t>(m)] = g;
+  }
 
   std::vector<GroupLine> lines(static_cast<std::size_t>(group_count));
   std::vector<MergedPiece> pieces;
@@ -457,14 +515,25 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
     struct Interval { double t0, t1; int wall; Attributes attr; };
     std::vector<Interval> iv;
     std::vector<double> cuts;
+    std::map<double, Vec2> cut_point;  // a member endpoint lying on the line at this cut
     for (int m : mem) {
-      double t0 = line.param(segs[static_cast<std::size_t>(m)].a_m);
-      double t1 = line.param(segs[static_cast<std::size_t>(m)].b_m);
+      const Vec2& pa = segs[static_cast<std::size_t>(m)].a_m;
+      const Vec2& pb = segs[static_cast<std::size_t>(m)].b_m;
+      double t0 = line.param(pa);
+      double t1 = line.param(pb);
+      for (const auto& [t, q] : {std::make_pair(t0, pa), std::make_pair(t1, pb)}) {
+        if ((line.at(t) - q).norm() <= 1e-9) cut_point.emplace(t, q);
+      }
       if (t1 < t0) std::swap(t0, t1);
       iv.push_back({t0, t1, m, attributes_of(walls[static_cast<std::size_t>(m)])});
       cuts.push_back(t0);
       cuts.push_back(t1);
     }
+    // Pieces end at original endpoints where those already lie on the line (no rounding drift).
+    auto at_cut = [&](double t) {
+      auto it = cut_point.find(t);
+      return it != cut_point.end() ? it->second : line.at(t);
+    };
     std::sort(cuts.begin(), cuts.end());
     cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
     // Elementary intervals with their best covering wall.
@@ -501,21 +570,30 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
         continue;
       }
       const Attributes attr = iv[static_cast<std::size_t>(elems[k].best)].attr;
+      const double ttol = options.thickness_tolerance_m;
       std::size_t e = k;
       std::set<int> contrib;
       int defining = std::numeric_limits<int>::max();
-      while (e < elems.size() && elems[e].best >= 0 && iv[static_cast<std::size_t>(elems[e].best)].attr == attr) {
+      double thick_sum = 0.0, len_sum = 0.0;
+      while (e < elems.size() && elems[e].best >= 0 && iv[static_cast<std::size_t>(elems[e].best)].attr.same(attr, ttol)) {
         for (int q : elems[e].cover) contrib.insert(iv[static_cast<std::size_t>(q)].wall);
         for (int q : elems[e].cover) {
-          if (iv[static_cast<std::size_t>(q)].attr == attr) defining = std::min(defining, iv[static_cast<std::size_t>(q)].wall);
+          if (iv[static_cast<std::size_t>(q)].attr.same(attr, ttol)) defining = std::min(defining, iv[static_cast<std::size_t>(q)].wall);
         }
+        const double len = elems[e].t1 - elems[e].t0;
+        thick_sum += len * iv[static_cast<std::size_t>(elems[e].best)].attr.thickness_m;
+        len_sum += len;
         ++e;
       }
       if (defining == std::numeric_limits<int>::max()) defining = iv[static_cast<std::size_t>(elems[k].best)].wall;
       MergedPiece piece;
       piece.wall = walls[static_cast<std::size_t>(defining)];
-      piece.wall.a_m = line.at(elems[k].t0);
-      piece.wall.b_m = line.at(elems[e - 1].t1);
+      piece.wall.a_m = at_cut(elems[k].t0);
+      piece.wall.b_m = at_cut(elems[e - 1].t1);
+      // Mean thickness only where thicknesses actually differ (keeps equal ones bit-exact).
+      bool uniform = true;
+      for (std::size_t q = k; q < e; ++q) uniform = uniform && iv[static_cast<std::size_t>(elems[q].best)].attr.thickness_m == attr.thickness_m;
+      piece.wall.thickness_m = uniform || len_sum <= 0.0 ? attr.thickness_m : thick_sum / len_sum;
       piece.group = g;
       piece.t0 = elems[k].t0;
       piece.contributors.assign(contrib.begin(), contrib.end());

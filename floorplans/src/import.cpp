@@ -83,14 +83,9 @@ BoundaryPieces classify_boundaries(const std::vector<BoundaryEdge>& edges, doubl
   std::vector<Segment2> segs;
   segs.reserve(edges.size());
   for (const BoundaryEdge& e : edges) segs.push_back(e.segment_m);
-  const std::vector<int> group = collinear_groups(segs, tolerance_m, angle_tolerance_rad);
-  int groups = 0;
-  for (int g : group) groups = std::max(groups, g + 1);
-  std::vector<std::vector<int>> members(static_cast<std::size_t>(groups));
-  for (std::size_t i = 0; i < edges.size(); ++i) {
-    if (segs[i].length_m() > 0.0) members[static_cast<std::size_t>(group[i])].push_back(static_cast<int>(i));
-  }
-  for (const std::vector<int>& mem : members) {
+  for (std::vector<int> mem : collinear_runs(segs, tolerance_m, angle_tolerance_rad)) {
+    mem.erase(std::remove_if(mem.begin(), mem.end(), [&](int m) { return !(segs[static_cast<std::size_t>(m)].length_m() > 0.0); }),
+              mem.end());
     if (mem.empty()) continue;
     const GroupLine line = fit_group_line(segs, mem);
     std::vector<std::pair<double, double>> iv;
@@ -182,7 +177,6 @@ bool is_file(const std::string& path) {
 
 ImportResult import_floor_plan(const std::string& path, ImportFormat format, const ImportOptions& options) {
   ImportOptions opts = options;
-  if (opts.name.empty()) opts.name = import_detail::stem_of(path);
   switch (format) {
     case ImportFormat::kCsv:
       return import_csv_text(read_text_file(path), path, opts);

@@ -249,13 +249,16 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
   // origin gives the same metric plan up to a translation).
   std::vector<bool> outer;
   const std::vector<Ring> level_rings = levels.polygon_rings(selected->index, &outer);
+  // Relative to the first vertex: raw degrees would cancel catastrophically in the cross products.
+  const double ref_lon = level_rings.front().front().lon, ref_lat = level_rings.front().front().lat;
   double area = 0.0, cx = 0.0, cy = 0.0, mx = 0.0, my = 0.0;
   int count = 0;
   for (std::size_t r = 0; r < level_rings.size(); ++r) {
     if (!outer[r]) continue;
     const Ring& ring = level_rings[r];
     for (std::size_t k = 0; k + 1 < ring.size(); ++k) {
-      const double x0 = ring[k].lon, y0 = ring[k].lat, x1 = ring[k + 1].lon, y1 = ring[k + 1].lat;
+      const double x0 = ring[k].lon - ref_lon, y0 = ring[k].lat - ref_lat;
+      const double x1 = ring[k + 1].lon - ref_lon, y1 = ring[k + 1].lat - ref_lat;
       const double cr = x0 * y1 - x1 * y0;
       area += cr;
       cx += (x0 + x1) * cr;
@@ -265,10 +268,10 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
       ++count;
     }
   }
-  double lon0 = mx / std::max(count, 1), lat0 = my / std::max(count, 1);
+  double lon0 = ref_lon + mx / std::max(count, 1), lat0 = ref_lat + my / std::max(count, 1);
   if (std::abs(area) > 1e-18) {
-    lon0 = cx / (3.0 * area);
-    lat0 = cy / (3.0 * area);
+    lon0 = ref_lon + cx / (3.0 * area);
+    lat0 = ref_lat + cy / (3.0 * area);
   }
   const LocalTangentPlane ltp(lat0, lon0);
   auto project = [&](const LonLat& p) { return ltp.to_local_m(p.lat, p.lon); };

@@ -387,6 +387,50 @@ class Vectorizer {
         }
       }
     }
+    // At a free end the thinning bends towards one corner of the wall's end: a first or last
+    // piece shorter than the wall is thick is that hook; drop it (the next piece is extended to
+    // the wall's end below).
+    if (!e.closed && verts.size() >= 3 && k0 == EndKind::kFree &&
+        (pts[verts[1]] - pts[verts[0]]).norm() < 2.0 * local_half(pts[verts[1]])) {
+      verts.erase(verts.begin());
+    }
+    if (!e.closed && verts.size() >= 3 && k1 == EndKind::kFree &&
+        (pts[verts.back()] - pts[verts[verts.size() - 2]]).norm() < 2.0 * local_half(pts[verts[verts.size() - 2]])) {
+      verts.pop_back();
+    }
+    // Douglas-Peucker judges straightness by the chord between the ends, which the skeleton bends
+    // near corners and junctions; re-join neighbouring pieces whose pixels (away from those ends)
+    // fit one line within the tolerance.
+    auto end_radius = [&](std::size_t vi, bool is_chain_end_free) {
+      return is_chain_end_free ? 0.0 : 1.5 * local_half(pts[verts[vi]]) + 1.0;
+    };
+    auto one_line = [&](std::size_t va, std::size_t vb) {
+      const double ra = end_radius(va, va == 0 && k0 == EndKind::kFree);
+      const double rb = end_radius(vb, vb + 1 == verts.size() && k1 == EndKind::kFree);
+      std::vector<cv::Point2f> fit;
+      for (std::size_t k = verts[va]; k <= verts[vb]; ++k) {
+        if ((pts[k] - pts[verts[va]]).norm() < ra || (pts[k] - pts[verts[vb]]).norm() < rb) continue;
+        fit.emplace_back(static_cast<float>(pts[k].x()), static_cast<float>(pts[k].y()));
+      }
+      if (fit.size() < 3) return false;
+      cv::Vec4f line;
+      cv::fitLine(fit, line, cv::DIST_L2, 0, 0.01, 0.01);
+      double worst = 0.0;
+      for (const cv::Point2f& q : fit) {
+        worst = std::max(worst, static_cast<double>(std::abs(line[0] * (q.y - line[3]) - line[1] * (q.x - line[2]))));
+      }
+      return worst <= options_.png_polyline_epsilon_px;
+    };
+    for (bool merged = true; merged;) {
+      merged = false;
+      for (std::size_t i = 1; i + 1 < verts.size(); ++i) {
+        if (one_line(i - 1, i + 1)) {
+          verts.erase(verts.begin() + static_cast<long>(i));
+          merged = true;
+          break;
+        }
+      }
+    }
 
     const std::size_t n_pieces = verts.size() - 1;
     std::vector<Piece> pieces(n_pieces);
@@ -594,6 +638,7 @@ ImportResult import_png_image(const cv::Mat& image, const std::string& source, c
   ImportOptions opts = options;
   opts.cleanup.snap_tolerance_m = std::max(opts.cleanup.snap_tolerance_m, 1.5 * res);
   opts.cleanup.angle_tolerance_rad = std::max(opts.cleanup.angle_tolerance_rad, 3.0 * 3.14159265358979323846 / 180.0);
+  opts.cleanup.thickness_tolerance_m = std::max(opts.cleanup.thickness_tolerance_m, res);
   FloorPlan plan;
   plan.level = import_detail::plain_level(options, source);
   plan.walls = vectorize_occupancy(occupied, res, opts, &result.notes);

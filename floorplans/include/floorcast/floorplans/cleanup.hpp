@@ -8,11 +8,13 @@
 //      cluster's mean; then an endpoint within snap_tolerance_m of another wall's interior moves
 //      onto that wall's centreline (closes T-junction gaps);
 //   3. merge collinear walls: walls whose directions differ by at most angle_tolerance_rad and
-//      whose endpoints lie within snap_tolerance_m of each other's line form one line group; the
-//      group's walls are projected onto the group's length-weighted mean line and their union is
+//      whose endpoints lie within snap_tolerance_m of each other's line form one line group, split
+//      into runs of walls that overlap or touch along it; a run's walls are projected onto the
+//      run's length-weighted mean line and their union is
 //      rebuilt as maximal pieces (duplicates and overlaps vanish, touching pieces and gaps up to
 //      snap_tolerance_m join). Where pieces of different kind overlap, solid beats glass and the
-//      thicker wall wins, so a piece only changes where its attributes change;
+//      thicker wall wins, so a piece only changes where its attributes change (thicknesses within
+//      thickness_tolerance_m count as equal and are averaged);
 //   4. snap again (stage 2) so corners of merged lines meet exactly, drop pieces that became
 //      degenerate;
 //   5. re-attach doors and windows: each opening goes to the merged wall that now carries its
@@ -40,6 +42,10 @@ struct CleanupOptions {
   double snap_tolerance_m = 0.02;
   /// Maximum direction difference of collinear walls (default 1 degree).
   double angle_tolerance_rad = 0.017453292519943295;
+  /// Touching collinear walls of one material whose thicknesses differ by at most this are one
+  /// wall, with the length-weighted mean thickness (default 1 cm; measured thicknesses of
+  /// vectorised images vary by a pixel).
+  double thickness_tolerance_m = 0.01;
   /// Walls shorter than this after snapping are dropped as degenerate (default 1 cm).
   double min_wall_length_m = 0.01;
   /// An opening without a (known) wall attaches to the nearest wall whose centreline is within
@@ -57,7 +63,7 @@ struct CleanupReport {
   int dropped_degenerate_walls = 0;  ///< shorter than min_wall_length_m (before or after snapping)
   int snapped_endpoints = 0;         ///< endpoints moved onto a nearby endpoint (cluster mean)
   int endpoints_snapped_to_walls = 0;  ///< endpoints moved onto a nearby wall's interior
-  int collinear_groups_merged = 0;   ///< line groups that had more than one wall
+  int collinear_groups_merged = 0;   ///< runs of touching collinear walls that had more than one wall
   int walls_merged_away = 0;         ///< walls absorbed into another (duplicates, collinear pieces)
   double duplicate_length_m = 0.0;   ///< total wall length that was drawn more than once
   int gaps_closed = 0;               ///< gaps up to snap_tolerance_m closed along a line
@@ -78,6 +84,13 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
 /// input segment, its group index (groups numbered in order of first appearance).
 std::vector<int> collinear_groups(const std::vector<Segment2>& segments, double offset_tolerance_m,
                                   double angle_tolerance_rad);
+
+/// Collinear groups split into runs: members whose extents along the line overlap or leave gaps
+/// of at most offset_tolerance_m. Each run is a list of segment indices (in input order); runs
+/// are ordered by their first member. Lines are fitted per run, so far-apart pieces that merely
+/// share a line do not tilt each other.
+std::vector<std::vector<int>> collinear_runs(const std::vector<Segment2>& segments, double offset_tolerance_m,
+                                             double angle_tolerance_rad);
 
 /// A group's reference line: point on the line and unit direction (length-weighted mean).
 struct GroupLine {

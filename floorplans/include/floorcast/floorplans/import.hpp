@@ -53,8 +53,9 @@ struct ImportOptions {
   bool doors_closed = false;
   /// Plan name (default: derived from the source file name).
   std::string name;
-  /// Clean-up tolerances; png raises snap_tolerance_m to at least 1.5 px and the angle
-  /// tolerance to at least 3 degrees (pixel-level noise of fitted lines).
+  /// Clean-up tolerances; png raises snap_tolerance_m to at least 1.5 px, the angle tolerance to
+  /// at least 3 degrees and the thickness tolerance to at least 1 px (pixel-level noise of fitted
+  /// lines and measured thicknesses).
   CleanupOptions cleanup;
 
   /// s3d: also import the building's exterior surfaces (semantics type "outwall"). Default off:

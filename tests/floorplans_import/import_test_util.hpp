@@ -1,0 +1,75 @@
+// Helpers shared by the importer tests.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "floorcast/floorplans/floor_plan.hpp"
+
+namespace floorcast::test {
+
+inline std::string data_path(const std::string& relative) { return std::string(FLOORCAST_TEST_DATA_DIR) + "/" + relative; }
+
+/// Distance from p to segment ab.
+inline double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 d = b - a;
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * d)).norm();
+}
+
+/// Distance from p to the nearest wall centreline of the plan.
+inline double distance_to_walls(const FloorPlan& plan, const Vec2& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Wall& w : plan.walls) best = std::min(best, point_segment_distance(p, w.a_m, w.b_m));
+  return best;
+}
+
+/// The wall whose endpoints are {a, b} (either order) within tol, or nullptr.
+inline const Wall* find_wall(const FloorPlan& plan, const Vec2& a, const Vec2& b, double tol) {
+  for (const Wall& w : plan.walls) {
+    if (((w.a_m - a).norm() <= tol && (w.b_m - b).norm() <= tol) || ((w.a_m - b).norm() <= tol && (w.b_m - a).norm() <= tol)) {
+      return &w;
+    }
+  }
+  return nullptr;
+}
+
+/// Index of the wall with this id (or -1).
+inline const Wall* wall_by_id(const FloorPlan& plan, const std::string& id) {
+  const int i = plan.wall_index(id);
+  return i < 0 ? nullptr : &plan.walls[static_cast<std::size_t>(i)];
+}
+
+inline const Door* door_by_id(const FloorPlan& plan, const std::string& id) {
+  for (const Door& d : plan.doors) {
+    if (d.id == id) return &d;
+  }
+  return nullptr;
+}
+
+/// Sorted wall lengths.
+inline std::vector<double> wall_lengths(const FloorPlan& plan) {
+  std::vector<double> out;
+  for (const Wall& w : plan.walls) out.push_back(w.length_m());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// Expects `what()` of the thrown InputError to contain every fragment.
+template <typename F>
+void expect_input_error(F&& f, std::initializer_list<std::string> fragments) {
+  try {
+    f();
+    ADD_FAILURE() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    for (const std::string& frag : fragments) EXPECT_NE(msg.find(frag), std::string::npos) << "message: " << msg << "\nmissing: " << frag;
+  }
+}
+
+}  // namespace floorcast::test

@@ -1,0 +1,66 @@
+// `floorcast plan import` end to end: writes a valid plan and reports; errors exit with code 2.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "floorcast/floorplans/io.hpp"
+#include "import_test_util.hpp"
+
+namespace floorcast {
+namespace {
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+CliRun run_cli(const std::string& args) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string out = (dir / "floorcast_cli_import_out.txt").string();
+  const std::string err = (dir / "floorcast_cli_import_err.txt").string();
+  const std::string cmd = std::string(FLOORCAST_CLI) + " " + args + " >" + out + " 2>" + err;
+  const int status = std::system(cmd.c_str());
+  CliRun r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text_file(out);
+  r.err = read_text_file(err);
+  return r;
+}
+
+TEST(CliImport, ImportsCleansAndWritesAValidPlan) {
+  const std::string plan = (std::filesystem::temp_directory_path() / "floorcast_cli_import_plan.json").string();
+  const CliRun r = run_cli("plan import " + test::data_path("csv/two_rooms_messy.csv") + " --format csv --level 2 -o " + plan);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("cleanup: walls 12 -> 6"), std::string::npos) << r.out;
+  const FloorPlan p = load_floor_plan(plan);
+  EXPECT_EQ(p.walls.size(), 6u);
+  EXPECT_EQ(p.level, 2);
+
+  const CliRun j = run_cli("plan import " + test::data_path("osm/building.osm") + " -f osm --level 0 --doors-closed --json -o " + plan);
+  ASSERT_EQ(j.exit_code, 0) << j.err;
+  const auto report = nlohmann::json::parse(j.out);
+  EXPECT_EQ(report["plan"]["walls"], 11);
+  EXPECT_EQ(report["plan"]["doors_closed"], 4);
+  EXPECT_EQ(report["notes"].size(), 1u);
+  std::filesystem::remove(plan);
+}
+
+TEST(CliImport, ErrorsExitWithCodeTwoAndAReason) {
+  const std::string plan = (std::filesystem::temp_directory_path() / "floorcast_cli_import_bad.json").string();
+  const CliRun png = run_cli("plan import " + test::data_path("png/two_rooms_f3loc.png") + " --format png -o " + plan);
+  EXPECT_EQ(png.exit_code, 2);
+  EXPECT_NE(png.err.find("--resolution"), std::string::npos) << png.err;
+  const CliRun fmt = run_cli("plan import x --format dwg -o " + plan);
+  EXPECT_EQ(fmt.exit_code, 2);
+  EXPECT_NE(fmt.err.find("unknown import format \"dwg\""), std::string::npos) << fmt.err;
+  EXPECT_FALSE(std::filesystem::exists(plan));
+}
+
+}  // namespace
+}  // namespace floorcast
