@@ -223,7 +223,6 @@ Mesh extrude_plan(const FloorPlan& plan, const ExtrusionParams& params) {
     add_height(w.glass_sill_m);
     if (w.glass_head_m) add_height(*w.glass_head_m);
   }
-  for (const Obstacle& o : plan.obstacles) add_height(o.height_m);
   std::sort(heights.begin(), heights.end());
   heights.erase(std::unique(heights.begin(), heights.end(), [](double a, double b) { return b - a < 1e-6; }),
                 heights.end());
@@ -254,7 +253,7 @@ Mesh extrude_plan(const FloorPlan& plan, const ExtrusionParams& params) {
     opt.closed_doors_block = true;
     opt.open_doors_block = false;
     opt.glass_blocks = true;
-    opt.obstacles_block = true;
+    opt.obstacles_block = false;  // obstacles are separate prisms (below)
     opt.cut_height_m = zm;
     const FloorPlan& band_plan = (zm > params.door_height_m) ? no_doors : plan;
     const std::vector<LabeledSegment> outline = blocking_outline(band_plan, opt);
@@ -294,26 +293,36 @@ Mesh extrude_plan(const FloorPlan& plan, const ExtrusionParams& params) {
              -Eigen::Vector3f::UnitZ(), MeshLabel::kWall, -1);
   }
 
-  // Tops of obstacles lower than the ceiling.
+  // Obstacles: prisms from the floor to min(height, ceiling), sides and top. (Faces of an
+  // obstacle inside a wall or another obstacle are hidden and harmless for ray casting.)
   for (const Obstacle& o : plan.obstacles) {
-    if (o.height_m >= H - 1e-6) continue;
-    std::vector<Eigen::Vector3f> poly;
+    const double top = std::min(o.height_m, H);
+    std::vector<Vec2> poly;
     if (o.kind == ObstacleKind::kPillar) {
       const double r = 0.5 * o.size_m.x();
       for (int k = 0; k < 16; ++k) {
         const double a = o.yaw_rad + 2.0 * kPi * k / 16.0;
-        poly.push_back(v3(o.center_m + r * Vec2(std::cos(a), std::sin(a)), o.height_m));
+        poly.push_back(o.center_m + r * Vec2(std::cos(a), std::sin(a)));
       }
     } else {
       const double c = std::cos(o.yaw_rad), s = std::sin(o.yaw_rad);
       const Vec2 ex = 0.5 * o.size_m.x() * Vec2(c, s);
       const Vec2 ey = 0.5 * o.size_m.y() * Vec2(-s, c);
-      for (const Vec2& p : {Vec2(o.center_m - ex - ey), Vec2(o.center_m + ex - ey), Vec2(o.center_m + ex + ey),
-                            Vec2(o.center_m - ex + ey)}) {
-        poly.push_back(v3(p, o.height_m));
-      }
+      poly = {o.center_m - ex - ey, o.center_m + ex - ey, o.center_m + ex + ey, o.center_m - ex + ey};
     }
-    add_convex_polygon(mesh, poly, Eigen::Vector3f::UnitZ(), MeshLabel::kClutter);
+    // Counter-clockwise footprint: the outward normal of edge a->b is its right-hand normal.
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      const Vec2& a = poly[k];
+      const Vec2& b = poly[(k + 1) % poly.size()];
+      const Vec2 d = (b - a).normalized();
+      const Eigen::Vector3f outward(static_cast<float>(d.y()), static_cast<float>(-d.x()), 0.0f);
+      add_quad(mesh, v3(a, 0.0), v3(b, 0.0), v3(b, top), v3(a, top), outward, MeshLabel::kClutter, -1);
+    }
+    if (top < H - 1e-6) {
+      std::vector<Eigen::Vector3f> lid;
+      for (const Vec2& p : poly) lid.push_back(v3(p, top));
+      add_convex_polygon(mesh, lid, Eigen::Vector3f::UnitZ(), MeshLabel::kClutter);
+    }
   }
 
   if (params.floor || params.ceiling) add_floor_and_ceiling(mesh, plan, params);

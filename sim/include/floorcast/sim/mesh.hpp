@@ -3,14 +3,15 @@
 //
 // What is built
 // - Walls: every wall surface a horizontal cut meets, extruded band by band between the critical
-//   heights (door height, window sills/heads, glass-wall sills/heads, obstacle heights), so faces
-//   are exactly the boundary of the union of all walls (no faces hidden inside walls, corners and
-//   T-junctions closed). Both faces and the thickness (end faces, jambs) are present.
+//   heights (door height, window sills/heads, glass-wall sills/heads), so faces are exactly the
+//   boundary of the union of all walls (no faces hidden inside walls, corners and T-junctions
+//   closed). Both faces and the thickness (end faces, jambs) are present.
 // - Doors: a closed door is a leaf filling the opening from the floor to door_height_m; an open
 //   door is an empty opening. Above door_height_m the wall continues (lintel) with its soffit.
 // - Windows: glass pane between sill and head; solid wall below the sill and above the head.
 //   Glass walls: glass between glass_sill_m and glass_head_m (or the ceiling), solid elsewhere.
-// - Obstacles (the plan's and generated clutter): vertical faces and a top.
+// - Obstacles (the plan's and generated clutter): one prism each (vertical faces and a top, up to
+//   the ceiling), independent of the walls.
 // - Floor (z = 0) and ceiling (z = wall_height_m) over the building interior (valid-area raster,
 //   dilated to reach under the walls).
 // All triangles are wound counter-clockwise seen from free space (outward normals).
