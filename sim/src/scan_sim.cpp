@@ -624,8 +624,10 @@ void check_observer_pose(const FloorPlan& plan, const Pose2& pose, const std::st
   const double res = 0.1;
   const GridSpec grid = grid_for_plan(plan, res, 1.0);
   const cv::Mat valid = valid_area_mask(plan, grid, 0.5);
+  // Walls, closed doors and glass block the way to the interior; open doorways do not (a pose
+  // standing in one reaches the rooms on both sides).
   BlockingOptions envelope;
-  envelope.open_doors_block = true;
+  envelope.open_doors_block = false;
   envelope.cut_height_m = 1.0;
   std::vector<LabeledSegment> walls = blocking_outline(plan, envelope);
   int row = 0, col = 0;

@@ -468,6 +468,13 @@ TEST(ObserverPose, InsideWallOutsideAndValid) {
   const FloorPlan plan = test::feature_plan();
   EXPECT_NO_THROW(check_observer_pose(plan, {2.0, 2.0, 0.0}, "plan"));
   EXPECT_NO_THROW(check_observer_pose(plan, {5.0, 1.5, 0.0}, "plan"));   // in the open doorway
+  EXPECT_NO_THROW(check_observer_pose(plan, {5.04, 1.2, 0.0}, "plan"));  // near its jamb
+  try {
+    check_observer_pose(plan, {2.0, 0.0, 0.0}, "plan");
+    FAIL() << "inside the closed front door";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("closed door in wall \"s\""), std::string::npos) << e.what();
+  }
   EXPECT_NO_THROW(check_observer_pose(plan, {0.15, 2.0, 0.0}, "plan"));  // 5 cm from a wall
   try {
     check_observer_pose(plan, {5.02, 4.0, 0.0}, "plan");
