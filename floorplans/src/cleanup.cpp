@@ -110,10 +110,14 @@ double line_angle_difference(double a, double b) {
   return std::min(d, kPi - d);
 }
 
+/// Collinear: the shorter segment's endpoints lie within tol of the longer one's line and their
+/// directions differ by at most angle_tol - or by asin(2 tol / shorter length) for pieces so short
+/// that the offset test already bounds their angle more loosely (noisy short pieces of a line).
 bool collinear(const Segment2& s1, const Segment2& s2, double tol, double angle_tol) {
   const double l1 = s1.length_m(), l2 = s2.length_m();
   if (l1 <= 0.0 || l2 <= 0.0) return false;
-  if (line_angle_difference(line_angle(s1), line_angle(s2)) > angle_tol) return false;
+  const double short_angle = std::asin(std::min(1.0, 2.0 * tol / std::min(l1, l2)));
+  if (line_angle_difference(line_angle(s1), line_angle(s2)) > std::max(angle_tol, short_angle)) return false;
   const Segment2& longer = l1 >= l2 ? s1 : s2;
   const Segment2& shorter = l1 >= l2 ? s2 : s1;
   const Vec2 u = (longer.b_m - longer.a_m) / longer.length_m();
@@ -335,9 +339,15 @@ std::vector<int> collinear_groups(const std::vector<Segment2>& segments, double 
     c /= static_cast<double>(n);
     double radius = 0.0;
     for (const Segment2& s : segments) radius = std::max({radius, (s.a_m - c).norm(), (s.b_m - c).norm()});
-    const double angle_bin = std::max(angle_tolerance_rad, 1e-6);
+    // Angle bins as wide as the largest tolerance any pair can get (short pieces get more).
+    double min_len = std::numeric_limits<double>::infinity();
+    for (const Segment2& s : segments) {
+      if (s.length_m() > 0.0) min_len = std::min(min_len, s.length_m());
+    }
+    const double widest = std::max(angle_tolerance_rad, std::asin(std::min(1.0, 2.0 * offset_tolerance_m / min_len)));
+    const double angle_bin = std::max(widest, 1e-6);
     const long long bins = std::max(1LL, static_cast<long long>(std::ceil(kPi / angle_bin)));
-    const double rho_bin = std::max(offset_tolerance_m + radius * angle_tolerance_rad, 1e-6) * 2.0;
+    const double rho_bin = std::max(offset_tolerance_m + radius * widest, 1e-6) * 2.0;
     std::vector<double> theta(n), rho(n);
     std::unordered_map<CellKey, std::vector<std::size_t>, CellKeyHash> buckets;
     auto bin_of = [&](double th) {
@@ -387,40 +397,70 @@ std::vector<int> collinear_groups(const std::vector<Segment2>& segments, double 
 
 std::vector<std::vector<int>> collinear_runs(const std::vector<Segment2>& segments, double offset_tolerance_m,
                                              double angle_tolerance_rad) {
-  const std::vector<int> group = collinear_groups(segments, offset_tolerance_m, angle_tolerance_rad);
-  int groups = 0;
-  for (int g : group) groups = std::max(groups, g + 1);
-  std::vector<std::vector<int>> members(static_cast<std::size_t>(groups));
-  for (std::size_t i = 0; i < segments.size(); ++i) members[static_cast<std::size_t>(group[i])].push_back(static_cast<int>(i));
-  std::vector<std::vector<int>> runs;
-  for (const std::vector<int>& mem : members) {
-    const GroupLine line = fit_group_line(segments, mem);
-    struct Extent { double t0, t1; int index; };
-    std::vector<Extent> ext;
-    for (int m : mem) {
-      double t0 = line.param(segments[static_cast<std::size_t>(m)].a_m), t1 = line.param(segments[static_cast<std::size_t>(m)].b_m);
-      if (t1 < t0) std::swap(t0, t1);
-      ext.push_back({t0, t1, m});
+  // Two walls belong to one run when they are collinear (collinear()) and their extents along the
+  // longer one's line overlap or leave a gap of at most the tolerance. The test is local on
+  // purpose: infinite lines of far-apart walls drift apart with tiny angle differences. Candidate
+  // pairs come from a uniform grid over the tolerance-inflated bounding boxes.
+  const std::size_t n = segments.size();
+  const double tol = offset_tolerance_m;
+  UnionFind uf(n);
+  if (n > 0) {
+    double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
+    for (const Segment2& s : segments) {
+      xmin = std::min({xmin, s.a_m.x(), s.b_m.x()});
+      xmax = std::max({xmax, s.a_m.x(), s.b_m.x()});
+      ymin = std::min({ymin, s.a_m.y(), s.b_m.y()});
+      ymax = std::max({ymax, s.a_m.y(), s.b_m.y()});
     }
-    std::sort(ext.begin(), ext.end(), [](const Extent& a, const Extent& b) { return a.t0 < b.t0 || (a.t0 == b.t0 && a.index < b.index); });
-    std::vector<int> run;
-    double reach = -std::numeric_limits<double>::infinity();
-    for (const Extent& e : ext) {
-      if (!run.empty() && e.t0 > reach + offset_tolerance_m) {
-        std::sort(run.begin(), run.end());
-        runs.push_back(std::move(run));
-        run.clear();
+    const double extent = std::max(xmax - xmin, ymax - ymin);
+    const double cell = std::max({4.0 * tol, extent / std::sqrt(static_cast<double>(n)), 1e-3});
+    auto index = [&](double v) { return static_cast<long long>(std::floor(v / cell)); };
+    struct Range { long long x0, x1, y0, y1; };
+    std::vector<Range> ranges(n);
+    std::unordered_map<CellKey, std::vector<int>, CellKeyHash> grid;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Segment2& s = segments[i];
+      Range r{index(std::min(s.a_m.x(), s.b_m.x()) - tol), index(std::max(s.a_m.x(), s.b_m.x()) + tol),
+              index(std::min(s.a_m.y(), s.b_m.y()) - tol), index(std::max(s.a_m.y(), s.b_m.y()) + tol)};
+      ranges[i] = r;
+      for (long long x = r.x0; x <= r.x1; ++x) {
+        for (long long y = r.y0; y <= r.y1; ++y) grid[{x, y}].push_back(static_cast<int>(i));
       }
-      run.push_back(e.index);
-      reach = std::max(reach, e.t1);
     }
-    if (!run.empty()) {
-      std::sort(run.begin(), run.end());
-      runs.push_back(std::move(run));
+    auto touching = [&](const Segment2& s1, const Segment2& s2) {
+      const Segment2& longer = s1.length_m() >= s2.length_m() ? s1 : s2;
+      const Segment2& shorter = s1.length_m() >= s2.length_m() ? s2 : s1;
+      const Vec2 u = (longer.b_m - longer.a_m) / longer.length_m();
+      const double l0 = 0.0, l1 = longer.length_m();
+      double s0 = (shorter.a_m - longer.a_m).dot(u), s1e = (shorter.b_m - longer.a_m).dot(u);
+      if (s1e < s0) std::swap(s0, s1e);
+      return std::max(l0, s0) - std::min(l1, s1e) <= tol;
+    };
+    std::vector<std::size_t> stamp(n, n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Range& r = ranges[i];
+      for (long long x = r.x0; x <= r.x1; ++x) {
+        for (long long y = r.y0; y <= r.y1; ++y) {
+          for (int jj : grid[{x, y}]) {
+            const std::size_t j = static_cast<std::size_t>(jj);
+            if (j <= i || stamp[j] == i) continue;
+            stamp[j] = i;
+            if (collinear(segments[i], segments[j], tol, angle_tolerance_rad) && touching(segments[i], segments[j])) {
+              uf.unite(i, j);
+            }
+          }
+        }
+      }
     }
   }
-  std::sort(runs.begin(), runs.end(), [](const std::vector<int>& a, const std::vector<int>& b) { return a.front() < b.front(); });
-  return runs;
+  std::unordered_map<std::size_t, std::size_t> root_run;
+  std::vector<std::vector<int>> runs;
+  for (std::size_t i = 0; i < n; ++i) {
+    auto [it, inserted] = root_run.emplace(uf.find(i), runs.size());
+    if (inserted) runs.emplace_back();
+    runs[it->second].push_back(static_cast<int>(i));
+  }
+  return runs;  // members ascending; runs ordered by their first member
 }
 
 GroupLine fit_group_line(const std::vector<Segment2>& segments, const std::vector<int>& members) {

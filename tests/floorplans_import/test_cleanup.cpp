@@ -222,6 +222,61 @@ TEST(Cleanup, RefusesBadTolerances) {
   expect_input_error([&] { cleanup_floor_plan(p, o, "t"); }, {"t: cleanup", "tolerances"});
 }
 
+TEST(Cleanup, OffsetWallsThatMeetEndToEndStaySeparate) {
+  // Two parallel walls 0.4 m apart meeting end to end along y (a jog), like a corridor wall
+  // stepping back: not collinear, must not merge.
+  FloorPlan p = plan_of({wall("a", {0, 0}, {0, 7.7}), wall("b", {0.4, 7.7}, {0.4, 15.4})});
+  cleanup_floor_plan(p, {}, "t");
+  ASSERT_EQ(p.walls.size(), 2u);
+  EXPECT_EQ(p.walls[0].a_m.x(), 0.0);
+  EXPECT_EQ(p.walls[1].a_m.x(), 0.4);
+}
+
+/// A messy block: a room whose walls are split into jittered pieces, some drawn twice, and a jog.
+std::vector<Wall> messy_block(std::mt19937& rng, const Vec2& offset, int& next_id) {
+  std::uniform_real_distribution<double> jitter(-0.003, 0.003);
+  std::uniform_int_distribution<int> coin(0, 1);
+  const std::vector<std::pair<Vec2, Vec2>> base = {{{0, 0}, {12, 0}},   {{12, 0}, {12, 15.4}}, {{12, 15.4}, {0.4, 15.4}},
+                                                  {{0.4, 15.4}, {0.4, 7.7}}, {{0, 7.7}, {0, 0}},   {{0, 7.7}, {0.4, 7.7}},
+                                                  {{6, 0}, {6, 9}}};
+  std::vector<Wall> out;
+  for (const auto& [a, b] : base) {
+    for (int k = 0; k < 3; ++k) {
+      Vec2 p0 = a + (b - a) * (k / 3.0) + offset, p1 = a + (b - a) * ((k + 1) / 3.0) + offset;
+      p0 += Vec2(jitter(rng), jitter(rng));
+      p1 += Vec2(jitter(rng), jitter(rng));
+      out.push_back(wall("w" + std::to_string(next_id++), p0, p1));
+      if (coin(rng)) out.push_back(wall("w" + std::to_string(next_id++), p1, p0));
+    }
+  }
+  return out;
+}
+
+TEST(Cleanup, ResultDoesNotDependOnFarAwayWallsOnTheSameLines) {
+  // 5 x 4 copies 300 m apart: their walls share lines with each other across the whole plan. Each
+  // copy must clean up exactly like a copy on its own (same wall count, same geometry up to the
+  // jitter), i.e. far-apart walls neither join nor tilt each other.
+  std::mt19937 rng(11);
+  int next = 0;
+  FloorPlan single;
+  single.walls = messy_block(rng, {0, 0}, next);
+  cleanup_floor_plan(single, {}, "single");
+  ASSERT_EQ(single.walls.size(), 7u);  // south, east, north, west in two parts, the jog, the partition
+
+  FloorPlan tiled;
+  for (int tx = 0; tx < 5; ++tx) {
+    for (int ty = 0; ty < 4; ++ty) {
+      for (Wall& w : messy_block(rng, {300.0 * tx, 300.0 * ty}, next)) tiled.walls.push_back(w);
+    }
+  }
+  cleanup_floor_plan(tiled, {}, "tiled");
+  EXPECT_EQ(tiled.walls.size(), 20u * single.walls.size());
+  for (const Wall& w : tiled.walls) {
+    const Vec2 tile(300.0 * std::floor(w.a_m.x() / 300.0 + 0.01), 300.0 * std::floor(w.a_m.y() / 300.0 + 0.01));
+    EXPECT_NE(find_wall(single, w.a_m - tile, w.b_m - tile, 0.01), nullptr) << w.id;
+  }
+}
+
 // ---- brute-force checks -------------------------------------------------------------------------
 
 /// Slow obvious collinearity (same rule as the library, written independently).
@@ -234,7 +289,8 @@ bool slow_collinear(const Segment2& s, const Segment2& t, double tol, double ang
   };
   double da = std::abs(angle(s) - angle(t));
   da = std::min(da, M_PI - da);
-  if (da > angle_tol) return false;
+  const double shortest = std::min(s.length_m(), t.length_m());
+  if (da > std::max(angle_tol, std::asin(std::min(1.0, 2.0 * tol / shortest)))) return false;
   const Segment2& L = s.length_m() >= t.length_m() ? s : t;
   const Segment2& S = s.length_m() >= t.length_m() ? t : s;
   const Vec2 u = (L.b_m - L.a_m).normalized();

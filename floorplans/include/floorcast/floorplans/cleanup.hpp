@@ -7,9 +7,9 @@
 //   2. snap endpoints: endpoints closer than snap_tolerance_m (single linkage) move to their
 //      cluster's mean; then an endpoint within snap_tolerance_m of another wall's interior moves
 //      onto that wall's centreline (closes T-junction gaps);
-//   3. merge collinear walls: walls whose directions differ by at most angle_tolerance_rad and
-//      whose endpoints lie within snap_tolerance_m of each other's line form one line group, split
-//      into runs of walls that overlap or touch along it; a run's walls are projected onto the
+//   3. merge collinear walls: walls whose directions differ by at most angle_tolerance_rad, whose
+//      endpoints lie within snap_tolerance_m of each other's line and whose extents overlap or
+//      touch along it form runs (connected components); a run's walls are projected onto the
 //      run's length-weighted mean line and their union is
 //      rebuilt as maximal pieces (duplicates and overlaps vanish, touching pieces and gaps up to
 //      snap_tolerance_m join). Where pieces of different kind overlap, solid beats glass and the
@@ -85,10 +85,11 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
 std::vector<int> collinear_groups(const std::vector<Segment2>& segments, double offset_tolerance_m,
                                   double angle_tolerance_rad);
 
-/// Collinear groups split into runs: members whose extents along the line overlap or leave gaps
-/// of at most offset_tolerance_m. Each run is a list of segment indices (in input order); runs
-/// are ordered by their first member. Lines are fitted per run, so far-apart pieces that merely
-/// share a line do not tilt each other.
+/// Runs of collinear segments: the connected components of "collinear (as above) and overlapping
+/// or touching along the longer one's line, gaps up to offset_tolerance_m". Each run lists segment
+/// indices in input order; runs are ordered by their first member. The test is local, so
+/// far-apart segments that merely share a line (up to a tiny angle) neither join nor tilt each
+/// other's fitted line.
 std::vector<std::vector<int>> collinear_runs(const std::vector<Segment2>& segments, double offset_tolerance_m,
                                              double angle_tolerance_rad);
 
