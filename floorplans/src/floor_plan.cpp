@@ -1,6 +1,7 @@
 #include "floorcast/floorplans/floor_plan.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "floorcast/floorplans/io.hpp"
 
@@ -45,9 +46,18 @@ Eigen::Vector4d plan_bbox_m(const FloorPlan& plan) {
     add(w.b_m - n);
   }
   for (const Obstacle& o : plan.obstacles) {
-    const double r = 0.5 * o.size_m.norm();
-    add(o.center_m - Vec2(r, r));
-    add(o.center_m + Vec2(r, r));
+    if (o.kind == ObstacleKind::kPillar) {
+      const double r = 0.5 * o.size_m.x();
+      add(o.center_m - Vec2(r, r));
+      add(o.center_m + Vec2(r, r));
+      continue;
+    }
+    const double c = std::cos(o.yaw_rad), s = std::sin(o.yaw_rad);
+    const Vec2 ex = 0.5 * o.size_m.x() * Vec2(c, s);
+    const Vec2 ey = 0.5 * o.size_m.y() * Vec2(-s, c);
+    for (const Vec2& corner : {Vec2(o.center_m - ex - ey), Vec2(o.center_m + ex - ey), Vec2(o.center_m + ex + ey),
+                               Vec2(o.center_m - ex + ey)})
+      add(corner);
   }
   if (box[0] > box[2]) box.setZero();
   return box;

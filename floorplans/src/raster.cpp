@@ -94,14 +94,29 @@ cv::Mat rasterize_occupancy(const FloorPlan& plan, const GridSpec& grid, const B
 
 namespace {
 
-/// Cells not reachable from the grid border through free cells of `envelope` (255 = blocked).
-cv::Mat enclosed_cells(const cv::Mat& envelope) {
+/// Free cells of `occupancy` enclosed by `envelope`: not reachable from the grid border through
+/// free envelope cells. The morphological closing that bridges envelope gaps also fills concave
+/// outside corners; cells there are free in `occupancy` yet unreached. They touch the outside
+/// through free cells, so everything within the closing radius (geodesically, through free
+/// cells) of the reached outside is removed again.
+cv::Mat enclosed_free_cells(const cv::Mat& envelope, const cv::Mat& occupancy, int radius_px) {
   cv::Mat padded;
   cv::copyMakeBorder(envelope, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
   cv::floodFill(padded, cv::Point(0, 0), cv::Scalar(128), nullptr, cv::Scalar(0), cv::Scalar(0), 4);
-  cv::Mat inner = padded(cv::Rect(1, 1, envelope.cols, envelope.rows));
+  cv::Mat outside;
+  cv::compare(padded(cv::Rect(1, 1, envelope.cols, envelope.rows)), 128, outside, cv::CMP_EQ);
+  cv::Mat free_cells;
+  cv::compare(occupancy, 0, free_cells, cv::CMP_EQ);
+  const cv::Mat cross = cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3));
+  for (int i = 0; i < radius_px + 1; ++i) {
+    cv::Mat grown;
+    cv::dilate(outside, grown, cross);
+    cv::bitwise_and(grown, free_cells, grown);
+    cv::bitwise_or(outside, grown, outside);
+  }
   cv::Mat enclosed;
-  cv::compare(inner, 128, enclosed, cv::CMP_NE);
+  cv::bitwise_not(outside, enclosed);
+  cv::bitwise_and(enclosed, free_cells, enclosed);
   return enclosed;
 }
 
@@ -125,13 +140,7 @@ cv::Mat valid_mask_with(const FloorPlan& plan, const GridSpec& grid, double gap_
                      cv::Scalar(0));
     envelope = padded(cv::Rect(pad, pad, envelope.cols, envelope.rows)).clone();
   }
-  const cv::Mat enclosed = enclosed_cells(envelope);
-  const cv::Mat occupancy = rasterize_occupancy(plan, grid, free_blocking);
-  cv::Mat free_cells;
-  cv::compare(occupancy, 0, free_cells, cv::CMP_EQ);
-  cv::Mat valid;
-  cv::bitwise_and(enclosed, free_cells, valid);
-  return valid;
+  return enclosed_free_cells(envelope, rasterize_occupancy(plan, grid, free_blocking), radius_px);
 }
 
 }  // namespace

@@ -142,3 +142,37 @@ TEST(Raster, GridsAlignAcrossPlans) {
 
 }  // namespace
 }  // namespace floorcast
+
+namespace floorcast {
+namespace {
+
+TEST(Raster, ValidMaskHasNoPatchesOutsideConcaveCorners) {
+  // An L-shaped building: the closing radius fills the outside of the concave corner, which
+  // must not become "interior".
+  FloorPlan p;
+  const double t = 0.3;
+  const std::vector<Vec2> pts = {{0, 0}, {10, 0}, {10, 4}, {4, 4}, {4, 10}, {0, 10}};
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    p.walls.push_back({"w" + std::to_string(i), pts[i], pts[(i + 1) % pts.size()], t, WallMaterial::kSolid, 0.0, {}});
+  const PlanRasters r = make_plan_rasters(p, {});
+  for (int row = 0; row < r.grid.height_px; ++row)
+    for (int col = 0; col < r.grid.width_px; ++col) {
+      if (!r.valid.at<uint8_t>(row, col)) continue;
+      const Vec2 c = r.grid.cell_center_m(row, col);
+      const bool inside = c.x() > 0 && c.y() > 0 && (c.x() < 4 || c.y() < 4) && c.x() < 10 && c.y() < 10;
+      EXPECT_TRUE(inside) << "valid cell outside the building at " << c.transpose();
+    }
+  EXPECT_NEAR(cv::countNonZero(r.valid) * 0.01, 10 * 10 - 6 * 6 - (2 * 10 + 2 * 10 + 6 + 6) * t / 2 * 1.0, 3.0);
+}
+
+TEST(Plan, BoundingBoxOfRotatedBoxesIsExact) {
+  FloorPlan p = test::box_room(5.0, 4.0, 0.2);
+  p.obstacles.push_back({"b", ObstacleKind::kBox, {2.5, 2.0}, {2.0, 0.0001}, 0.0, 1.0});
+  p.obstacles.push_back({"far", ObstacleKind::kBox, {8.0, 2.0}, {2.0, 1.0}, 1.5707963267948966, 1.0});
+  const Eigen::Vector4d b = plan_bbox_m(p);
+  EXPECT_NEAR(b[0], -0.1, 1e-9);
+  EXPECT_NEAR(b[2], 8.5, 1e-9);  // rotated 90 deg: depth 1.0 along x
+}
+
+}  // namespace
+}  // namespace floorcast
