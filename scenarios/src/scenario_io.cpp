@@ -233,7 +233,7 @@ std::vector<BuildingSpec> parse_buildings(const OJson& root, const Checker& chk,
 
 const std::vector<std::string> kObservationKeys = {"source", "max_range_m", "doors_closed", "rays", "sensor",
                                                    "sensor_params", "setting", "path", "scale_alignment",
-                                                   "extractor", "mask_glass", "seed"};
+                                                   "extractor", "mask_glass", "observe_params", "seed"};
 
 ObservationSpec parse_observation(const OJson& obj, const Checker& chk, const std::string& path) {
   ObservationSpec o;
@@ -252,6 +252,10 @@ ObservationSpec parse_observation(const OJson& obj, const Checker& chk, const st
   o.scale_alignment = chk.string_in(obj, path, "scale_alignment", o.scale_alignment, {"full", "ground", "none"});
   o.extractor = chk.string_in(obj, path, "extractor", o.extractor, {"pcl", "voxelplane"});
   o.mask_glass = chk.bool_in(obj, path, "mask_glass", o.mask_glass);
+  if (obj.contains("observe_params")) {
+    if (!obj.at("observe_params").is_object()) chk.fail(Checker::join(path, "observe_params"), "must be a mapping");
+    o.observe_params = obj.at("observe_params");
+  }
   o.seed = static_cast<std::uint64_t>(chk.integer_in(obj, path, "seed", static_cast<long long>(o.seed), 0, (1LL << 53)));
   return o;
 }
@@ -269,6 +273,7 @@ OJson observation_to_json(const ObservationSpec& o) {
   j["scale_alignment"] = o.scale_alignment;
   j["extractor"] = o.extractor;
   j["mask_glass"] = o.mask_glass;
+  j["observe_params"] = o.observe_params;
   j["seed"] = o.seed;
   return j;
 }
@@ -284,9 +289,9 @@ std::vector<MatcherSpec> parse_matchers(const OJson& obj, const Checker& chk) {
     MatcherSpec m;
     m.label = it.key();
     if (!it.value().contains("matcher")) chk.fail(path, "missing required key \"matcher\"");
-    m.matcher = chk.string_in(it.value(), path, "matcher", "");
+    m.name = chk.string_in(it.value(), path, "matcher", "");
     for (auto p = it.value().begin(); p != it.value().end(); ++p)
-      if (p.key() != "matcher") m.params[p.key()] = p.value();
+      if (p.key() != "matcher") m.overrides[p.key()] = p.value();
     out.push_back(std::move(m));
   }
   return out;
@@ -319,7 +324,7 @@ std::vector<Axis> parse_sweep(const OJson& sweep, const Checker& chk, const OJso
     if (key.rfind("observation.", 0) == 0) {
       const std::string sub = key.substr(12);
       if (std::find(kObservationKeys.begin(), kObservationKeys.end(), sub) == kObservationKeys.end() &&
-          sub.rfind("sensor_params.", 0) != 0)
+          sub.rfind("sensor_params.", 0) != 0 && sub.rfind("observe_params.", 0) != 0)
         chk.fail(path, "cannot sweep \"" + key + "\": unknown observation key");
       return;
     }
@@ -543,8 +548,8 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
     OJson m = OJson::object();
     for (const auto& spec : c.matchers) {
       OJson one;
-      one["matcher"] = spec.matcher;
-      for (auto it = spec.params.begin(); it != spec.params.end(); ++it) one[it.key()] = it.value();
+      one["matcher"] = spec.name;
+      for (auto it = spec.overrides.begin(); it != spec.overrides.end(); ++it) one[it.key()] = it.value();
       m[spec.label] = one;
     }
     j["matchers"] = m;

@@ -63,12 +63,12 @@ sweep:
   EXPECT_EQ(s.cells[0].observation.setting, "full");
   EXPECT_EQ(s.cells[0].observation.sensor, "lidar");
   EXPECT_EQ(s.cells[0].observation.path, "lidar");
-  EXPECT_EQ(s.cells[1].matchers[0].params["alpha"], 10);
+  EXPECT_EQ(s.cells[1].matchers[0].overrides["alpha"], 10);
   EXPECT_EQ(s.cells[2].observation.sensor, "mono");
   EXPECT_EQ(s.cells[2].observation.path, "mono");
   EXPECT_EQ(s.cells[11].observation.setting, "single");
   EXPECT_EQ(s.cells[11].axes["observation.setting"], "single");
-  EXPECT_EQ(s.cells[5].matchers[0].params["orientations"], "palms+");  // base value kept
+  EXPECT_EQ(s.cells[5].matchers[0].overrides["orientations"], "palms+");  // base value kept
   EXPECT_EQ(s.sweep_keys.size(), 4u);
 }
 
@@ -139,7 +139,7 @@ buildings: [floorplans/buildings/two_rooms.json]
 matchers: {kernel: {matcher: kernel, tag: "10"}}
 )");
   EXPECT_EQ(s.name, "123");
-  EXPECT_TRUE(s.cells[0].matchers[0].params["tag"].is_string());
+  EXPECT_TRUE(s.cells[0].matchers[0].overrides["tag"].is_string());
 }
 
 }  // namespace
@@ -161,7 +161,7 @@ sweep: {observation.setting: [full, single]}
   EXPECT_EQ(back.hash, s.hash);
   ASSERT_EQ(back.cells.size(), 2u);
   EXPECT_EQ(back.cells[1].observation.setting, "single");
-  EXPECT_EQ(back.cells[0].matchers[0].params["alpha"], 5);
+  EXPECT_EQ(back.cells[0].matchers[0].overrides["alpha"], 5);
   EXPECT_EQ(back.buildings[1].archetype, "campus");
   EXPECT_EQ(back.paper.at(0).values.at("recall_1m_30deg"), 0.887);
   EXPECT_EQ(back.sweep_keys, s.sweep_keys);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "floorcast/eval/metrics.hpp"
+#include "floorcast/localization/matcher.hpp"
 
 namespace floorcast {
 
@@ -47,14 +48,9 @@ struct ObservationSpec {
   std::string scale_alignment = "full";  ///< scan, mono path: full | ground | none
   std::string extractor = "pcl";         ///< scan, lidar path: pcl | voxelplane
   bool mask_glass = false;               ///< scan: drop glass-affected pixels ("PALMS+*")
+  /// scan: observation-module parameter overrides (keys as in its to_json).
+  nlohmann::json observe_params = nlohmann::json::object();
   std::uint64_t seed = 1;                ///< scan: simulator seed (combined with the point index)
-};
-
-/// One matcher configuration under a label (the key in the scenario's `matchers` map).
-struct MatcherSpec {
-  std::string label;
-  std::string matcher;  ///< registry name (kernel, ray, ...)
-  nlohmann::json params = nlohmann::json::object();  ///< overrides passed to make_matcher
 };
 
 /// One configuration of the sweep.
@@ -63,6 +59,8 @@ struct CellSpec {
   std::string id;                 ///< "c000", "c001", ...
   nlohmann::ordered_json axes;    ///< sweep key -> value of this cell (empty without a sweep)
   ObservationSpec observation;
+  /// Matchers under their labels (the keys of the scenario's `matchers` map): registry name +
+  /// parameter overrides passed to make_matcher.
   std::vector<MatcherSpec> matchers;
 };
 
