@@ -699,6 +699,8 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
   for (const Wall& w : merged) max_half = std::max(max_half, 0.5 * w.thickness_m);
   const SegmentGrid grid(merged_segs, max_half + options.opening_attach_tolerance_m);
 
+  std::multimap<int, int> group_pieces;  // run -> merged walls
+  for (std::size_t w = 0; w < merged.size(); ++w) group_pieces.emplace(piece_group[w], static_cast<int>(w));
   struct Placement {
     int wall = -1;
     double t0 = 0.0, t1 = 0.0;  // span along the wall
@@ -735,10 +737,8 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
     // Prefer the merged walls of the opening's original line group.
     auto it = input_index.find(old_wall);
     if (it != input_index.end() && input_group[static_cast<std::size_t>(it->second)] >= 0) {
-      const int g = input_group[static_cast<std::size_t>(it->second)];
-      for (std::size_t w = 0; w < merged.size(); ++w) {
-        if (piece_group[w] == g) consider(static_cast<int>(w));
-      }
+      const auto range = group_pieces.equal_range(input_group[static_cast<std::size_t>(it->second)]);
+      for (auto p = range.first; p != range.second; ++p) consider(p->second);
     }
     if (best.wall < 0) {
       for (int w : grid.near(center)) consider(w);
