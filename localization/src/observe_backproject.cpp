@@ -1,0 +1,163 @@
+// Depth views -> camera-frame point clouds (edge, glass and confidence masks), voxel subsampling.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <opencv2/imgproc.hpp>
+
+#include "floorcast/localization/observation_module.hpp"
+
+namespace floorcast {
+namespace {
+
+void check_view(const DepthView& view, std::size_t k) {
+  const std::string where = "scan view " + std::to_string(k) + ": ";
+  const CameraIntrinsics& K = view.intrinsics;
+  if (view.depth_m.empty()) throw InputError(where + "depth image is empty");
+  if (view.depth_m.type() != CV_32F) throw InputError(where + "depth image is not CV_32F");
+  if (view.depth_m.cols != K.width_px || view.depth_m.rows != K.height_px) {
+    throw InputError(where + "depth image is " + std::to_string(view.depth_m.cols) + "x" +
+                     std::to_string(view.depth_m.rows) + " but the intrinsics say " +
+                     std::to_string(K.width_px) + "x" + std::to_string(K.height_px));
+  }
+  if (!(K.fx_px > 0.0) || !(K.fy_px > 0.0)) throw InputError(where + "focal lengths must be > 0");
+  auto check_mask = [&](const cv::Mat& m, const char* name) {
+    if (m.empty()) return;
+    if (m.type() != CV_8U || m.size() != view.depth_m.size()) {
+      throw InputError(where + name + " must be CV_8U and the size of the depth image");
+    }
+  };
+  check_mask(view.glass_mask, "glass_mask");
+  check_mask(view.confidence, "confidence");
+}
+
+ViewCloud back_project_view(const DepthView& view, int index, const BackProjectionParams& params) {
+  ViewCloud out;
+  out.view_index = index;
+  out.T_scan_camera = view.T_scan_camera;
+  out.intrinsics = view.intrinsics;
+  out.depth_m = view.depth_m;
+  const cv::Mat edges = params.remove_depth_edges ? depth_edge_mask(view.depth_m, params) : cv::Mat();
+  const bool use_glass = params.mask_glass && !view.glass_mask.empty();
+  const bool use_conf = params.min_confidence > 0 && !view.confidence.empty();
+  const CameraIntrinsics& K = view.intrinsics;
+  const int stride = std::max(1, params.pixel_stride);
+  out.points_camera.reserve(static_cast<std::size_t>(K.width_px / stride + 1) *
+                            static_cast<std::size_t>(K.height_px / stride + 1));
+  for (int v = 0; v < view.depth_m.rows; v += stride) {
+    const float* d_row = view.depth_m.ptr<float>(v);
+    const std::uint8_t* e_row = edges.empty() ? nullptr : edges.ptr<std::uint8_t>(v);
+    const std::uint8_t* g_row = use_glass ? view.glass_mask.ptr<std::uint8_t>(v) : nullptr;
+    const std::uint8_t* c_row = use_conf ? view.confidence.ptr<std::uint8_t>(v) : nullptr;
+    const float y_over_z = static_cast<float>((v - K.cy_px) / K.fy_px);
+    for (int u = 0; u < view.depth_m.cols; u += stride) {
+      const float d = d_row[u];
+      if (!(d > 0.0f) || !std::isfinite(d)) continue;
+      ++out.pixels_valid;
+      if (e_row && e_row[u]) {
+        ++out.pixels_edge_removed;
+        continue;
+      }
+      if (g_row && g_row[u]) {
+        ++out.pixels_glass_removed;
+        continue;
+      }
+      if (c_row && c_row[u] < params.min_confidence) {
+        ++out.pixels_low_confidence;
+        continue;
+      }
+      const float x_over_z = static_cast<float>((u - K.cx_px) / K.fx_px);
+      out.points_camera.emplace_back(x_over_z * d, y_over_z * d, d);
+      out.max_depth_m = std::max(out.max_depth_m, static_cast<double>(d));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+cv::Mat depth_edge_mask(const cv::Mat& depth_m, const BackProjectionParams& params) {
+  CV_Assert(depth_m.type() == CV_32F);
+  double lo = 0.0, hi = 0.0;
+  cv::Mat valid = (depth_m > 0.0f) & (depth_m == depth_m);  // > 0 and not NaN
+  cv::minMaxLoc(depth_m, &lo, &hi, nullptr, nullptr, valid);
+  cv::Mat depth8(depth_m.size(), CV_8U, cv::Scalar(0));
+  if (hi > lo) {
+    // Valid depths to [0, 255] (min-max over valid pixels); holes stay 0.
+    depth_m.convertTo(depth8, CV_8U, 255.0 / (hi - lo), -lo * 255.0 / (hi - lo));
+    depth8.setTo(0, ~valid);
+  }
+  cv::Mat edges;
+  cv::Canny(depth8, edges, params.canny_low, params.canny_high);
+  if (params.edge_dilation_px > 0) {
+    const int k = 2 * params.edge_dilation_px + 1;
+    cv::dilate(edges, edges, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+  }
+  return edges;
+}
+
+BackProjectionResult back_project_scan(const Scan& scan, const BackProjectionParams& params) {
+  if (scan.views.empty()) throw InputError("scan has no views");
+  for (std::size_t k = 0; k < scan.views.size(); ++k) check_view(scan.views[k], k);
+  std::vector<ViewCloud> clouds(scan.views.size());
+  tbb::parallel_for(std::size_t(0), scan.views.size(), [&](std::size_t k) {
+    clouds[k] = back_project_view(scan.views[k], static_cast<int>(k), params);
+  });
+  BackProjectionResult result;
+  for (auto& c : clouds) {
+    if (c.max_depth_m >= params.max_view_depth_m) {
+      result.dropped_views.push_back(c.view_index);
+    } else {
+      result.views.push_back(std::move(c));
+    }
+  }
+  return result;
+}
+
+PointCloud3f view_points_scan(const ViewCloud& view, double scale) {
+  PointCloud3f out(view.points_camera.size());
+  const Eigen::Matrix3f R = (view.T_scan_camera.linear() * scale).cast<float>();
+  const Eigen::Vector3f t = view.T_scan_camera.translation().cast<float>();
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = R * view.points_camera[i] + t;
+  return out;
+}
+
+PointCloud3f voxel_downsample(const PointCloud3f& points, double voxel_m) {
+  if (voxel_m <= 0.0 || points.empty()) return points;
+  constexpr std::int64_t kBias = std::int64_t(1) << 20;
+  constexpr std::int64_t kMask = (std::int64_t(1) << 21) - 1;
+  const double inv = 1.0 / voxel_m;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), std::size_t(1) << 14),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const auto& p = points[i];
+                        const std::int64_t x = static_cast<std::int64_t>(std::floor(p.x() * inv));
+                        const std::int64_t y = static_cast<std::int64_t>(std::floor(p.y() * inv));
+                        const std::int64_t z = static_cast<std::int64_t>(std::floor(p.z() * inv));
+                        const std::uint64_t key = static_cast<std::uint64_t>(
+                            ((x + kBias) & kMask) << 42 | ((y + kBias) & kMask) << 21 | ((z + kBias) & kMask));
+                        keyed[i] = {key, static_cast<std::uint32_t>(i)};
+                      }
+                    });
+  // (key, index) pairs are unique, so the sorted order (and every sum below) is the same at any
+  // thread count.
+  tbb::parallel_sort(keyed.begin(), keyed.end());
+  PointCloud3f out;
+  for (std::size_t b = 0; b < keyed.size();) {
+    std::size_t e = b;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    while (e < keyed.size() && keyed[e].first == keyed[b].first) {
+      sum += points[keyed[e].second].cast<double>();
+      ++e;
+    }
+    out.push_back((sum / static_cast<double>(e - b)).cast<float>());
+    b = e;
+  }
+  return out;
+}
+
+}  // namespace floorcast
