@@ -1,9 +1,9 @@
 // Depth views -> camera-frame point clouds (edge, glass and confidence masks), voxel subsampling.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <opencv2/imgproc.hpp>
@@ -127,31 +127,67 @@ PointCloud3f view_points_scan(const ViewCloud& view, double scale) {
 
 PointCloud3f voxel_downsample(const PointCloud3f& points, double voxel_m) {
   if (voxel_m <= 0.0 || points.empty()) return points;
-  constexpr std::int64_t kBias = std::int64_t(1) << 20;
-  constexpr std::int64_t kMask = (std::int64_t(1) << 21) - 1;
+  const std::size_t n = points.size();
   const double inv = 1.0 / voxel_m;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), std::size_t(1) << 14),
+  // Integer voxel coordinates, packed relative to their minimum with as few bits as needed, then
+  // an LSD radix sort (stable: points of one voxel stay in index order, so the centroids are the
+  // same at any thread count).
+  std::vector<std::array<std::int64_t, 3>> cell(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::size_t(1) << 14),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const auto& p = points[i];
-                        const std::int64_t x = static_cast<std::int64_t>(std::floor(p.x() * inv));
-                        const std::int64_t y = static_cast<std::int64_t>(std::floor(p.y() * inv));
-                        const std::int64_t z = static_cast<std::int64_t>(std::floor(p.z() * inv));
-                        const std::uint64_t key = static_cast<std::uint64_t>(
-                            ((x + kBias) & kMask) << 42 | ((y + kBias) & kMask) << 21 | ((z + kBias) & kMask));
-                        keyed[i] = {key, static_cast<std::uint32_t>(i)};
+                        for (int a = 0; a < 3; ++a) {
+                          cell[i][a] = static_cast<std::int64_t>(std::floor(static_cast<double>(points[i][a]) * inv));
+                        }
                       }
                     });
-  // (key, index) pairs are unique, so the sorted order (and every sum below) is the same at any
-  // thread count.
-  tbb::parallel_sort(keyed.begin(), keyed.end());
+  std::array<std::int64_t, 3> lo = cell[0], hi = cell[0];
+  for (const auto& c : cell) {
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  }
+  std::array<int, 3> bits{};
+  for (int a = 0; a < 3; ++a) {
+    const std::uint64_t span = static_cast<std::uint64_t>(hi[a] - lo[a]);
+    while (bits[a] < 63 && (span >> bits[a]) != 0) ++bits[a];
+  }
+  const int total_bits = bits[0] + bits[1] + bits[2];
+  if (total_bits > 63) throw InputError("voxel_downsample: the cloud spans too many voxels of " + std::to_string(voxel_m) + " m");
+  std::vector<std::uint64_t> key(n), key2(n);
+  std::vector<std::uint32_t> idx(n), idx2(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    key[i] = static_cast<std::uint64_t>(cell[i][0] - lo[0]) << (bits[1] + bits[2]) |
+             static_cast<std::uint64_t>(cell[i][1] - lo[1]) << bits[2] | static_cast<std::uint64_t>(cell[i][2] - lo[2]);
+    idx[i] = static_cast<std::uint32_t>(i);
+  }
+  constexpr int kDigit = 11;
+  constexpr std::size_t kBuckets = std::size_t(1) << kDigit;
+  std::vector<std::size_t> count(kBuckets);
+  for (int shift = 0; shift < total_bits; shift += kDigit) {
+    std::fill(count.begin(), count.end(), 0);
+    for (std::size_t i = 0; i < n; ++i) ++count[(key[i] >> shift) & (kBuckets - 1)];
+    std::size_t sum = 0;
+    for (auto& c : count) {
+      const std::size_t t = c;
+      c = sum;
+      sum += t;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t pos = count[(key[i] >> shift) & (kBuckets - 1)]++;
+      key2[pos] = key[i];
+      idx2[pos] = idx[i];
+    }
+    key.swap(key2);
+    idx.swap(idx2);
+  }
   PointCloud3f out;
-  for (std::size_t b = 0; b < keyed.size();) {
+  for (std::size_t b = 0; b < n;) {
     std::size_t e = b;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    while (e < keyed.size() && keyed[e].first == keyed[b].first) {
-      sum += points[keyed[e].second].cast<double>();
+    while (e < n && key[e] == key[b]) {
+      sum += points[idx[e]].cast<double>();
       ++e;
     }
     out.push_back((sum / static_cast<double>(e - b)).cast<float>());

@@ -31,9 +31,14 @@ WallPlaneResult extract_wall_segments(const PointCloud3f& points_scan, const Lid
       z_max = std::max(z_max, static_cast<double>(p.z()));
     }
     if (a_max - a_min < params.min_wall_width_m || z_max - z_min < params.min_wall_height_m) continue;
+    if (params.require_camera_height &&
+        (z_max < -params.wall_band_half_height_m || z_min > params.wall_band_half_height_m)) {
+      continue;
+    }
     Segment2 s;
     s.a_m = offset * n2 + a_min * t;
     s.b_m = offset * n2 + a_max * t;
+    orient_observer_left(s);
     res.segments_m.push_back(s);
     res.wall_planes.push_back(static_cast<int>(k));
   }

@@ -360,15 +360,17 @@ Overlaps all_overlaps(const std::vector<ViewCloud>& views, const ScaleAlignmentP
   return o;
 }
 
-std::vector<std::pair<int, int>> neighbour_pairs(const Overlaps& o, int min_points) {
+std::vector<std::pair<int, int>> neighbour_pairs(const Overlaps& o, const ScaleAlignmentParams& params) {
   std::vector<std::pair<int, int>> pairs;
   const int n = static_cast<int>(o.ov.size());
+  auto enough = [&](int a, int b) {
+    const double need = std::max(static_cast<double>(params.min_overlap_points),
+                                 params.min_overlap_fraction * static_cast<double>(o.pools[a].size()));
+    return static_cast<double>(o.ov[a][b].size()) >= need;
+  };
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b) {
-      if (static_cast<int>(o.ov[a][b].size()) >= min_points &&
-          static_cast<int>(o.ov[b][a].size()) >= min_points) {
-        pairs.emplace_back(a, b);
-      }
+      if (enough(a, b) && enough(b, a)) pairs.emplace_back(a, b);
     }
   return pairs;
 }
@@ -454,7 +456,7 @@ RelativeScaleResult estimate_relative_scales(const std::vector<ViewCloud>& views
   }
   const int reference = std::clamp(params.reference_view, 0, n - 1);
   const Overlaps o = all_overlaps(views, params);
-  res.pairs = neighbour_pairs(o, params.min_overlap_points);
+  res.pairs = neighbour_pairs(o, params);
   // Only views connected to the reference through neighbour pairs have a determined relative
   // scale; the others keep scale 1 (reported in status), and their pairs are left out (the
   // objective is not scale invariant: an unanchored group would just shrink).

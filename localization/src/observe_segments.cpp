@@ -173,6 +173,7 @@ SegmentExtractionResult extract_segments_2d(const std::vector<Eigen::Vector2d>& 
     res.segments_m = merge_collinear(std::move(res.segments_m), params.merge_tolerance_m,
                                      params.merge_tolerance_deg, params.hough_max_gap_px * res_m);
   }
+  for (Segment2& s : res.segments_m) orient_observer_left(s);
   if (params.num_rays > 0) {
     res.ray_ranges_m = ray_ranges_2d(points_m, params.num_rays, params.ray_tolerance_deg, max_range_m);
   }

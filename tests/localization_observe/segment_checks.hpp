@@ -80,6 +80,38 @@ inline WallMatch match_walls(const std::vector<Segment2>& segments, const std::v
   return out;
 }
 
+/// Joins collinear truth segments that touch end to end (a wall, a door leaf and the next wall
+/// piece form one straight surface), so an observed segment spanning them matches one piece.
+inline std::vector<Segment2> join_collinear(std::vector<Segment2> segs, double tol_m = 0.01, double tol_deg = 0.5) {
+  bool joined = true;
+  while (joined) {
+    joined = false;
+    for (std::size_t i = 0; i < segs.size() && !joined; ++i) {
+      for (std::size_t j = 0; j < segs.size() && !joined; ++j) {
+        if (i == j) continue;
+        const Segment2& a = segs[i];
+        const Segment2& b = segs[j];
+        const double ang = std::abs(std::remainder(a.direction_rad() - b.direction_rad(), kSegPi)) * 180.0 / kSegPi;
+        if (ang > tol_deg) continue;
+        // b continues a: b starts where a ends (either orientation).
+        Segment2 merged;
+        if ((a.b_m - b.a_m).norm() <= tol_m) {
+          merged = {a.a_m, b.b_m};
+        } else if ((a.b_m - b.b_m).norm() <= tol_m) {
+          merged = {a.a_m, b.a_m};
+        } else {
+          continue;
+        }
+        if (merged.length_m() < std::max(a.length_m(), b.length_m())) continue;
+        segs[i] = merged;
+        segs.erase(segs.begin() + static_cast<std::ptrdiff_t>(j));
+        joined = true;
+      }
+    }
+  }
+  return segs;
+}
+
 inline std::vector<Segment2> polygon_walls(const std::vector<Eigen::Vector2d>& corners) {
   std::vector<Segment2> w;
   for (std::size_t i = 0; i < corners.size(); ++i) {

@@ -20,6 +20,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "floorcast/floorplans/types.hpp"
@@ -61,9 +62,11 @@ struct ScaleAlignmentParams {
   ScaleAlignment mode = ScaleAlignment::kFull;
   /// Overlap sub-clouds are subsampled to at most this many points (PALMS+: 5000).
   int max_points_per_cloud = 5000;
-  /// Two views are neighbours when each has at least this many points inside the other's view
-  /// frustum.
+  /// Two views are neighbours when each has at least min_overlap_points points, and at least
+  /// min_overlap_fraction of its points, inside the other's view frustum (adjacent views of a
+  /// rotating scan; views that only share the floor at the user's feet are not neighbours).
   int min_overlap_points = 200;
+  double min_overlap_fraction = 0.1;
   double min_scale = 0.5;  ///< L-BFGS-B bounds on the relative scales (PALMS+ joint: [0.5, 1.5])
   double max_scale = 1.5;
   int reference_view = 0;  ///< index among the kept views whose scale is fixed to 1
@@ -71,7 +74,7 @@ struct ScaleAlignmentParams {
   /// the resulting smooth problem is solved with L-BFGS-B, and this repeats (ICP style) until no
   /// scale moves by more than round_tolerance or max_rounds is reached.
   int max_rounds = 30;
-  double round_tolerance = 1e-4;
+  double round_tolerance = 1e-3;
   double round_trust_region = 0.05;  ///< max change of a scale within one round
   /// Starting point (ours, not in PALMS+): in a rotating scan neighbouring views see the same
   /// rays, so the median ratio of their depths along shared rays estimates each pair's relative
@@ -143,9 +146,12 @@ struct SegmentExtractionParams {
 
 /// LiDAR back-projection defaults: no depth-edge removal (PALMS uses ARKit's planes directly;
 /// per-pixel sensor noise would make Canny mark most of a LiDAR depth map).
+/// Low-confidence pixels (ARKit confidence 0: glass-affected, grazing, at the range limit) are
+/// dropped, as ARKit-based plane detection does.
 inline BackProjectionParams lidar_back_projection_defaults() {
   BackProjectionParams p;
   p.remove_depth_edges = false;
+  p.min_confidence = 1;
   return p;
 }
 
@@ -160,6 +166,11 @@ struct LidarPathParams {
   double max_wall_tilt_deg = 10.0;
   double min_wall_width_m = 0.3;   ///< horizontal extent of a kept wall plane
   double min_wall_height_m = 0.5;  ///< vertical extent of a kept wall plane
+  /// A kept wall plane must reach into the band +-wall_band_half_height_m around camera height
+  /// (z = 0), where floor plans cut buildings (and where the mono path slices): desks and other
+  /// low furniture are not walls. false = every vertical plane (PALMS with ARKit planes).
+  bool require_camera_height = true;
+  double wall_band_half_height_m = 0.2;
   double max_range_m = 25.0;       ///< points farther (horizontally) are ignored
 };
 
@@ -266,6 +277,13 @@ struct SegmentExtractionResult {
 SegmentExtractionResult extract_segments_2d(const std::vector<Eigen::Vector2d>& points_m,
                                             const SegmentExtractionParams& params,
                                             double max_range_m);
+
+/// Orients a segment so the observer (the origin) is on its left, like perfect observations (free
+/// space on each segment's left).
+inline void orient_observer_left(Segment2& s) {
+  const Vec2 d = s.b_m - s.a_m;
+  if (d.x() * (-s.a_m.y()) - d.y() * (-s.a_m.x()) < 0.0) std::swap(s.a_m, s.b_m);
+}
 
 /// Ranges along num_rays equiangular rays (ray i at i * 360/num_rays deg CCW from +x): the
 /// nearest point within tolerance_deg of the ray's direction, max_range_m when none.

@@ -52,10 +52,10 @@ Plane3 fit_plane_ransac_pcl(const PointCloud3f& points, const RansacPlaneParams&
 
 /// PCL normals + region growing segmentation; one least-squares plane per region.
 struct PclRegionGrowingParams {
-  int normal_k = 20;             ///< neighbours for the normals
-  int neighbours_k = 20;         ///< neighbours for growing
+  int normal_k = 30;             ///< neighbours for the normals
+  int neighbours_k = 30;         ///< neighbours for growing
   double smoothness_deg = 5.0;   ///< max normal difference between neighbours
-  double curvature_threshold = 0.05;
+  double curvature_threshold = 0.1;
   int min_cluster_points = 50;
 };
 std::vector<Plane3> extract_planes_region_growing(const PointCloud3f& points,

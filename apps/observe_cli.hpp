@@ -1,0 +1,35 @@
+// Observation-module options shared by `floorcast observe` and `floorcast localize` (a scan folder
+// as the observation).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "floorcast/localization/observation_module.hpp"
+#include "floorcast/sim/observation_io.hpp"
+
+namespace floorcast::cli {
+
+struct ObserveCliOptions {
+  std::string path;             ///< "" = from the scan's sensor (lidar -> lidar, else mono)
+  std::string scale_alignment;  ///< "" = default (full)
+  std::string extractor;        ///< "" = default (pcl)
+  bool mask_glass = false;
+  std::string params_file;
+};
+
+void add_observation_options(CLI::App& cmd, ObserveCliOptions& options);
+
+/// Parameters from the options (overrides file first, then flags). `scan` (may be null) picks the
+/// default path from its sensor when neither --path nor a params file says.
+ObservationParams observation_params_from_cli(const ObserveCliOptions& options, const Scan* scan);
+
+/// The observation as a record of the shared observation schema (ground truth from the scan,
+/// key diagnostics as metadata).
+ObservationRecord observation_record(const Scan& scan, const std::string& scan_dir, const ObservationResult& result);
+
+/// Diagnostics, stage timings and every parameter.
+nlohmann::ordered_json observation_diagnostics_json(const ObservationParams& params, const ObservationResult& result);
+
+}  // namespace floorcast::cli
