@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
@@ -13,6 +14,8 @@
 #include "floorcast/localization/matcher.hpp"
 #include "floorcast/localization/plan_raster.hpp"
 #include "floorcast/sim/observation_io.hpp"
+#include "floorcast/sim/scan_io.hpp"
+#include "observe_cli.hpp"
 
 namespace floorcast::cli {
 namespace {
@@ -22,22 +25,31 @@ constexpr double kPi = 3.14159265358979323846;
 /// What the localizer consumes: the 2D observation, plus the ground truth when the file knows it.
 struct LocalizationInput {
   ObservationRecord record;
-  std::string description;  ///< "observation JSON", ...
+  std::string description;  ///< "observation JSON", "scan folder (observation module, mono)", ...
+  /// Set when OBS was a scan folder: the observation module's diagnostics, timings, parameters.
+  std::optional<nlohmann::ordered_json> observation_diagnostics;
 };
 
 /// Loads OBS: an observation JSON (`floorcast sim perfect` writes DIR/observation.json; the
-/// folder itself is accepted too). Scan folders (a rotating scan to be turned into 2D segments by
-/// the observation module) will be read here as well.
-LocalizationInput load_localization_input(const std::string& path) {
+/// folder itself is accepted too), or a scan folder (DIR/scan.json, `floorcast sim scan`), which
+/// the observation module turns into 2D segments first.
+LocalizationInput load_localization_input(const std::string& path, const ObserveCliOptions& observe) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
     const fs::path obs = fs::path(path) / "observation.json";
-    if (fs::exists(obs)) return {load_observation(obs.string()), "observation JSON"};
-    throw InputError(path + ": folder without observation.json (scan folders need the observation module)");
+    if (fs::exists(obs)) return {load_observation(obs.string()), "observation JSON", std::nullopt};
+    if (fs::exists(fs::path(path) / "scan.json")) {
+      const Scan scan = load_scan(path);
+      const ObservationParams params = observation_params_from_cli(observe, &scan);
+      const ObservationResult r = observe_scan(scan, params);
+      return {observation_record(scan, path, r), "scan folder (observation module, " + r.diagnostics.path + ")",
+              observation_diagnostics_json(params, r)};
+    }
+    throw InputError(path + ": folder without observation.json or scan.json");
   }
   if (!fs::exists(path, ec)) throw InputError(path + ": no such file or folder");
-  return {load_observation(path), "observation JSON"};
+  return {load_observation(path), "observation JSON", std::nullopt};
 }
 
 /// "key=value": value parsed as JSON when it is valid JSON, else taken as a string.
@@ -73,11 +85,15 @@ void register_localize(CLI::App& root) {
     int rays = 0;
     int top_k = 5;
     std::vector<std::string> params;
+    ObserveCliOptions observe;
   };
   auto o = std::make_shared<Options>();
   auto* cmd = root.add_subcommand("localize", "Posterior over (x, y, yaw) for one observation; estimate.json, posterior.png");
   cmd->add_option("PLAN", o->plan, "Floor-plan JSON")->required();
-  cmd->add_option("OBS", o->obs, "Observation JSON (from `floorcast sim perfect`), or its folder")->required();
+  cmd->add_option("OBS", o->obs,
+                 "Observation JSON (from `floorcast sim perfect`), or its folder, or a scan folder (`floorcast sim "
+                 "scan`; the observation module runs first)")
+      ->required();
   cmd->add_option("--matcher", o->matcher, "Layout matcher")->capture_default_str()->check(CLI::IsMember(matcher_names()));
   cmd->add_option("--orientations", o->orientations, "Kernel matcher orientation candidates: palms, palms+ (default), dense")
       ->check(CLI::IsMember({"palms", "palms+", "dense"}));
@@ -86,9 +102,10 @@ void register_localize(CLI::App& root) {
   cmd->add_option("--param", o->params, "Matcher parameter override KEY=VALUE (repeatable; keys as in estimate.json)");
   cmd->add_option("--top-k", o->top_k, "Modes to report (NMS 1 m, 30 deg)")->capture_default_str()->check(CLI::Range(1, 100));
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
+  add_observation_options(*cmd, o->observe);
   cmd->callback([o] {
     const FloorPlan plan = load_floor_plan(o->plan);
-    const LocalizationInput input = load_localization_input(o->obs);
+    const LocalizationInput input = load_localization_input(o->obs, o->observe);
     nlohmann::json overrides = nlohmann::json::object();
     for (const std::string& p : o->params) add_override(overrides, p);
     if (!o->orientations.empty()) {
@@ -135,6 +152,7 @@ void register_localize(CLI::App& root) {
     j["precompute_mb"] = matcher->precompute_bytes() / 1e6;
     j["plan"] = o->plan;
     j["observation"] = o->obs;
+    j["observation_input"] = input.description;
     j["observation_segments"] = input.record.observation.segments_m.size();
     nlohmann::ordered_json grid;
     grid["origin_m"] = {post.grid.origin_x_m, post.grid.origin_y_m};
@@ -145,6 +163,10 @@ void register_localize(CLI::App& root) {
 
     ensure_directory(o->out);
     write_json(o->out + "/estimate.json", j);
+    if (input.observation_diagnostics) {  // what the observation module made of the scan
+      save_observation(o->out + "/observation.json", input.record);
+      write_json(o->out + "/observation.diagnostics.json", *input.observation_diagnostics);
+    }
     const cv::Mat raster = rasterize_outline(blocking_outline(plan, raster_blocking(j["parameters"])), post.grid);
     std::optional<PoseHypothesis> truth;
     if (input.record.T_world_observer) {

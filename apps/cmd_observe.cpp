@@ -22,8 +22,8 @@ void add_observation_options(CLI::App& cmd, ObserveCliOptions& o) {
   cmd.add_option("--extractor", o.extractor, "LiDAR plane extractor: pcl (normals + region growing) or voxelplane")
       ->check(CLI::IsMember({"pcl", "voxelplane"}));
   cmd.add_flag("--mask-glass", o.mask_glass, "Drop glass-affected pixels (the PALMS+* setting)");
-  cmd.add_option("--params", o.params_file,
-                 "JSON file of observation parameter overrides (keys as in the written diagnostics' \"params\")");
+  cmd.add_option("--observe-params", o.params_file,
+                 "JSON file of observation-module parameter overrides (keys as in the diagnostics' \"params\")");
 }
 
 ObservationParams observation_params_from_cli(const ObserveCliOptions& o, const Scan* scan) {

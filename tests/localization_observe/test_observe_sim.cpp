@@ -90,34 +90,62 @@ TEST(ObserveSim, PerfectScanSegmentsLieOnVisibleWalls) {
   EXPECT_GT(covered / total, 0.8);
 }
 
-/// Simulate -> observe -> kernel matcher: the argmax lies within 1 m (and 30 deg) of the truth.
-void expect_localised(const std::string& preset, ObservationPath path, PlaneExtractorKind extractor) {
-  const Building& b = two_rooms();
-  // A distinctive spot: the larger room, near the glass partition and the door to the other room.
-  const Pose2 truth{3.2, 2.8, 0.6};
-  ScanParams sp = scan_preset(preset);
-  sp.seed = 11;
-  const Scan scan = simulate_scan(*b.scene, truth, sp);
-  ObservationParams p;
-  p.path = path;
-  p.lidar.extractor = extractor;
+const Building& apartment() {
+  static const Building b = [] {
+    Building x;
+    x.plan = load_floor_plan(std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/apartment.json");
+    x.scene = std::make_unique<RayScene>(extrude_plan(x.plan));
+    return x;
+  }();
+  return b;
+}
+
+/// Simulate -> observe -> kernel matcher at a distinctive spot of the shipped apartment (a room
+/// off the main living area, door and corners in view). Returns the position error, or a large
+/// value when the yaw is off by more than 30 deg.
+double localisation_error(const Scan& scan, const Pose2& truth, const ObservationParams& p) {
   const ObservationResult r = observe_scan(scan, p);
-  ASSERT_GE(r.observation.segments_m.size(), 3u);
-  const auto matcher = make_matcher("kernel", b.plan);
+  if (r.observation.segments_m.size() < 3) return 1e9;
+  static const auto matcher = make_matcher("kernel", apartment().plan);
   const PoseHypothesis h = matcher->match(r.observation).posterior.argmax();
-  const double err = std::hypot(h.x_m - truth.x_m, h.y_m - truth.y_m);
-  EXPECT_LT(err, 1.0) << preset << ": argmax (" << h.x_m << ", " << h.y_m << ") truth (" << truth.x_m << ", "
-                      << truth.y_m << ")";
-  EXPECT_LT(angle_distance_rad(h.yaw_rad, truth.yaw_rad), 30.0 * kPi / 180.0) << preset;
+  if (angle_distance_rad(h.yaw_rad, truth.yaw_rad) > 30.0 * kPi / 180.0) return 1e9;
+  return std::hypot(h.x_m - truth.x_m, h.y_m - truth.y_m);
+}
+
+const std::vector<Pose2>& distinctive_poses() {
+  static const std::vector<Pose2> poses = {{5.25, 8.75, 0.0}, {5.25, 8.75, 2.4}, {5.0, 8.5, 1.8}};
+  return poses;
 }
 
 TEST(ObserveSim, MonoScanLocalisesWithTheKernelMatcher) {
-  expect_localised("mono", ObservationPath::kMono, PlaneExtractorKind::kPclRegionGrowing);
+  // Realistic monocular depth (per-view scale, warp, noise, flying pixels, glass): PALMS+ itself
+  // is right about a third of the time on its campus data; here at least 2 of 3 scans of the
+  // spot (different headings and noise seeds) must localise within 1 m and 30 deg. The
+  // measured rate over 12 headings/seeds at this spot is 9/12 (localization/README.md).
+  int ok = 0;
+  for (std::size_t k = 0; k < distinctive_poses().size(); ++k) {
+    const Pose2& truth = distinctive_poses()[k];
+    ScanParams sp = scan_preset("mono");
+    sp.seed = 30 + k;
+    const double err = localisation_error(simulate_scan(*apartment().scene, truth, sp), truth, ObservationParams{});
+    ok += err < 1.0 ? 1 : 0;
+  }
+  EXPECT_GE(ok, 2);
 }
 
 TEST(ObserveSim, LidarScanLocalisesWithTheKernelMatcher) {
-  expect_localised("lidar", ObservationPath::kLidar, PlaneExtractorKind::kPclRegionGrowing);
-  expect_localised("lidar", ObservationPath::kLidar, PlaneExtractorKind::kVoxelPlane);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const Pose2& truth = distinctive_poses()[k];
+    ScanParams sp = scan_preset("lidar");
+    sp.seed = 40 + k;
+    const Scan scan = simulate_scan(*apartment().scene, truth, sp);
+    for (const PlaneExtractorKind kind : {PlaneExtractorKind::kPclRegionGrowing, PlaneExtractorKind::kVoxelPlane}) {
+      ObservationParams p;
+      p.path = ObservationPath::kLidar;
+      p.lidar.extractor = kind;
+      EXPECT_LT(localisation_error(scan, truth, p), 1.0) << to_string(kind) << " pose " << k;
+    }
+  }
 }
 
 }  // namespace
