@@ -205,6 +205,7 @@ void trace_views(const RayScene& scene, const ScanParams& params, const CameraIn
   const std::vector<MeshLabel>& labels = scene.mesh().labels;
   const bool need_incidence = params.sensor.kind == SensorKind::kLidar;
   const bool need_min_range = params.sensor.min_range_m > 0.0;
+  const float min_range2 = static_cast<float>(params.sensor.min_range_m * params.sensor.min_range_m);
   const float max_range = static_cast<float>(params.sensor.max_range_m);
   const PixelRays pr =
       pixel_rays(K, params.sensor.kind == SensorKind::kLidar && params.sensor.lidar.lateral_sigma_px > 0.0);
@@ -243,11 +244,15 @@ void trace_views(const RayScene& scene, const ScanParams& params, const CameraIn
         // An opaque surface or a glass return.
         r.depth = h.tfar;
         r.glass = glass;
-        if (need_incidence || need_min_range) {
+        if (need_incidence) {
           const Eigen::Vector3f d = h.direction();
           const float d_len = d.norm();
-          if (need_incidence) r.cos_inc = tracer.cos_incidence(tri, d, d_len);
-          if (need_min_range) r = tracer.finish(r, d_len);
+          r.cos_inc = tracer.cos_incidence(tri, d, d_len);
+          r = tracer.finish(r, d_len);
+        } else if (need_min_range) {
+          // range^2 = t^2 |d|^2 (no square root needed)
+          const float d2 = h.dir_x * h.dir_x + h.dir_y * h.dir_y + h.dir_z * h.dir_z;
+          if (h.tfar * h.tfar * d2 < min_range2) r.depth = 0.0f;
         }
       }
       if (n_sec > 0) {
@@ -417,7 +422,9 @@ void apply_mono(const ScanParams& params, const CameraIntrinsics& K, const ViewJ
   const float threshold = static_cast<float>(m.edge_threshold_rel);
   const bool flying = m.flying_pixel_prob > 0.0;
   const int width = m.flying_pixel_width_px;
+  const float scale_f = static_cast<float>(scale), sigma_f = static_cast<float>(m.noise_sigma_rel);
   tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+    std::vector<float> noise;
     for (int v = rows.begin(); v != rows.end(); ++v) {
       const float* clean = job.clean.ptr<float>(v);
       const float* up = v > 0 ? job.clean.ptr<float>(v - 1) : nullptr;
@@ -430,6 +437,13 @@ void apply_mono(const ScanParams& params, const CameraIntrinsics& K, const ViewJ
         row_ctrl[i] = acc;
       }
       float* dst = out.depth_m.ptr<float>(v);
+      // Relative noise for the row, two pixels per hash (pair id = v * ceil(W / 2) + u / 2).
+      noise.resize(static_cast<std::size_t>(W) + 1);
+      const std::uint64_t pairs_per_row = (static_cast<std::uint64_t>(W) + 1) / 2;
+      for (int u = 0; u < W; u += 2) {
+        view_rng.item_normal_pair(static_cast<std::uint64_t>(v) * pairs_per_row + static_cast<std::uint64_t>(u / 2),
+                                  noise[static_cast<std::size_t>(u)], noise[static_cast<std::size_t>(u) + 1]);
+      }
       for (int u = 0; u < W; ++u) {
         const float z = clean[u];
         if (z <= 0.0f) {
@@ -453,8 +467,7 @@ void apply_mono(const ScanParams& params, const CameraIntrinsics& K, const ViewJ
         const auto& wu = su.w[static_cast<std::size_t>(u)];
         const auto& iu = su.idx[static_cast<std::size_t>(u)];
         const float warp = wu[0] * row_ctrl[iu[0]] + wu[1] * row_ctrl[iu[1]] + wu[2] * row_ctrl[iu[2]] + wu[3] * row_ctrl[iu[3]];
-        const float noisy =
-            static_cast<float>(scale) * warp * zf * (1.0f + static_cast<float>(m.noise_sigma_rel * view_rng.item_normal(pixel)));
+        const float noisy = scale_f * warp * zf * (1.0f + sigma_f * noise[static_cast<std::size_t>(u)]);
         dst[u] = noisy > 0.0f ? noisy : 0.0f;
       }
     }

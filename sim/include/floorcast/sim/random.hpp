@@ -40,6 +40,16 @@ inline double normal_quantile_fast(double u) {
 /// Exact (double precision) standard normal quantile, for tests and table construction.
 double normal_quantile(double u);
 
+/// Standard normal from 32 uniform bits: the top 12 bits pick the table cell, the rest
+/// interpolate linearly inside it.
+inline float normal_from_u32(std::uint32_t b) {
+  static_assert(detail::kNormalTableCells == 1 << 12, "12 index bits");
+  const std::uint32_t k = b >> 20;
+  const float f = static_cast<float>(b & 0xFFFFFu) * (1.0f / 1048576.0f);
+  const float z0 = detail::normal_quantile_table[k], z1 = detail::normal_quantile_table[k + 1];
+  return z0 + f * (z1 - z0);
+}
+
 class CounterRng {
  public:
   CounterRng(std::uint64_t seed, std::uint64_t stream, std::uint64_t a = 0, std::uint64_t b = 0)
@@ -54,6 +64,14 @@ class CounterRng {
   double item_normal(std::uint64_t i) const {
     const std::uint64_t b = mix64(key_ ^ (0x9fb21c651e98df25ULL * (i + 1)));
     return normal_quantile_fast((static_cast<double>(b >> 11) + 0.5) * (1.0 / 9007199254740992.0));
+  }
+
+  /// Two standard normals for item i from a single hash (32 bits each, table lookup in float):
+  /// the cheapest way to draw per-pixel noise for pixel pairs.
+  void item_normal_pair(std::uint64_t i, float& z0, float& z1) const {
+    const std::uint64_t b = mix64(key_ ^ (0xc2b2ae3d27d4eb4fULL * (i + 1)));
+    z0 = normal_from_u32(static_cast<std::uint32_t>(b));
+    z1 = normal_from_u32(static_cast<std::uint32_t>(b >> 32));
   }
 
   /// 64 random bits, draw k.
