@@ -132,6 +132,29 @@ TEST(ScanRender, BoxRoomDepthsEqualExactDistances) {
   }
 }
 
+TEST(ScanRender, CameraRaysAreTheRaysTheRendererCasts) {
+  // The benchmark compares the renderer with raw Embree on scan_camera_rays: same work.
+  const RayScene scene(extrude_plan(test::feature_plan()));
+  ScanParams p = small_perfect(3, 40, 20, 90.0, -10.0);  // 40 x 20: partial 16-pixel tiles
+  const Pose2 pose{2.0, 2.0, 0.2};
+  const Scan scan = simulate_scan(scene, pose, p);
+  const std::vector<Ray3> rays = scan_camera_rays(pose, p);
+  ASSERT_EQ(rays.size(), 3u * 40u * 20u);
+  std::vector<RayHit3> hits(rays.size());
+  scene.intersect_stream(rays.data(), hits.data(), rays.size());
+  // Tile order: views, then 16 x 16 tiles row by row, pixels row-major inside each tile.
+  std::size_t i = 0;
+  for (int k = 0; k < 3; ++k)
+    for (int ty = 0; ty < 2; ++ty)
+      for (int tx = 0; tx < 3; ++tx)
+        for (int v = ty * 16; v < std::min(20, ty * 16 + 16); ++v)
+          for (int u = tx * 16; u < std::min(40, tx * 16 + 16); ++u, ++i) {
+            ASSERT_TRUE(hits[i].hit());
+            EXPECT_EQ(hits[i].t, scan.views[static_cast<std::size_t>(k)].depth_m.at<float>(v, u));
+          }
+  EXPECT_EQ(i, rays.size());
+}
+
 TEST(ScanRender, RangeLimitsGiveNoReturn) {
   const RayScene scene(extrude_plan(test::box_room(20.0, 4.0, 0.2)));
   ScanParams p = small_perfect(1, 16, 12, 30.0, 0.0);
