@@ -61,8 +61,9 @@ struct LidarModel {
 /// true_depth * (1 + noise_sigma_rel * n), then flying pixels at depth edges.
 struct MonoModel {
   double scale_sigma_ln = 0.12;  ///< ln(lambda_view) ~ N(0, scale_sigma_ln^2), per view
-  /// Smooth low-frequency warp: a warp_grid_x x warp_grid_y grid of N(0, warp_sigma_ln^2) values
-  /// (zero mean per view), bicubically upsampled to the image, applied as exp(warp).
+  /// Smooth low-frequency warp: a warp_grid_x x warp_grid_y grid of N(0, warp_sigma_ln^2) log
+  /// values (zero mean per view), exponentiated and upsampled over the image with Catmull-Rom
+  /// splines (separable, C1), multiplied into the depth.
   double warp_sigma_ln = 0.05;
   int warp_grid_x = 3;
   int warp_grid_y = 3;
