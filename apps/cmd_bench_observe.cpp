@@ -3,8 +3,11 @@
 // scans at several poses of a shipped building and repeats.
 #include <tbb/info.h>
 
+#include <cstdlib>
+
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -21,6 +24,13 @@
 
 namespace floorcast::cli {
 namespace {
+
+/// CPU seconds of the whole process (all threads): a load-independent companion of wall time.
+double process_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -85,7 +95,7 @@ void register_bench_observe(CLI::App& root) {
     struct PathRun {
       std::string name, preset;
       ObservationParams params;
-      std::vector<double> total_s;
+      std::vector<double> total_s, cpu_s;
       std::map<std::string, std::vector<double>> stage_s;
       std::vector<double> segments, points;
     };
@@ -102,7 +112,9 @@ void register_bench_observe(CLI::App& root) {
         sp.seed = 1000 + k;
         const Scan scan = simulate_scan(scene, poses[k], sp);
         for (int rep = 0; rep < o->repeats; ++rep) {
+          const double cpu0 = process_cpu_s();
           const ObservationResult r = observe_scan(scan, run.params);
+          run.cpu_s.push_back(process_cpu_s() - cpu0);
           run.total_s.push_back(r.total_s);
           for (const auto& [stage, s] : r.stage_s) run.stage_s[stage].push_back(s);
           if (rep == 0) {
@@ -115,7 +127,13 @@ void register_bench_observe(CLI::App& root) {
     nlohmann::ordered_json j;
     j["mono_scan_s"] = median(runs[0].total_s);
     j["lidar_scan_s"] = median(runs[1].total_s);
+    j["mono_scan_cpu_s"] = median(runs[0].cpu_s);
+    j["lidar_scan_cpu_s"] = median(runs[1].cpu_s);
     j["threads"] = tbb::info::default_concurrency();
+    {
+      double load[3] = {0.0, 0.0, 0.0};
+      if (getloadavg(load, 3) == 3) j["load_average_1min"] = load[0];
+    }
     j["plan"] = plan_path;
     j["scans"] = o->scans;
     j["repeats"] = o->repeats;
@@ -127,6 +145,7 @@ void register_bench_observe(CLI::App& root) {
       d["resolution"] = std::to_string(sp.geometry.width_px) + "x" + std::to_string(sp.geometry.height_px);
       d["median_s"] = median(run.total_s);
       d["max_s"] = *std::max_element(run.total_s.begin(), run.total_s.end());
+      d["median_cpu_s"] = median(run.cpu_s);
       for (const auto& [stage, v] : run.stage_s) d["stage_median_s"][stage] = median(v);
       d["median_segments"] = median(run.segments);
       d["median_points"] = median(run.points);
@@ -138,12 +157,14 @@ void register_bench_observe(CLI::App& root) {
       return;
     }
     std::cout << std::fixed << std::setprecision(3) << "bench observe: " << plan_path << ", " << o->scans << " scans x "
-              << o->repeats << " repeats, " << j["threads"] << " threads\n";
+              << o->repeats << " repeats, " << j["threads"] << " threads, load average "
+              << j.value("load_average_1min", 0.0) << "\n";
     for (const PathRun& run : runs) {
       const auto& d = j[run.name];
       std::cout << "  " << std::left << std::setw(6) << run.name << std::right << d["preset"].get<std::string>() << " "
                 << d["views"] << " views " << d["resolution"].get<std::string>() << ": median "
-                << d["median_s"].get<double>() << " s (max " << d["max_s"].get<double>() << " s), "
+                << d["median_s"].get<double>() << " s wall (max " << d["max_s"].get<double>() << " s), "
+                << d["median_cpu_s"].get<double>() << " s CPU, "
                 << d["median_segments"].get<double>() << " segments\n    stages:";
       for (const auto& [stage, v] : d["stage_median_s"].items()) std::cout << " " << stage << " " << v.get<double>();
       std::cout << "\n";

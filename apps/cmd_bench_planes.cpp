@@ -68,7 +68,7 @@ void register_bench_planes(CLI::App& root) {
       }
       j["models"].push_back(m);
       if (o->json) continue;
-      std::cout << "noise " << noise.name << " (sigma " << noise.sigma_const_m << " m + " << noise.sigma_quadratic_per_m
+      std::cout << std::defaultfloat << "noise " << noise.name << " (sigma " << noise.sigma_const_m << " m + " << noise.sigma_quadratic_per_m
                 << " r^2, outliers " << noise.outlier_fraction * 100.0 << "%), " << r.planes << " planes x "
                 << r.points_per_plane << " points\n";
       std::cout << "  " << std::left << std::setw(24) << "method" << std::right << std::setw(12) << "alpha [deg]"

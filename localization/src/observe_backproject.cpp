@@ -125,47 +125,20 @@ PointCloud3f view_points_scan(const ViewCloud& view, double scale) {
   return out;
 }
 
-PointCloud3f voxel_downsample(const PointCloud3f& points, double voxel_m) {
-  if (voxel_m <= 0.0 || points.empty()) return points;
-  const std::size_t n = points.size();
-  const double inv = 1.0 / voxel_m;
-  // Integer voxel coordinates, packed relative to their minimum with as few bits as needed, then
-  // an LSD radix sort (stable: points of one voxel stay in index order, so the centroids are the
-  // same at any thread count).
-  std::vector<std::array<std::int64_t, 3>> cell(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::size_t(1) << 14),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        for (int a = 0; a < 3; ++a) {
-                          cell[i][a] = static_cast<std::int64_t>(std::floor(static_cast<double>(points[i][a]) * inv));
-                        }
-                      }
-                    });
-  std::array<std::int64_t, 3> lo = cell[0], hi = cell[0];
-  for (const auto& c : cell) {
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], c[a]);
-      hi[a] = std::max(hi[a], c[a]);
-    }
-  }
-  std::array<int, 3> bits{};
-  for (int a = 0; a < 3; ++a) {
-    const std::uint64_t span = static_cast<std::uint64_t>(hi[a] - lo[a]);
-    while (bits[a] < 63 && (span >> bits[a]) != 0) ++bits[a];
-  }
-  const int total_bits = bits[0] + bits[1] + bits[2];
-  if (total_bits > 63) throw InputError("voxel_downsample: the cloud spans too many voxels of " + std::to_string(voxel_m) + " m");
-  std::vector<std::uint64_t> key(n), key2(n);
-  std::vector<std::uint32_t> idx(n), idx2(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    key[i] = static_cast<std::uint64_t>(cell[i][0] - lo[0]) << (bits[1] + bits[2]) |
-             static_cast<std::uint64_t>(cell[i][1] - lo[1]) << bits[2] | static_cast<std::uint64_t>(cell[i][2] - lo[2]);
-    idx[i] = static_cast<std::uint32_t>(i);
-  }
+namespace {
+
+std::int64_t floor_div(std::int64_t a, std::int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+/// Stable LSD radix sort of (key, index) by key over the low `bits` bits; indices start in
+/// ascending order, so equal keys keep their points in index order (deterministic sums).
+void radix_sort(std::vector<std::uint64_t>& key, std::vector<std::uint32_t>& idx, int bits) {
+  const std::size_t n = key.size();
+  std::vector<std::uint64_t> key2(n);
+  std::vector<std::uint32_t> idx2(n);
   constexpr int kDigit = 11;
   constexpr std::size_t kBuckets = std::size_t(1) << kDigit;
   std::vector<std::size_t> count(kBuckets);
-  for (int shift = 0; shift < total_bits; shift += kDigit) {
+  for (int shift = 0; shift < bits; shift += kDigit) {
     std::fill(count.begin(), count.end(), 0);
     for (std::size_t i = 0; i < n; ++i) ++count[(key[i] >> shift) & (kBuckets - 1)];
     std::size_t sum = 0;
@@ -182,12 +155,108 @@ PointCloud3f voxel_downsample(const PointCloud3f& points, double voxel_m) {
     key.swap(key2);
     idx.swap(idx2);
   }
-  PointCloud3f out;
+}
+
+int bits_for(std::uint64_t span) {
+  int b = 0;
+  while (b < 63 && (span >> b) != 0) ++b;
+  return b;
+}
+
+/// Voxel grid with `ratio` fine cells per coarse cell along each axis: points sorted by (coarse
+/// cell, fine cell within it). Returns fine centroids in that order and, per fine centroid, its
+/// coarse key.
+void nested_voxels(const PointCloud3f& points, double fine_m, std::int64_t ratio, PointCloud3f& fine,
+                   std::vector<std::uint64_t>& coarse_key) {
+  const std::size_t n = points.size();
+  const double inv = 1.0 / fine_m;
+  std::vector<std::array<std::int64_t, 3>> cell(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::size_t(1) << 14),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        for (int a = 0; a < 3; ++a) {
+                          cell[i][a] = static_cast<std::int64_t>(std::floor(static_cast<double>(points[i][a]) * inv));
+                        }
+                      }
+                    });
+  std::array<std::int64_t, 3> lo, hi;
+  for (int a = 0; a < 3; ++a) lo[a] = hi[a] = floor_div(cell[0][a], ratio);
+  for (const auto& c : cell) {
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t q = floor_div(c[a], ratio);
+      lo[a] = std::min(lo[a], q);
+      hi[a] = std::max(hi[a], q);
+    }
+  }
+  std::array<int, 3> bits{};
+  for (int a = 0; a < 3; ++a) bits[a] = bits_for(static_cast<std::uint64_t>(hi[a] - lo[a]));
+  const int rem_bits = bits_for(static_cast<std::uint64_t>(ratio - 1));
+  const int coarse_bits = bits[0] + bits[1] + bits[2];
+  const int total_bits = coarse_bits + 3 * rem_bits;
+  if (total_bits > 63) {
+    throw InputError("voxel grid: the cloud spans too many voxels of " + std::to_string(fine_m) + " m");
+  }
+  std::vector<std::uint64_t> key(n);
+  std::vector<std::uint32_t> idx(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t k = 0;
+    std::uint64_t r = 0;
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t q = floor_div(cell[i][a], ratio);
+      k = (k << bits[a]) | static_cast<std::uint64_t>(q - lo[a]);
+      r = (r << rem_bits) | static_cast<std::uint64_t>(cell[i][a] - q * ratio);
+    }
+    key[i] = (k << (3 * rem_bits)) | r;
+    idx[i] = static_cast<std::uint32_t>(i);
+  }
+  radix_sort(key, idx, total_bits);
+  fine.clear();
+  coarse_key.clear();
   for (std::size_t b = 0; b < n;) {
     std::size_t e = b;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     while (e < n && key[e] == key[b]) {
       sum += points[idx[e]].cast<double>();
+      ++e;
+    }
+    fine.push_back((sum / static_cast<double>(e - b)).cast<float>());
+    coarse_key.push_back(key[b] >> (3 * rem_bits));
+    b = e;
+  }
+}
+
+}  // namespace
+
+PointCloud3f voxel_downsample(const PointCloud3f& points, double voxel_m) {
+  if (voxel_m <= 0.0 || points.empty()) return points;
+  PointCloud3f fine;
+  std::vector<std::uint64_t> coarse_key;
+  nested_voxels(points, voxel_m, 1, fine, coarse_key);
+  return fine;
+}
+
+PointCloud3f voxel_downsample_two_level(const PointCloud3f& points, double fine_m, double coarse_m,
+                                        std::size_t* fine_count) {
+  if (fine_count) *fine_count = points.size();
+  if (points.empty()) return points;
+  if (fine_m <= 0.0) return voxel_downsample(points, coarse_m);
+  const double ratio = coarse_m / fine_m;
+  const std::int64_t r = static_cast<std::int64_t>(std::llround(ratio));
+  if (coarse_m <= 0.0 || r < 1 || std::abs(ratio - static_cast<double>(r)) > 1e-9 * ratio) {
+    PointCloud3f f = voxel_downsample(points, fine_m);
+    if (fine_count) *fine_count = f.size();
+    return voxel_downsample(f, coarse_m);
+  }
+  PointCloud3f fine;
+  std::vector<std::uint64_t> coarse_key;
+  nested_voxels(points, fine_m, r, fine, coarse_key);
+  if (fine_count) *fine_count = fine.size();
+  PointCloud3f out;
+  for (std::size_t b = 0; b < fine.size();) {
+    std::size_t e = b;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    while (e < fine.size() && coarse_key[e] == coarse_key[b]) {
+      sum += fine[e].cast<double>();
       ++e;
     }
     out.push_back((sum / static_cast<double>(e - b)).cast<float>());

@@ -57,6 +57,7 @@ std::vector<Field> fields(ObservationParams& p) {
       {"scale", "relative_epsilon", &s.relative_epsilon},
       {"scale", "camera_height_m", &s.camera_height_m},
       {"scale", "seed", &s.seed},
+      {"ground", "point_stride", &g.point_stride},
       {"ground", "voxel_m", &g.voxel_m},
       {"ground", "lowest_fraction", &g.lowest_fraction},
       {"ground", "normal_k", &g.normal_k},
@@ -263,6 +264,7 @@ nlohmann::ordered_json to_json(const ObservationDiagnostics& d) {
   rel["objective_initial"] = d.relative.objective_initial;
   rel["objective_final"] = d.relative.objective_final;
   rel["rounds"] = d.relative.rounds;
+  rel["round_steps"] = d.relative.round_steps;
   rel["iterations"] = d.relative.iterations;
   rel["evaluations"] = d.relative.evaluations;
   rel["status"] = d.relative.status;

@@ -1,6 +1,7 @@
 // The observation module end to end: mono (PALMS+) and LiDAR (PALMS) paths.
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -15,16 +16,21 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-/// Union of the view clouds in the scan frame, each with its depth scale.
-PointCloud3f merge_views(const std::vector<ViewCloud>& views, const std::vector<double>& scales) {
+/// Union of the view clouds in the scan frame, each with its depth scale; every `stride`-th point
+/// of each view.
+PointCloud3f merge_views(const std::vector<ViewCloud>& views, const std::vector<double>& scales,
+                         int stride = 1) {
+  const std::size_t step = static_cast<std::size_t>(std::max(1, stride));
   std::vector<std::size_t> offset(views.size() + 1, 0);
-  for (std::size_t k = 0; k < views.size(); ++k) offset[k + 1] = offset[k] + views[k].points_camera.size();
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    offset[k + 1] = offset[k] + (views[k].points_camera.size() + step - 1) / step;
+  }
   PointCloud3f out(offset.back());
   tbb::parallel_for(std::size_t(0), views.size(), [&](std::size_t k) {
     const Eigen::Matrix3f R = (views[k].T_scan_camera.linear() * scales[k]).cast<float>();
     const Eigen::Vector3f t = views[k].T_scan_camera.translation().cast<float>();
     const PointCloud3f& src = views[k].points_camera;
-    for (std::size_t i = 0; i < src.size(); ++i) out[offset[k] + i] = R * src[i] + t;
+    for (std::size_t i = 0, o = offset[k]; i < src.size(); i += step, ++o) out[o] = R * src[i] + t;
   });
   return out;
 }
@@ -74,11 +80,14 @@ void observe_mono(const Scan& scan, const ObservationParams& params, Observation
   if (params.scale.mode == ScaleAlignment::kFull && views.size() >= 2) {
     diag.relative = estimate_relative_scales(views, params.scale);
     rel = diag.relative.scales;
+    out.stage_s["scale_alignment.setup"] = diag.relative.setup_s;
+    out.stage_s["scale_alignment.association"] = diag.relative.association_s;
+    out.stage_s["scale_alignment.solve"] = diag.relative.solve_s;
   } else if (params.scale.mode == ScaleAlignment::kGround) {
     // Each view scaled by its own ground plane; views without one are dropped (PALMS+ Table 4).
     std::vector<GroundPlaneResult> g(views.size());
     tbb::parallel_for(std::size_t(0), views.size(), [&](std::size_t k) {
-      g[k] = detect_ground_plane(view_points_scan(views[k], 1.0), params.ground);
+      g[k] = detect_ground_plane(merge_views({views[k]}, {1.0}, params.ground.point_stride), params.ground);
     });
     std::vector<ViewCloud> kept;
     std::vector<double> kept_scale;
@@ -109,12 +118,9 @@ void observe_mono(const Scan& scan, const ObservationParams& params, Observation
     return;
   }
 
-  // Merge at the relative scales, ground plane, global scale.
+  // Ground plane on the views at their relative scales, global scale.
   t = Clock::now();
-  PointCloud3f cloud = merge_views(views, rel);
-  out.stage_s["merge"] = seconds_since(t);
-  t = Clock::now();
-  diag.ground = detect_ground_plane(cloud, params.ground);
+  diag.ground = detect_ground_plane(merge_views(views, rel, params.ground.point_stride), params.ground);
   out.stage_s["ground"] = seconds_since(t);
   double global = 1.0;
   if (params.scale.mode == ScaleAlignment::kFull) {
@@ -132,10 +138,11 @@ void observe_mono(const Scan& scan, const ObservationParams& params, Observation
   for (std::size_t k = 0; k < views.size(); ++k) diag.view_scales[k] = rel[k] * global;
 
   t = Clock::now();
-  if (global != 1.0) cloud = merge_views(views, diag.view_scales);
-  cloud = voxel_downsample(cloud, params.slice.merge_voxel_m);
-  diag.points_merged = cloud.size();
-  cloud = voxel_downsample(cloud, params.slice.subsample_voxel_m);
+  PointCloud3f cloud = merge_views(views, diag.view_scales);
+  out.stage_s["merge"] = seconds_since(t);
+  t = Clock::now();
+  cloud = voxel_downsample_two_level(cloud, params.slice.merge_voxel_m, params.slice.subsample_voxel_m,
+                                     &diag.points_merged);
   diag.points_subsampled = cloud.size();
   out.stage_s["voxelise"] = seconds_since(t);
 

@@ -5,6 +5,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <chrono>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -79,15 +81,15 @@ std::vector<int> candidate_pool(const ViewCloud& v, std::size_t target, std::uin
 
 /// nanoflann adaptor over a vector of 3D points.
 struct CloudAdaptor {
-  const std::vector<Eigen::Vector3d>* pts = nullptr;
+  const std::vector<Eigen::Vector3f>* pts = nullptr;
   std::size_t kdtree_get_point_count() const { return pts->size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t d) const { return (*pts)[i][d]; }
+  float kdtree_get_pt(std::size_t i, std::size_t d) const { return (*pts)[i][d]; }
   template <class BBox>
   bool kdtree_get_bbox(BBox&) const {
     return false;
   }
 };
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, CloudAdaptor>,
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, CloudAdaptor>,
                                                    CloudAdaptor, 3, std::size_t>;
 
 /// One direction m -> n of a neighbouring pair: sampled points of m inside n's view, and the
@@ -97,6 +99,8 @@ struct Term {
   std::vector<Eigen::Vector3d> query_dir;   ///< R_m a (scan orientation, camera-centred, scale 1)
   Eigen::Vector3d t_m = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> target_dir;  ///< R_n b
+  std::vector<Eigen::Vector3f> target_f;    ///< the same in float, for the kd-tree (searched in float,
+                                            ///< distances then computed in double)
   Eigen::Vector3d t_n = Eigen::Vector3d::Zero();
   CloudAdaptor adaptor;
   std::unique_ptr<KdTree> tree;
@@ -135,7 +139,9 @@ Problem build_problem(const std::vector<ViewCloud>& views, const std::vector<std
   }
   tbb::parallel_for(std::size_t(0), prob.terms.size(), [&](std::size_t k) {
     Term& t = *prob.terms[k];
-    t.adaptor.pts = &t.target_dir;
+    t.target_f.resize(t.target_dir.size());
+    for (std::size_t i = 0; i < t.target_dir.size(); ++i) t.target_f[i] = t.target_dir[i].cast<float>();
+    t.adaptor.pts = &t.target_f;
     t.tree = std::make_unique<KdTree>(3, t.adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
     t.tree->buildIndex();
   });
@@ -200,10 +206,11 @@ TermValue evaluate_term(const Term& t, double lam_m, double lam_n) {
     const Eigen::Vector3d p = t.t_m + lam_m * t.query_dir[i];
     const Eigen::Vector3d x = (p - t.t_n) / lam_n;  // NN in {t_n + lam_n r_j} = NN of x in {r_j}
     std::size_t j = 0;
-    double sq = 0.0;
-    nanoflann::KNNResultSet<double, std::size_t> rs(1);
+    float sq = 0.0f;
+    const Eigen::Vector3f xf = x.cast<float>();
+    nanoflann::KNNResultSet<float, std::size_t> rs(1);
     rs.init(&j, &sq);
-    t.tree->findNeighbors(rs, x.data(), nanoflann::SearchParams(10));
+    t.tree->findNeighbors(rs, xf.data(), nanoflann::SearchParams(10));
     const Eigen::Vector3d e = p - (t.t_n + lam_n * t.target_dir[j]);
     const double d = e.norm();
     dist[i] = d;
@@ -240,6 +247,9 @@ double evaluate_problem(const Problem& prob, const std::vector<double>& scales,
 /// with the min-max normalisation constants of eq. 3 at that moment.
 struct Association {
   std::vector<int> nn;
+  /// Per query point, |e|^2 as a quadratic in the two scales: with c = t_m - t_n, a = R_m p,
+  /// b = R_n q_nn, e = c + lam_m a - lam_n b: {c.c, a.a, b.b, c.a, c.b, a.b}.
+  std::vector<std::array<double, 6>> quad;
   double dmin = 0.0;
   double range = 0.0;
   double value = 0.0;  ///< eq. 3 at the association's scales
@@ -250,17 +260,23 @@ Association associate(const Term& t, double lam_m, double lam_n) {
   const std::size_t np = t.query_dir.size();
   a.nn.assign(np, 0);
   if (np == 0 || t.target_dir.empty()) return a;
+  a.quad.resize(np);
   std::vector<double> dist(np);
   for (std::size_t i = 0; i < np; ++i) {
     const Eigen::Vector3d p = t.t_m + lam_m * t.query_dir[i];
     const Eigen::Vector3d x = (p - t.t_n) / lam_n;
     std::size_t j = 0;
-    double sq = 0.0;
-    nanoflann::KNNResultSet<double, std::size_t> rs(1);
+    float sq = 0.0f;
+    const Eigen::Vector3f xf = x.cast<float>();
+    nanoflann::KNNResultSet<float, std::size_t> rs(1);
     rs.init(&j, &sq);
-    t.tree->findNeighbors(rs, x.data(), nanoflann::SearchParams(10));
+    t.tree->findNeighbors(rs, xf.data(), nanoflann::SearchParams(10));
     a.nn[i] = static_cast<int>(j);
     dist[i] = (p - (t.t_n + lam_n * t.target_dir[j])).norm();
+    const Eigen::Vector3d c = t.t_m - t.t_n;
+    const Eigen::Vector3d& qa = t.query_dir[i];
+    const Eigen::Vector3d& qb = t.target_dir[j];
+    a.quad[i] = {c.dot(c), qa.dot(qa), qb.dot(qb), c.dot(qa), c.dot(qb), qa.dot(qb)};
   }
   const auto [mn, mx] = std::minmax_element(dist.begin(), dist.end());
   a.dmin = *mn;
@@ -276,20 +292,21 @@ Association associate(const Term& t, double lam_m, double lam_n) {
 /// never saturates), and the gradient is exact, including the normalisation's min and max points.
 TermValue evaluate_frozen(const Term& t, const Association& a, double lam_m, double lam_n) {
   TermValue out;
-  const std::size_t np = t.query_dir.size();
+  const std::size_t np = a.quad.size();
   if (np == 0 || t.target_dir.empty()) return out;
   thread_local std::vector<double> dist, dd_m, dd_n;
   dist.resize(np);
   dd_m.resize(np);
   dd_n.resize(np);
   for (std::size_t i = 0; i < np; ++i) {
-    const Eigen::Vector3d& r = t.target_dir[a.nn[i]];
-    const Eigen::Vector3d e = (t.t_m + lam_m * t.query_dir[i]) - (t.t_n + lam_n * r);
-    const double d = e.norm();
+    const std::array<double, 6>& q = a.quad[i];
+    const double d2 = q[0] + lam_m * lam_m * q[1] + lam_n * lam_n * q[2] + 2.0 * lam_m * q[3] -
+                      2.0 * lam_n * q[4] - 2.0 * lam_m * lam_n * q[5];
+    const double d = std::sqrt(std::max(0.0, d2));
     dist[i] = d;
     if (d > 0.0) {
-      dd_m[i] = e.dot(t.query_dir[i]) / d;
-      dd_n[i] = -e.dot(r) / d;
+      dd_m[i] = (lam_m * q[1] + q[3] - lam_n * q[5]) / d;
+      dd_n[i] = (lam_n * q[2] - q[4] - lam_m * q[5]) / d;
     } else {
       dd_m[i] = dd_n[i] = 0.0;
     }
@@ -320,13 +337,17 @@ struct Objective {
     ++evaluations;
     const std::vector<double> s = scales_of(x);
     std::vector<double> g(n_views, 0.0);
-    double f = 0.0;
-    for (std::size_t k = 0; k < prob->terms.size(); ++k) {  // fixed order: deterministic sums
+    std::vector<TermValue> values(prob->terms.size());
+    tbb::parallel_for(std::size_t(0), prob->terms.size(), [&](std::size_t k) {
       const Term& t = *prob->terms[k];
-      const TermValue v = evaluate_frozen(t, (*assoc)[k], s[t.m], s[t.n]);
-      f += v.value;
-      g[t.m] += v.grad_m;
-      g[t.n] += v.grad_n;
+      values[k] = evaluate_frozen(t, (*assoc)[k], s[t.m], s[t.n]);
+    });
+    double f = 0.0;
+    for (std::size_t k = 0; k < values.size(); ++k) {  // fixed order: deterministic sums
+      const Term& t = *prob->terms[k];
+      f += values[k].value;
+      g[t.m] += values[k].grad_m;
+      g[t.n] += values[k].grad_n;
     }
     for (int v = 0, k = 0; v < n_views; ++v) {
       if (v != reference) grad[k++] = g[v];
@@ -349,7 +370,7 @@ Overlaps all_overlaps(const std::vector<ViewCloud>& views, const ScaleAlignmentP
   Overlaps o;
   o.pools.resize(n);
   o.ov.assign(n, std::vector<std::vector<int>>(n));
-  const std::size_t target = 8 * static_cast<std::size_t>(std::max(1, params.max_points_per_cloud));
+  const std::size_t target = 4 * static_cast<std::size_t>(std::max(1, params.max_points_per_cloud));
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
     o.pools[k] = candidate_pool(views[k], target, params.seed, k);
   });
@@ -455,6 +476,7 @@ RelativeScaleResult estimate_relative_scales(const std::vector<ViewCloud>& views
     return res;
   }
   const int reference = std::clamp(params.reference_view, 0, n - 1);
+  const auto t_setup = std::chrono::steady_clock::now();
   const Overlaps o = all_overlaps(views, params);
   res.pairs = neighbour_pairs(o, params);
   // Only views connected to the reference through neighbour pairs have a determined relative
@@ -479,6 +501,7 @@ RelativeScaleResult estimate_relative_scales(const std::vector<ViewCloud>& views
     return res;
   }
   const Problem prob = build_problem(views, res.pairs, params, o.ov);
+  res.setup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_setup).count();
 
   LBFGSpp::LBFGSBParam<double> lp;
   lp.epsilon = params.gradient_epsilon;
@@ -511,10 +534,12 @@ RelativeScaleResult estimate_relative_scales(const std::vector<ViewCloud>& views
     obj.n_views = n;
     obj.reference = reference;
     const std::vector<double> s = obj.scales_of(x);
+    auto t_assoc = std::chrono::steady_clock::now();
     tbb::parallel_for(std::size_t(0), prob.terms.size(), [&](std::size_t k) {
       const Term& t = *prob.terms[k];
       assoc[k] = associate(t, s[t.m], s[t.n]);
     });
+    res.association_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_assoc).count();
     double eq3 = 0.0;
     for (const auto& a : assoc) eq3 += a.value;
     if (round == 0) res.objective_initial = eq3;
@@ -524,6 +549,7 @@ RelativeScaleResult estimate_relative_scales(const std::vector<ViewCloud>& views
       res.converged = true;
       break;
     }
+    const auto t_solve = std::chrono::steady_clock::now();
     LBFGSpp::LBFGSBSolver<double> solver(lp);
     Eigen::VectorXd xs = x;
     double fx = 0.0;
@@ -537,8 +563,10 @@ RelativeScaleResult estimate_relative_scales(const std::vector<ViewCloud>& views
       last_status = std::string("line search stopped (best point kept): ") + e.what();
     }
     res.evaluations += obj.evaluations;
+    res.solve_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_solve).count();
     const Eigen::VectorXd next = obj.best_x.size() == x.size() ? obj.best_x : x;
     max_step = (next - x).cwiseAbs().maxCoeff();
+    res.round_steps.push_back(max_step);
     x = next;
   }
   res.status = (res.converged ? "converged after " : "round limit reached after ") +

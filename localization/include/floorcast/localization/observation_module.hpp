@@ -82,7 +82,7 @@ struct ScaleAlignmentParams {
   /// false = start at 1 (PALMS+).
   bool ray_ratio_init = true;
   int max_iterations = 100;        ///< L-BFGS-B iterations per round
-  double gradient_epsilon = 1e-6;  ///< L-BFGS-B projected-gradient tolerance
+  double gradient_epsilon = 1e-5;  ///< L-BFGS-B projected-gradient tolerance
   double relative_epsilon = 1e-8;  ///< ... and relative objective decrease over 3 iterations
   /// Canonical camera height above the ground plane the global scale enforces (PALMS+: 1.5 m).
   double camera_height_m = 1.5;
@@ -91,6 +91,10 @@ struct ScaleAlignmentParams {
 
 /// Ground plane detection (PALMS+ code).
 struct GroundPlaneParams {
+  /// The observe pipeline hands the search every point_stride-th back-projected point of each
+  /// view (it voxelises at voxel_m anyway; a 4x thinner 640x480 view still fills 5 cm floor
+  /// voxels out to ~10 m).
+  int point_stride = 4;
   double voxel_m = 0.05;          ///< the search runs on the cloud subsampled with this voxel
   double lowest_fraction = 0.10;  ///< candidates: the lowest 10% of points by height
   int normal_k = 30;              ///< normals from k nearest neighbours
@@ -230,6 +234,10 @@ struct RelativeScaleResult {
   double objective_initial = 0.0;
   double objective_final = 0.0;
   int rounds = 0;       ///< association rounds
+  std::vector<double> round_steps;  ///< largest scale change of each round's inner solve
+  double setup_s = 0.0;        ///< overlaps, sampling, kd-trees (wall seconds; not in to_json)
+  double association_s = 0.0;  ///< nearest-neighbour searches, all rounds
+  double solve_s = 0.0;        ///< L-BFGS-B inner solves, all rounds
   int iterations = 0;   ///< L-BFGS-B iterations, all rounds
   int evaluations = 0;  ///< objective evaluations, all rounds
   bool converged = false;
@@ -264,6 +272,12 @@ GroundPlaneResult detect_ground_plane(const PointCloud3f& points_scan, const Gro
 /// Voxel-grid subsampling: one point per occupied voxel at the centroid of its points, voxels in
 /// sorted key order (deterministic). voxel_m <= 0 returns the input.
 PointCloud3f voxel_downsample(const PointCloud3f& points, double voxel_m);
+
+/// voxel_downsample(voxel_downsample(points, fine_m), coarse_m) in one sort when coarse_m is a
+/// whole multiple of fine_m (fine voxels nest in coarse ones; equal up to float rounding at cell
+/// borders); otherwise the two passes. `fine_count` receives the size of the fine cloud.
+PointCloud3f voxel_downsample_two_level(const PointCloud3f& points, double fine_m, double coarse_m,
+                                        std::size_t* fine_count = nullptr);
 
 struct SegmentExtractionResult {
   std::vector<Segment2> segments_m;  ///< observer frame
@@ -332,8 +346,10 @@ struct ObservationDiagnostics {
 struct ObservationResult {
   Observation2D observation;
   ObservationDiagnostics diagnostics;
-  /// Wall-clock seconds per stage ("back_project", "scale_alignment", "merge", "ground",
-  /// "slice", "segments", "planes", ...) and in total.
+  /// Wall-clock seconds per stage ("back_project", "scale_alignment" (with sub-stages
+  /// "scale_alignment.setup|association|solve"), "ground", "merge", "voxelise", "slice",
+  /// "segments", "planes", ...) and in total. Timings live here only, so diagnostics are
+  /// reproducible bytes.
   std::map<std::string, double> stage_s;
   double total_s = 0.0;
 };
