@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "floorcast/localization/observation_module.hpp"
 #include "segment_checks.hpp"
@@ -233,6 +235,63 @@ TEST(ObserveParams, JsonRoundTripAndUnknownKeys) {
   EXPECT_THROW(apply_overrides(q, nlohmann::json{{"scale", {{"bogus", 1}}}}), InputError);
   EXPECT_THROW(apply_overrides(q, nlohmann::json{{"scale", {{"mode", "half"}}}}), InputError);
   EXPECT_THROW(apply_overrides(q, nlohmann::json{{"slice", {{"max_range_m", "far"}}}}), InputError);
+}
+
+}  // namespace
+}  // namespace floorcast
+
+namespace floorcast {
+namespace {
+
+PointCloud3f random_cloud(std::size_t n, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> xy(-12.0f, 12.0f), z(-1.6f, 1.4f);
+  PointCloud3f c(n);
+  for (auto& p : c) p = Eigen::Vector3f(xy(rng), xy(rng), z(rng));
+  return c;
+}
+
+TEST(ObserveVoxels, OneSortTwoLevelGridEqualsTwoPasses) {
+  const PointCloud3f c = random_cloud(200000, 3);
+  std::size_t fine = 0;
+  const PointCloud3f fast = voxel_downsample_two_level(c, 0.01, 0.1, &fine);
+  const PointCloud3f f1 = voxel_downsample(c, 0.01);
+  const PointCloud3f slow = voxel_downsample(f1, 0.1);
+  EXPECT_EQ(fine, f1.size());
+  ASSERT_EQ(fast.size(), slow.size());
+  // Same voxels in the same (sorted) order, same centroids up to float rounding.
+  for (std::size_t i = 0; i < fast.size(); ++i) ASSERT_LT((fast[i] - slow[i]).norm(), 1e-5f) << i;
+  // Centroids: every output point is the mean of its voxel's points (brute force on a few).
+  const PointCloud3f coarse = voxel_downsample(c, 0.5);
+  for (std::size_t i = 0; i < coarse.size(); i += coarse.size() / 7 + 1) {
+    const Eigen::Vector3f cell = (coarse[i] / 0.5f).array().floor();
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (const auto& p : c) {
+      if (((p / 0.5f).array().floor() == cell.array()).all()) {
+        sum += p.cast<double>();
+        ++n;
+      }
+    }
+    ASSERT_GT(n, 0);
+    EXPECT_LT((sum / n - coarse[i].cast<double>()).norm(), 1e-5);
+  }
+}
+
+TEST(ObserveVoxels, SlabThenVoxelsGivesTheSameSliceAsVoxelsThenSlice) {
+  const PointCloud3f c = random_cloud(300000, 4);
+  for (const double half : {0.2, 0.5, 2.0}) {
+    const auto all = slice_points(voxel_downsample_two_level(c, 0.01, 0.1), half, 10.0);
+    const auto slab = slice_points(voxel_downsample_two_level(slice_slab(c, half, 0.1, 10.0), 0.01, 0.1), half, 10.0);
+    ASSERT_EQ(all.size(), slab.size()) << half;
+    auto key = [](const Eigen::Vector2d& p) { return std::make_pair(p.x(), p.y()); };
+    std::vector<std::pair<double, double>> a, b;
+    for (const auto& p : all) a.push_back(key(p));
+    for (const auto& p : slab) b.push_back(key(p));
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    EXPECT_EQ(a, b) << half;
+  }
 }
 
 }  // namespace

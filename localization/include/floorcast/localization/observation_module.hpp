@@ -279,6 +279,16 @@ PointCloud3f voxel_downsample(const PointCloud3f& points, double voxel_m);
 PointCloud3f voxel_downsample_two_level(const PointCloud3f& points, double fine_m, double coarse_m,
                                         std::size_t* fine_count = nullptr);
 
+/// Points of the band |z| <= half around camera height (z = 0) within max_range_m horizontally,
+/// projected to 2D (observer frame).
+std::vector<Eigen::Vector2d> slice_points(const PointCloud3f& cloud, double half, double max_range_m);
+
+/// The points that can contribute to slice_points(voxelised cloud, half, max_range_m) when the
+/// cloud is voxelised with voxel_m (0 = not voxelised): the voxel layers within two voxels of the
+/// band, and the horizontal range plus four voxels. Whole voxels are kept, so voxelising this slab
+/// gives the same slice as voxelising everything.
+PointCloud3f slice_slab(const PointCloud3f& cloud, double half, double voxel_m, double max_range_m);
+
 struct SegmentExtractionResult {
   std::vector<Segment2> segments_m;  ///< observer frame
   std::vector<double> ray_ranges_m;
@@ -332,8 +342,11 @@ struct ObservationDiagnostics {
   std::size_t points_back_projected = 0;
   std::size_t pixels_edge_removed = 0;
   std::size_t pixels_glass_removed = 0;
-  std::size_t points_merged = 0;        ///< after the merge voxel
-  std::size_t points_subsampled = 0;    ///< after the subsample voxel
+  /// Mono path: after the merge voxel and after the subsample voxel, counted in the slab of whole
+  /// voxels around the slice band that was voxelised (the rest cannot reach the slice).
+  /// LiDAR path: both the voxelised cloud.
+  std::size_t points_merged = 0;
+  std::size_t points_subsampled = 0;
   std::size_t points_in_slice = 0;
   double band_half_height_m = 0.0;      ///< band actually used (after fallbacks)
   std::size_t planes_total = 0;         ///< LiDAR path
