@@ -61,7 +61,7 @@ Eigen::Isometry3d pose_matrix_from_json(const JsonReader& parent, const nlohmann
   return T;
 }
 
-ordered_json params_json(const ScanParams& p) {
+ordered_json params_json_impl(const ScanParams& p) {
   const ScanGeometry& g = p.geometry;
   const SensorParams& s = p.sensor;
   ordered_json j;
@@ -109,7 +109,7 @@ ordered_json params_json(const ScanParams& p) {
   return j;
 }
 
-ScanParams params_from_json(const JsonReader& r) {
+ScanParams params_from_json_impl(const JsonReader& r) {
   ScanParams p;
   r.only({"preset", "geometry", "sensor", "setting", "center_view", "seed"});
   p.preset = r.string("preset");
@@ -238,7 +238,7 @@ std::string scan_json_text(const Scan& scan) {
   for (const Eigen::Isometry3d& T : scan.truth.T_scan_camera_true) trues.push_back(pose_matrix_json(T));
   truth["T_scan_camera_true"] = trues;
   j["ground_truth"] = truth;
-  j["params"] = params_json(scan.params);
+  j["params"] = scan_params_to_json(scan.params);
   ordered_json views = ordered_json::array();
   for (std::size_t k = 0; k < scan.views.size(); ++k) {
     const DepthView& v = scan.views[k];
@@ -316,7 +316,7 @@ Scan load_scan(const std::string& dir) {
   Scan scan;
   scan.sensor = r.string("sensor");
   scan.setting = r.string("setting");
-  scan.params = params_from_json(r.object("params"));
+  scan.params = params_from_json_impl(r.object("params"));
   if (r.uint64("seed") != scan.params.seed) r.fail_key("seed", "differs from params.seed");
   ScanSetting setting;
   if (!parse_scan_setting(scan.setting, setting)) r.fail_key("setting", "expected full, partial or single");
@@ -379,6 +379,34 @@ Scan load_scan(const std::string& dir) {
         pose_matrix_from_json(t, trues[k], "T_scan_camera_true[" + std::to_string(k) + "]"));
   }
   return scan;
+}
+
+ordered_json scan_params_to_json(const ScanParams& params) { return params_json_impl(params); }
+
+ScanParams scan_params_from_json(const nlohmann::json& json, const std::string& source) {
+  return params_from_json_impl(JsonReader(json, source, ""));
+}
+
+namespace {
+
+/// Every key of `overrides` must exist in `base` (recursively for objects).
+void check_override_keys(const nlohmann::json& base, const nlohmann::json& overrides, const std::string& source,
+                         const std::string& path) {
+  if (!overrides.is_object()) throw InputError(source + ": " + (path.empty() ? "overrides" : path) + ": expected an object");
+  for (auto it = overrides.begin(); it != overrides.end(); ++it) {
+    const std::string child = path.empty() ? it.key() : path + "." + it.key();
+    if (!base.contains(it.key())) throw InputError(source + ": " + child + ": unknown scan parameter");
+    if (base.at(it.key()).is_object()) check_override_keys(base.at(it.key()), it.value(), source, child);
+  }
+}
+
+}  // namespace
+
+void apply_scan_overrides(ScanParams& params, const nlohmann::json& overrides, const std::string& source) {
+  nlohmann::json j = scan_params_to_json(params);
+  check_override_keys(j, overrides, source, "");
+  j.merge_patch(overrides);
+  params = scan_params_from_json(j, source);
 }
 
 }  // namespace floorcast

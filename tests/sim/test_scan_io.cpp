@@ -144,3 +144,32 @@ TEST_F(ScanIo, ErrorsNameFileElementAndReason) {
 
 }  // namespace
 }  // namespace floorcast
+
+namespace floorcast {
+namespace {
+
+TEST(ScanParamsJson, OverridesChangeOnlyTheirKeysAndRefuseUnknownOnes) {
+  ScanParams p = scan_preset("mono");
+  const nlohmann::json before = scan_params_to_json(p);
+  apply_scan_overrides(p, nlohmann::json::parse(R"({"sensor": {"mono": {"scale_sigma_ln": 0.2}}, "geometry": {"num_views": 4}})"),
+                       "scenario.yaml");
+  EXPECT_DOUBLE_EQ(p.sensor.mono.scale_sigma_ln, 0.2);
+  EXPECT_EQ(p.geometry.num_views, 4);
+  nlohmann::json after = scan_params_to_json(p);
+  after["sensor"]["mono"]["scale_sigma_ln"] = before["sensor"]["mono"]["scale_sigma_ln"];
+  after["geometry"]["num_views"] = before["geometry"]["num_views"];
+  EXPECT_EQ(after, before);
+  EXPECT_EQ(scan_params_to_json(scan_params_from_json(scan_params_to_json(p), "x")), scan_params_to_json(p));
+  try {
+    apply_scan_overrides(p, nlohmann::json::parse(R"({"sensor": {"mono": {"scale_sigma": 0.2}}})"), "scenario.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scenario.yaml: sensor.mono.scale_sigma: unknown scan parameter"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(apply_scan_overrides(p, nlohmann::json::parse(R"({"sensor": {"mono": {"scale_sigma_ln": -1}}})"), "s"),
+               InputError);
+}
+
+}  // namespace
+}  // namespace floorcast

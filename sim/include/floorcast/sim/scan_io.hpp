@@ -10,9 +10,11 @@
 // round-trips exactly (poses and parameters as shortest round-trip decimal numbers).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "floorcast/sim/scan.hpp"
+#include "floorcast/sim/scan_params.hpp"
 
 namespace floorcast {
 
@@ -26,5 +28,17 @@ Scan load_scan(const std::string& dir);
 
 /// The scan.json text of a scan (what save_scan writes next to the images).
 std::string scan_json_text(const Scan& scan);
+
+/// Every scan parameter with its value (the "params" object of scan.json).
+nlohmann::ordered_json scan_params_to_json(const ScanParams& params);
+
+/// Reads parameters written by scan_params_to_json; strict (unknown or missing keys, values out
+/// of range throw InputError naming `source` and the key).
+ScanParams scan_params_from_json(const nlohmann::json& json, const std::string& source);
+
+/// Overrides some parameters with a JSON object of the same shape (nested objects for geometry,
+/// sensor, sensor.glass/lidar/mono/tracker), e.g. {"sensor": {"mono": {"scale_sigma_ln": 0.2}}}.
+/// Unknown keys and bad values throw InputError naming `source` and the key.
+void apply_scan_overrides(ScanParams& params, const nlohmann::json& overrides, const std::string& source);
 
 }  // namespace floorcast
