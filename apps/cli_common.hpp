@@ -23,6 +23,12 @@ std::string source_dir();
 /// Creates a directory (and parents); throws InputError naming it on failure.
 void ensure_directory(const std::string& path);
 
+/// Thrown by a command to end with a specific exit status after printing its own message (e.g.
+/// a failed gate: 1). main() returns `code`.
+struct CommandExit {
+  int code = 1;
+};
+
 /// Writes pretty JSON (2-space indent, trailing newline) atomically.
 void write_json(const std::string& path, const nlohmann::ordered_json& json);
 

@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const floorcast::cli::CommandExit& e) {
+    return e.code;
   } catch (const floorcast::InputError& e) {
     std::cerr << "floorcast: error: " << e.what() << "\n";
     return 2;

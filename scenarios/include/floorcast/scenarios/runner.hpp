@@ -1,0 +1,76 @@
+// Runs a scenario's work units: simulate -> observe -> match (every matcher) -> errors.
+//
+// Every unit is a pure function of the scenario and its (cell, building, point) index: points
+// are sampled once per building (same points in every cell), scans are seeded by
+// (observation seed, building, point), so a unit gives the same result whenever and wherever it
+// runs — which is what makes runs resumable, shardable and mergeable. File writing goes through
+// a UnitSink (the run directory); the runner itself prints nothing.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "floorcast/scenarios/units.hpp"
+
+namespace floorcast {
+
+/// Where finished units (and sampled heatmap images) go.
+class UnitSink {
+ public:
+  virtual ~UnitSink() = default;
+  virtual bool has_unit(const WorkUnit& unit) const = 0;
+  /// Called from worker threads, one call at a time (the runner serialises them).
+  virtual void write_unit(const UnitResult& result) = 0;
+  virtual void write_image(const std::string& relative_path, const cv::Mat& image) = 0;
+};
+
+struct RunProgress {
+  std::size_t finished = 0;  ///< units executed so far in this invocation
+  std::size_t to_run = 0;    ///< units this invocation executes
+  std::size_t skipped = 0;   ///< units already present (resumed)
+  double elapsed_s = 0.0;
+};
+
+struct RunOptions {
+  int jobs = 0;  ///< concurrent units; 0 = all cores
+  ShardSpec shard;
+  /// Called after every finished unit (serialised).
+  std::function<void(const RunProgress&)> on_progress;
+};
+
+struct RunOutcome {
+  std::size_t units_total = 0;     ///< in the whole scenario
+  std::size_t units_in_shard = 0;
+  std::size_t skipped = 0;
+  std::size_t executed = 0;
+  double wall_s = 0.0;
+  double reference_s = 0.0;        ///< reference workload measured at the start of this run
+};
+
+class ScenarioRunner {
+ public:
+  /// Loads or generates every building, samples the observation points, builds every matcher
+  /// configuration (per building) and resolves every parameter. `log` receives one line per
+  /// preparation step (optional). Throws InputError on bad matcher/sensor/observation parameters.
+  explicit ScenarioRunner(const Scenario& scenario, const std::function<void(const std::string&)>& log = {});
+  ~ScenarioRunner();
+
+  /// The scenario's resolved configuration plus, per cell, every matcher's, sensor's and
+  /// observation module's resolved parameters (the defaults of the code that runs).
+  const nlohmann::ordered_json& resolved_full() const;
+
+  /// Runs the units of options.shard that the sink does not have yet.
+  RunOutcome run(UnitSink& sink, const RunOptions& options) const;
+
+  /// One unit (exposed for tests). Heatmaps for sampled points go to `images` when given.
+  UnitResult run_unit(const WorkUnit& unit, UnitSink* images) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace floorcast

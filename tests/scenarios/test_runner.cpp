@@ -1,0 +1,152 @@
+#include <gtest/gtest.h>
+
+#include <map>
+#include <mutex>
+#include <stdexcept>
+
+#include "floorcast/floorplans/types.hpp"
+#include "floorcast/scenarios/runner.hpp"
+
+namespace floorcast {
+namespace {
+
+const std::string kRoot = FLOORCAST_SOURCE_DIR;
+
+/// In-memory sink; optionally "crashes" (throws) after a number of writes, like a killed run.
+class MemorySink : public UnitSink {
+ public:
+  explicit MemorySink(int crash_after = -1) : crash_after_(crash_after) {}
+  bool has_unit(const WorkUnit& u) const override { return units.count(u.id) > 0; }
+  void write_unit(const UnitResult& r) override {
+    if (crash_after_ >= 0 && static_cast<int>(units.size()) >= crash_after_) throw std::runtime_error("killed");
+    units[r.unit.id] = strip_timings(unit_to_json(r)).dump();
+  }
+  void write_image(const std::string& p, const cv::Mat&) override { images.push_back(p); }
+  std::map<std::string, std::string> units;
+  std::vector<std::string> images;
+
+ private:
+  int crash_after_;
+};
+
+Scenario perfect_scenario() {
+  return parse_scenario(R"(
+name: runner-test
+buildings: [floorplans/buildings/two_rooms.json, floorplans/buildings/apartment.json]
+sampling: {count: 3, seed: 4, clearance_m: 0.4}
+output: {heatmaps: 1}
+matchers:
+  kernel: {matcher: kernel}
+  ray: {matcher: ray}
+sweep: {observation.max_range_m: [6, 10]}
+)", "runner.yaml", kRoot, kRoot);
+}
+
+TEST(Runner, SameResultsAtAnyJobCount) {
+  const Scenario s = perfect_scenario();
+  const ScenarioRunner runner(s);
+  MemorySink one, two;
+  RunOptions o1;
+  o1.jobs = 1;
+  RunOptions o2;
+  o2.jobs = 2;
+  const RunOutcome a = runner.run(one, o1);
+  runner.run(two, o2);
+  EXPECT_EQ(a.executed, 12u);
+  EXPECT_EQ(one.units, two.units);
+  EXPECT_EQ(one.images.size(), 2u * 2u * 2u);  // 1 point x 2 buildings x 2 cells x 2 matchers
+  // The resolved configuration carries every matcher's parameters with their defaults.
+  const auto& params = runner.resolved_full()["resolved_parameters"][0]["matchers"];
+  EXPECT_TRUE(params["kernel"].contains("alpha"));
+  EXPECT_TRUE(params["ray"].contains("num_directions"));
+}
+
+TEST(Runner, InterruptedRunResumesToTheSameResults) {
+  const Scenario s = perfect_scenario();
+  const ScenarioRunner runner(s);
+  MemorySink full;
+  runner.run(full, {});
+  MemorySink interrupted(5);
+  RunOptions o;
+  o.jobs = 2;
+  EXPECT_THROW(runner.run(interrupted, o), std::runtime_error);
+  const std::size_t done_before = interrupted.units.size();
+  EXPECT_EQ(done_before, 5u);
+  MemorySink resumed;
+  resumed.units = interrupted.units;
+  const RunOutcome out = runner.run(resumed, o);
+  EXPECT_EQ(out.skipped, done_before);
+  EXPECT_EQ(out.executed, 12u - done_before);
+  EXPECT_EQ(resumed.units, full.units);
+}
+
+TEST(Runner, ShardsTogetherEqualOneRun) {
+  const Scenario s = perfect_scenario();
+  const ScenarioRunner runner(s);
+  MemorySink full, sharded;
+  runner.run(full, {});
+  for (int i = 0; i < 3; ++i) {
+    RunOptions o;
+    o.shard = {i, 3};
+    const RunOutcome out = runner.run(sharded, o);
+    EXPECT_EQ(out.units_in_shard, 4u);
+  }
+  EXPECT_EQ(sharded.units, full.units);
+}
+
+TEST(Runner, PerfectObservationsLocaliseInTheApartment) {
+  // (two_rooms.json is a poor choice: its left room is almost square, so a 90 deg turn fits too.)
+  const Scenario s = parse_scenario(R"(
+buildings: [floorplans/buildings/apartment.json]
+sampling: {count: 6, seed: 2, clearance_m: 0.5}
+matchers: {kernel: {matcher: kernel}}
+)", "t.yaml", kRoot, kRoot);
+  const ScenarioRunner runner(s);
+  int good = 0;
+  for (const WorkUnit& u : enumerate_units(s)) {
+    const UnitResult r = runner.run_unit(u, nullptr);
+    ASSERT_EQ(r.outcomes.size(), 1u);
+    ASSERT_TRUE(r.outcomes[0].ok);
+    good += r.outcomes[0].estimate.position_error_m < 1.0 && r.outcomes[0].estimate.yaw_error_deg < 30.0;
+  }
+  EXPECT_GE(good, 4);
+}
+
+TEST(Runner, ScanCellsSimulateAndObserve) {
+  const Scenario s = parse_scenario(R"(
+buildings: [floorplans/buildings/two_rooms.json]
+sampling: {count: 1, seed: 2, clearance_m: 0.6}
+observation: {source: scan, sensor: lidar, path: lidar, seed: 3}
+matchers: {kernel: {matcher: kernel}}
+sweep: {observation.sensor_params.sensor.lidar.dropout_prob: [0.0, 0.05]}
+)", "t.yaml", kRoot, kRoot);
+  const ScenarioRunner runner(s);
+  const auto units = enumerate_units(s);
+  const UnitResult a = runner.run_unit(units[0], nullptr);
+  EXPECT_TRUE(a.observation_ok) << a.observation_failure;
+  EXPECT_GT(a.observation["segments"].get<int>(), 0);
+  EXPECT_GT(a.timings_s.at("simulate"), 0.0);
+  EXPECT_TRUE(a.observation.contains("diagnostics"));
+  // The sweep value reaches the simulator.
+  EXPECT_EQ(runner.resolved_full()["resolved_parameters"][1]["scan"]["sensor"]["lidar"]["dropout_prob"], 0.05);
+  // Same unit, same bytes.
+  EXPECT_EQ(strip_timings(unit_to_json(runner.run_unit(units[0], nullptr))).dump(), strip_timings(unit_to_json(a)).dump());
+}
+
+TEST(Runner, BadMatcherParameterNamesTheScenarioAndLabel) {
+  const Scenario s = parse_scenario(R"(
+buildings: [floorplans/buildings/two_rooms.json]
+sampling: {count: 1}
+matchers: {kern: {matcher: kernel, alpah: 3}}
+)", "bad.yaml", kRoot, kRoot);
+  try {
+    ScenarioRunner runner(s);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml: matchers.kern"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("alpah"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace floorcast
