@@ -212,7 +212,10 @@ void register_merge(CLI::App& root) {
         out.write_unit(*scenario, u);
         ++copied;
       }
-      for (double r : recorded_references(dir)) record_reference(out, in + "#" + std::to_string(copied), r);
+      const Json info = dir.read_run_info();
+      if (info.contains("reference_s") && info["reference_s"].is_object())
+        for (auto it = info["reference_s"].begin(); it != info["reference_s"].end(); ++it)
+          if (it.value().is_number()) record_reference(out, in + " " + it.key(), it.value().get<double>());
       const fs::path heat = fs::path(in) / "heatmaps";
       if (fs::is_directory(heat)) {
         fs::create_directories(fs::path(o->out) / "heatmaps");
