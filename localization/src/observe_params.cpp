@@ -45,6 +45,7 @@ std::vector<Field> fields(ObservationParams& p) {
       {"scale", "max_points_per_cloud", &s.max_points_per_cloud},
       {"scale", "min_overlap_points", &s.min_overlap_points},
       {"scale", "min_overlap_fraction", &s.min_overlap_fraction},
+      {"scale", "max_neighbours_per_view", &s.max_neighbours_per_view},
       {"scale", "min_scale", &s.min_scale},
       {"scale", "max_scale", &s.max_scale},
       {"scale", "reference_view", &s.reference_view},

@@ -59,8 +59,8 @@ std::vector<int> overlap_indices(const ViewCloud& m, const std::vector<int>& can
   return out;
 }
 
-/// A uniform random pool of about `target` points of a view (hash threshold, deterministic), so
-/// the overlap tests need not project every pixel.
+/// A uniform random subsample of about `target` points of a view (hash threshold, deterministic):
+/// PALMS+'s "<= 5000 points per cloud"; the overlaps with other views are subsets of it.
 std::vector<int> candidate_pool(const ViewCloud& v, std::size_t target, std::uint64_t seed, std::uint64_t stream) {
   const std::size_t n = v.points_camera.size();
   std::vector<int> out;
@@ -370,9 +370,11 @@ Overlaps all_overlaps(const std::vector<ViewCloud>& views, const ScaleAlignmentP
   Overlaps o;
   o.pools.resize(n);
   o.ov.assign(n, std::vector<std::vector<int>>(n));
-  const std::size_t target = 4 * static_cast<std::size_t>(std::max(1, params.max_points_per_cloud));
+  const std::size_t target = static_cast<std::size_t>(std::max(1, params.max_points_per_cloud));
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
-    o.pools[k] = candidate_pool(views[k], target, params.seed, k);
+    // A little over the target by hash threshold, then exactly at most the target.
+    o.pools[k] = hashed_subset(candidate_pool(views[k], target + target / 16 + 64, params.seed, k), target,
+                               params.seed, 0x9000 + k);
   });
   tbb::parallel_for(std::size_t(0), n * n, [&](std::size_t k) {
     const std::size_t a = k / n, b = k % n;
@@ -389,9 +391,25 @@ std::vector<std::pair<int, int>> neighbour_pairs(const Overlaps& o, const ScaleA
                                  params.min_overlap_fraction * static_cast<double>(o.pools[a].size()));
     return static_cast<double>(o.ov[a][b].size()) >= need;
   };
+  // Each view proposes its max_neighbours_per_view largest overlaps (the adjacent views of the
+  // rotation); a pair is used when either view proposes it and both overlaps are large enough.
+  std::vector<std::vector<bool>> proposed(n, std::vector<bool>(n, false));
+  for (int a = 0; a < n; ++a) {
+    std::vector<int> others;
+    for (int b = 0; b < n; ++b) {
+      if (b != a) others.push_back(b);
+    }
+    std::stable_sort(others.begin(), others.end(), [&](int x, int y) {
+      return std::min(o.ov[a][x].size(), o.ov[x][a].size()) > std::min(o.ov[a][y].size(), o.ov[y][a].size());
+    });
+    const int keep = params.max_neighbours_per_view > 0
+                         ? std::min<int>(params.max_neighbours_per_view, static_cast<int>(others.size()))
+                         : static_cast<int>(others.size());
+    for (int k = 0; k < keep; ++k) proposed[a][others[k]] = proposed[others[k]][a] = true;
+  }
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b) {
-      if (enough(a, b) && enough(b, a)) pairs.emplace_back(a, b);
+      if (proposed[a][b] && enough(a, b) && enough(b, a)) pairs.emplace_back(a, b);
     }
   return pairs;
 }

@@ -60,13 +60,18 @@ struct BackProjectionParams {
 /// Per-view relative scale alignment (PALMS+ eq. 2-3) and the global scale from the ground.
 struct ScaleAlignmentParams {
   ScaleAlignment mode = ScaleAlignment::kFull;
-  /// Overlap sub-clouds are subsampled to at most this many points (PALMS+: 5000).
+  /// Each view's cloud is subsampled (uniformly, seeded) to at most this many points; the
+  /// overlap sub-clouds of its pairs are taken from them (PALMS+: <= 5000 points per cloud).
   int max_points_per_cloud = 5000;
   /// Two views are neighbours when each has at least min_overlap_points points, and at least
   /// min_overlap_fraction of its points, inside the other's view frustum (adjacent views of a
   /// rotating scan; views that only share the floor at the user's feet are not neighbours).
   int min_overlap_points = 200;
   double min_overlap_fraction = 0.1;
+  /// ... and, when > 0, only each view's this many largest overlaps are candidates (2 = the ring
+  /// of adjacent views). 0 (default): every pair that overlaps enough; on an 18-view phone scan
+  /// the ring alone lets scale errors accumulate around the loop (median error 5.8% vs 3.2%).
+  int max_neighbours_per_view = 0;
   double min_scale = 0.5;  ///< L-BFGS-B bounds on the relative scales (PALMS+ joint: [0.5, 1.5])
   double max_scale = 1.5;
   int reference_view = 0;  ///< index among the kept views whose scale is fixed to 1
@@ -74,16 +79,16 @@ struct ScaleAlignmentParams {
   /// the resulting smooth problem is solved with L-BFGS-B, and this repeats (ICP style) until no
   /// scale moves by more than round_tolerance or max_rounds is reached.
   int max_rounds = 30;
-  double round_tolerance = 1e-3;
+  double round_tolerance = 2e-3;
   double round_trust_region = 0.05;  ///< max change of a scale within one round
   /// Starting point (ours, not in PALMS+): in a rotating scan neighbouring views see the same
   /// rays, so the median ratio of their depths along shared rays estimates each pair's relative
   /// scale; a least-squares fit of the log ratios over the pair graph gives the initial scales.
   /// false = start at 1 (PALMS+).
   bool ray_ratio_init = true;
-  int max_iterations = 100;        ///< L-BFGS-B iterations per round
+  int max_iterations = 8;          ///< L-BFGS-B iterations per round (re-association follows)
   double gradient_epsilon = 1e-5;  ///< L-BFGS-B projected-gradient tolerance
-  double relative_epsilon = 1e-8;  ///< ... and relative objective decrease over 3 iterations
+  double relative_epsilon = 1e-6;  ///< ... and relative objective decrease over 3 iterations
   /// Canonical camera height above the ground plane the global scale enforces (PALMS+: 1.5 m).
   double camera_height_m = 1.5;
   std::uint64_t seed = 1;  ///< subsampling of the overlap sub-clouds
