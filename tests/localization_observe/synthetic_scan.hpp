@@ -6,9 +6,11 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
+
 #include <cmath>
+#include <cstdint>
 #include <limits>
-#include <random>
 #include <vector>
 
 #include "floorcast/sim/scan.hpp"
@@ -115,6 +117,21 @@ struct RenderOptions {
   double max_depth_m = 1e9;       ///< no return beyond
 };
 
+/// Standard normal value from a hash of (seed, row, col): per-pixel noise independent of the
+/// evaluation order, so rows can render in parallel.
+inline double pixel_gaussian(std::uint32_t seed, int r, int c) {
+  auto mix = [](std::uint64_t x) {
+    x += 0x9e3779b97f4a7c15ULL;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    return x ^ (x >> 31);
+  };
+  const std::uint64_t h1 = mix((std::uint64_t(seed) << 40) ^ (std::uint64_t(r) << 20) ^ std::uint64_t(c));
+  const std::uint64_t h2 = mix(h1);
+  const double u1 = ((h1 >> 11) + 1) * (1.0 / 9007199254740993.0), u2 = (h2 >> 11) * (1.0 / 9007199254740992.0);
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+}
+
 inline DepthView render_view(const Scene& scene, const CameraIntrinsics& K, const Eigen::Isometry3d& T_scan_camera,
                              const RenderOptions& opt = {}) {
   DepthView v;
@@ -122,22 +139,20 @@ inline DepthView render_view(const Scene& scene, const CameraIntrinsics& K, cons
   v.T_scan_camera = T_scan_camera;
   v.depth_m = cv::Mat(K.height_px, K.width_px, CV_32F, cv::Scalar(0));
   v.glass_mask = cv::Mat(K.height_px, K.width_px, CV_8U, cv::Scalar(0));
-  std::mt19937 rng(opt.seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
   const Eigen::Matrix3d R = T_scan_camera.linear();
   const Eigen::Vector3d o = T_scan_camera.translation();
-  for (int r = 0; r < K.height_px; ++r) {
+  tbb::parallel_for(0, K.height_px, [&](int r) {
     for (int c = 0; c < K.width_px; ++c) {
       const Eigen::Vector3d dc((c - K.cx_px) / K.fx_px, (r - K.cy_px) / K.fy_px, 1.0);
       bool glass = false;
       const double t = scene.cast(o, R * dc, glass);  // t = z-depth since dc.z = 1
       if (!std::isfinite(t) || t > opt.max_depth_m) continue;
       double depth = t * opt.depth_scale;
-      if (opt.noise_sigma_m > 0.0) depth += opt.noise_sigma_m * t * noise(rng);
+      if (opt.noise_sigma_m > 0.0) depth += opt.noise_sigma_m * t * pixel_gaussian(opt.seed, r, c);
       v.depth_m.at<float>(r, c) = static_cast<float>(depth);
       if (glass) v.glass_mask.at<std::uint8_t>(r, c) = 255;
     }
-  }
+  });
   return v;
 }
 
