@@ -91,7 +91,7 @@ struct ScaleAlignmentParams {
   double relative_epsilon = 1e-6;  ///< ... and relative objective decrease over 3 iterations
   /// Canonical camera height above the ground plane the global scale enforces (PALMS+: 1.5 m).
   double camera_height_m = 1.5;
-  std::uint64_t seed = 1;  ///< subsampling of the overlap sub-clouds
+  std::uint64_t seed = 1;  ///< the per-view subsampling (same seed, same points, any thread count)
 };
 
 /// Ground plane detection (PALMS+ code).
