@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -262,10 +263,51 @@ void register_gate(CLI::App& root) {
   });
 }
 
+void register_compare_runs(CLI::App& root) {
+  struct Opts {
+    std::string a, b;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* cmd = root.add_subcommand(
+      "compare-runs", "Check that two run directories hold the same results (timings excluded); exit 1 if not");
+  cmd->add_option("RUN_A", o->a, "Run directory")->required();
+  cmd->add_option("RUN_B", o->b, "Run directory")->required();
+  cmd->callback([o] {
+    const RunDirectory a(o->a), b(o->b);
+    const std::string ha = a.read_run_info().value("configuration_hash", std::string());
+    const std::string hb = b.read_run_info().value("configuration_hash", std::string());
+    if (ha != hb) {
+      std::cout << "different configurations: " << ha << " vs " << hb << "\n";
+      throw CommandExit{1};
+    }
+    const Scenario s = stored_scenario(a);
+    std::map<std::string, std::string> units_a, units_b;
+    for (const UnitResult& u : a.read_units(s)) units_a[u.unit.id] = strip_timings(unit_to_json(u)).dump();
+    for (const UnitResult& u : b.read_units(s)) units_b[u.unit.id] = strip_timings(unit_to_json(u)).dump();
+    std::size_t differ = 0;
+    for (const WorkUnit& w : enumerate_units(s)) {
+      const bool in_a = units_a.count(w.id), in_b = units_b.count(w.id);
+      if (!in_a || !in_b) {
+        std::cout << w.id << ": only in " << (in_a ? o->a : in_b ? o->b : std::string("neither")) << "\n";
+        ++differ;
+      } else if (units_a[w.id] != units_b[w.id]) {
+        std::cout << w.id << ": results differ\n";
+        ++differ;
+      }
+    }
+    if (differ > 0) {
+      std::cout << differ << " of " << enumerate_units(s).size() << " units differ\n";
+      throw CommandExit{1};
+    }
+    std::cout << "identical: " << units_a.size() << " units (timings excluded)\n";
+  });
+}
+
 void register_scenario_commands(CLI::App& root) {
   register_run(root);
   register_merge(root);
   register_gate(root);
+  register_compare_runs(root);
 }
 
 }  // namespace
