@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -293,15 +294,29 @@ RunOutcome ScenarioRunner::run(UnitSink& sink, const RunOptions& options) const 
       inner.write_image(p, img);
     }
   } locked(sink, mutex);
+  // No exception may leave a task: TBB would cancel the task group, and the cancellation reaches
+  // every nested parallel algorithm (the matchers', OpenCV's) running in sibling tasks, which then
+  // return unfinished results. The first error stops further units and is rethrown after the loop.
+  std::exception_ptr first_error;
+  std::atomic<bool> stop{false};
   arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) {
-      const UnitResult result = run_unit(todo[i], &locked);
-      std::lock_guard<std::mutex> lock(mutex);
-      sink.write_unit(result);
-      ++finished;
-      report();
+      if (stop.load()) return;
+      try {
+        const UnitResult result = run_unit(todo[i], &locked);
+        std::lock_guard<std::mutex> lock(mutex);
+        if (stop.load()) return;
+        sink.write_unit(result);
+        ++finished;
+        report();
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!first_error) first_error = std::current_exception();
+        stop.store(true);
+      }
     }, tbb::simple_partitioner());
   });
+  if (first_error) std::rethrow_exception(first_error);
   out.executed = finished;
   out.wall_s = seconds_since(t0);
   return out;
