@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <set>
 #include <sstream>
 
 #include "cli_common.hpp"
@@ -32,6 +33,35 @@ std::vector<int> parse_ray_counts(const std::string& text) {
   return out;
 }
 
+/// Room polygons of the given kinds from a generator rooms file (`floorcast plan generate
+/// --rooms FILE`: {"rooms": [{"id", "kind", "polygon": [[x, y], ...]}, ...]}).
+std::vector<std::vector<Vec2>> load_room_polygons(const std::string& path, const std::set<std::string>& kinds) {
+  const nlohmann::json j = nlohmann::json::parse(read_text_file(path), nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("rooms") || !j["rooms"].is_array()) {
+    throw InputError(path + ": not a rooms file (expected an object with a \"rooms\" array)");
+  }
+  std::vector<std::vector<Vec2>> out;
+  std::size_t index = 0;
+  for (const auto& room : j["rooms"]) {
+    const std::string where = path + ": rooms[" + std::to_string(index++) + "]";
+    if (!room.is_object() || !room.contains("kind") || !room["kind"].is_string() || !room.contains("polygon") ||
+        !room["polygon"].is_array()) {
+      throw InputError(where + ": expected \"kind\" (string) and \"polygon\" (array of [x, y])");
+    }
+    if (!kinds.count(room["kind"].get<std::string>())) continue;
+    std::vector<Vec2> poly;
+    for (const auto& p : room["polygon"]) {
+      if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
+        throw InputError(where + ": polygon points must be [x, y] numbers");
+      }
+      poly.emplace_back(p[0].get<double>(), p[1].get<double>());
+    }
+    if (poly.size() < 3) throw InputError(where + ": polygon with fewer than 3 points");
+    out.push_back(std::move(poly));
+  }
+  return out;
+}
+
 void register_compare_matchers(CLI::App& root) {
   struct Options {
     std::vector<std::string> plans;
@@ -41,6 +71,9 @@ void register_compare_matchers(CLI::App& root) {
     double clearance_m = 0.5;
     double range_m = 10.0;
     std::string orientations = "palms+";
+    std::vector<std::string> rooms;
+    std::vector<std::string> specs;
+    std::string room_kinds = "hallway,corridor,lobby,atrium,lounge,hall,vestibule";
     std::string out;
   };
   auto o = std::make_shared<Options>();
@@ -59,15 +92,39 @@ void register_compare_matchers(CLI::App& root) {
   cmd->add_option("--orientations", o->orientations, "Kernel matcher orientation candidates")
       ->capture_default_str()
       ->check(CLI::IsMember({"palms", "palms+", "dense"}));
+  cmd->add_option("--rooms", o->rooms,
+                  "Rooms files (`plan generate --rooms`), one per plan in order: points only in rooms of --room-kinds");
+  cmd->add_option("--room-kinds", o->room_kinds, "Room kinds sampled with --rooms (comma-separated)")
+      ->capture_default_str();
+  cmd->add_option("--matcher", o->specs,
+                  "Extra matcher LABEL=NAME[:JSON overrides], e.g. 'kernel_s1=kernel:{\"scales\":[1]}' (repeatable)");
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
   cmd->callback([o] {
+    if (!o->rooms.empty() && o->rooms.size() != o->plans.size()) {
+      throw InputError("--rooms: " + std::to_string(o->rooms.size()) + " rooms files for " +
+                       std::to_string(o->plans.size()) + " plans (give one per plan, in order)");
+    }
+    std::set<std::string> kinds;
+    {
+      std::stringstream ss(o->room_kinds);
+      std::string k;
+      while (std::getline(ss, k, ',')) {
+        if (!k.empty()) kinds.insert(k);
+      }
+    }
     std::vector<NamedPlan> plans;
     for (const std::string& path : o->plans) {
       std::string name = std::filesystem::path(path).stem().string();
       for (const NamedPlan& p : plans) {
         if (p.name == name) name = path;  // two files with one stem: keep them apart
       }
-      plans.push_back({name, load_floor_plan(path)});
+      NamedPlan np{name, load_floor_plan(path), {}};
+      if (!o->rooms.empty()) {
+        const std::string& rooms = o->rooms[plans.size()];
+        np.sample_regions = load_room_polygons(rooms, kinds);
+        if (np.sample_regions.empty()) throw InputError(rooms + ": no room of the kinds " + o->room_kinds);
+      }
+      plans.push_back(std::move(np));
     }
     ComparisonParams params;
     params.points_per_plan = o->points;
@@ -80,6 +137,26 @@ void register_compare_matchers(CLI::App& root) {
     specs[0].overrides["orientations"] = o->orientations;
     specs[0].overrides["max_range_m"] = o->range_m;
     for (std::size_t i = 1; i < specs.size(); ++i) specs[i].overrides["max_range_m"] = o->range_m;
+    for (const std::string& text : o->specs) {
+      const auto eq = text.find('=');
+      if (eq == std::string::npos || eq == 0) throw InputError("--matcher \"" + text + "\": expected LABEL=NAME[:JSON]");
+      MatcherSpec spec;
+      spec.label = text.substr(0, eq);
+      const std::string rest = text.substr(eq + 1);
+      const auto colon = rest.find(':');
+      spec.name = rest.substr(0, colon);
+      if (colon != std::string::npos) {
+        spec.overrides = nlohmann::json::parse(rest.substr(colon + 1), nullptr, false);
+        if (spec.overrides.is_discarded() || !spec.overrides.is_object()) {
+          throw InputError("--matcher \"" + text + "\": the overrides are not a JSON object");
+        }
+      }
+      if (!spec.overrides.contains("max_range_m")) spec.overrides["max_range_m"] = o->range_m;
+      for (const MatcherSpec& s : specs) {
+        if (s.label == spec.label) throw InputError("--matcher \"" + text + "\": label \"" + spec.label + "\" used twice");
+      }
+      specs.push_back(spec);
+    }
 
     const ComparisonResult r =
         compare_matchers(plans, specs, params, [](const std::string& line) { std::cerr << line << "\n"; });
@@ -94,6 +171,8 @@ void register_compare_matchers(CLI::App& root) {
     run["points_per_plan"] = o->points;
     run["seed"] = o->seed;
     run["clearance_m"] = o->clearance_m;
+    run["rooms"] = o->rooms;
+    if (!o->rooms.empty()) run["room_kinds"] = o->room_kinds;
     run["observation"] = {{"max_range_m", o->range_m}, {"doors_closed", true}, {"rays", 36}};
     nlohmann::ordered_json matchers = nlohmann::ordered_json::array();
     for (const MatcherPrecompute& p : r.precompute) {

@@ -42,8 +42,23 @@ std::string markdown_table(const std::vector<std::string>& labels, const std::ma
 
 }  // namespace
 
+bool point_in_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
+  bool inside = false;
+  const std::size_t n = poly.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2& a = poly[i];
+    const Vec2& b = poly[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
 std::vector<Pose2> sample_observation_poses(const FloorPlan& plan, int n, std::uint64_t seed, int plan_index,
-                                            double clearance_m, double resolution_m) {
+                                            double clearance_m, double resolution_m,
+                                            const std::vector<std::vector<Vec2>>& regions) {
   RasterOptions ro;
   ro.resolution_m_per_px = resolution_m;
   const PlanRasters rasters = make_plan_rasters(plan, ro);
@@ -55,12 +70,18 @@ std::vector<Pose2> sample_observation_poses(const FloorPlan& plan, int n, std::u
   for (int r = 0; r < g.height_px; ++r) {
     const std::uint8_t* v = rasters.valid.ptr<std::uint8_t>(r);
     const float* d = rasters.distance_m.ptr<float>(r);
-    for (int c = 0; c < g.width_px; ++c)
-      if (v[c] && d[c] >= need) cells.emplace_back(r, c);
+    for (int c = 0; c < g.width_px; ++c) {
+      if (!v[c] || d[c] < need) continue;
+      bool in_region = regions.empty();
+      for (std::size_t k = 0; k < regions.size() && !in_region; ++k) {
+        in_region = point_in_polygon(regions[k], g.cell_center_m(r, c));
+      }
+      if (in_region) cells.emplace_back(r, c);
+    }
   }
   if (cells.empty()) {
-    throw InputError("plan \"" + plan.name + "\": no free cell with " + fmt(clearance_m, 2) +
-                     " m clearance to sample observation points from");
+    throw InputError("plan \"" + plan.name + "\": no free cell with " + fmt(clearance_m, 2) + " m clearance" +
+                     (regions.empty() ? "" : " inside the sampling regions") + " to sample observation points from");
   }
   std::vector<Pose2> poses;
   poses.reserve(static_cast<std::size_t>(std::max(n, 0)));
@@ -134,11 +155,17 @@ ComparisonResult compare_matchers(const std::vector<NamedPlan>& plans, const std
     const NamedPlan& np = plans[pi];
     const std::vector<Pose2> poses = sample_observation_poses(np.plan, params.points_per_plan, params.seed,
                                                               static_cast<int>(pi), params.clearance_m,
-                                                              params.sample_resolution_m);
+                                                              params.sample_resolution_m, np.sample_regions);
     const PerfectObserver observer(np.plan, params.observation);
     std::vector<Observation2D> observations;
     observations.reserve(poses.size());
-    for (const Pose2& p : poses) observations.push_back(observer.observe(p));
+    std::vector<double> mean_range;
+    for (const Pose2& p : poses) {
+      observations.push_back(observer.observe(p));
+      double sum = 0.0;
+      for (double x : observer.ray_ranges(p.position_m(), 0.0, 36)) sum += x;
+      mean_range.push_back(sum / 36.0);
+    }
     if (progress) progress(np.name + ": " + std::to_string(poses.size()) + " perfect observations");
 
     std::vector<PointOutcome> plan_points(poses.size() * specs.size());
@@ -169,6 +196,7 @@ ComparisonResult compare_matchers(const std::vector<NamedPlan>& plans, const std
         }
         o.time_s = mr.match_s;
         o.num_segments = static_cast<int>(observations[i].segments_m.size());
+        o.mean_range_m = mean_range[i];
       }
       if (progress) {
         progress(np.name + ": " + spec.label + " done (precompute " + fmt(pc.precompute_s, 2) + " s, " +
@@ -215,13 +243,14 @@ nlohmann::ordered_json comparison_summary_json(const ComparisonResult& result) {
 std::string comparison_points_csv(const ComparisonResult& result) {
   std::ostringstream out;
   out << "plan,point,matcher,true_x_m,true_y_m,true_yaw_deg,est_x_m,est_y_m,est_yaw_deg,score,position_error_m,"
-         "yaw_error_deg,top5_hit_1m,time_s,num_segments\n";
+         "yaw_error_deg,top5_hit_1m,time_s,num_segments,mean_range_m\n";
   for (const PointOutcome& o : result.points) {
     out << o.plan << "," << o.point << "," << o.matcher << "," << fmt(o.truth.x_m, 4) << "," << fmt(o.truth.y_m, 4)
         << "," << fmt(o.truth.yaw_rad * 180.0 / kPi, 3) << "," << fmt(o.estimate.x_m, 4) << ","
         << fmt(o.estimate.y_m, 4) << "," << fmt(o.estimate.yaw_rad * 180.0 / kPi, 3) << ","
         << fmt(o.estimate.score, 8) << "," << fmt(o.position_error_m, 4) << "," << fmt(o.yaw_error_deg, 3) << ","
-        << (o.top_k_hit_1m ? 1 : 0) << "," << fmt(o.time_s, 5) << "," << o.num_segments << "\n";
+        << (o.top_k_hit_1m ? 1 : 0) << "," << fmt(o.time_s, 5) << "," << o.num_segments << ","
+        << fmt(o.mean_range_m, 3) << "\n";
   }
   return out.str();
 }

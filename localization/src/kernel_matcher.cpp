@@ -58,6 +58,7 @@ nlohmann::ordered_json KernelMatcherParams::to_json() const {
   j["obstacles_block"] = obstacles_block;
   j["cut_height_m"] = cut_height_m;
   j["zero_below"] = zero_below;
+  j["plan_raster"] = plan_raster;
   return j;
 }
 
@@ -87,6 +88,10 @@ void KernelMatcherParams::apply_overrides(const nlohmann::json& overrides) {
   r.read("obstacles_block", obstacles_block);
   r.read("cut_height_m", cut_height_m, 0.0, 100.0);
   r.read("zero_below", zero_below, 0.0, 1.0);
+  r.read("plan_raster", plan_raster);
+  if (plan_raster != "outline" && plan_raster != "centreline" && plan_raster != "filled") {
+    r.fail("plan_raster", "expected outline, centreline or filled, got \"" + plan_raster + "\"");
+  }
   r.finish();
 }
 
@@ -201,7 +206,15 @@ KernelMatcher::KernelMatcher(const FloorPlan& plan, const KernelMatcherParams& p
   grid_ = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
   const std::vector<LabeledSegment> outline = blocking_outline(plan, blocking_of(params_));
   impl_->plan_segments = outline_segments(outline);
-  plan_raster_ = rasterize_outline(outline, grid_);
+  if (params_.plan_raster == "outline") {
+    plan_raster_ = rasterize_outline(outline, grid_);
+  } else if (params_.plan_raster == "centreline") {
+    plan_raster_ = cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_8U);
+    draw_segment_lines(plan_raster_, footprint_centrelines(blocking_footprints(plan, blocking_of(params_))),
+                       {grid_.origin_x_m, grid_.origin_y_m}, grid_.resolution_m_per_px);
+  } else {
+    plan_raster_ = rasterize_occupancy(plan, grid_, blocking_of(params_));
+  }
   valid_ = matcher_valid_mask(plan, grid_, blocking_of(params_));
   orientation_cache_ = make_plan_orientation_cache(params_.orientation, impl_->plan_segments);
   impl_->radius_px = kernel_radius_px(params_);

@@ -110,6 +110,20 @@ cv::Mat matcher_valid_mask(const FloorPlan& plan, const GridSpec& grid, const Bl
   return out;
 }
 
+std::vector<Segment2> footprint_centrelines(const std::vector<Footprint>& footprints) {
+  std::vector<Segment2> out;
+  for (const Footprint& f : footprints) {
+    if (f.has_axis) {
+      out.push_back(f.axis_m);
+      continue;
+    }
+    for (std::size_t i = 0; i < f.polygon_m.size(); ++i) {
+      out.push_back({f.polygon_m[i], f.polygon_m[(i + 1) % f.polygon_m.size()]});
+    }
+  }
+  return out;
+}
+
 std::vector<Segment2> outline_segments(const std::vector<LabeledSegment>& outline) {
   std::vector<Segment2> out;
   out.reserve(outline.size());

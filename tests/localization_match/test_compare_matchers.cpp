@@ -42,7 +42,7 @@ TEST(CompareMatchers, SamplingIsSeededAndClear) {
 }
 
 TEST(CompareMatchers, SummaryOnSmallPlan) {
-  std::vector<NamedPlan> plans = {{"asym", test::asymmetric_floor()}};
+  std::vector<NamedPlan> plans = {{"asym", test::asymmetric_floor(), {}}};
   ComparisonParams params;
   params.points_per_plan = 6;
   params.seed = 3;

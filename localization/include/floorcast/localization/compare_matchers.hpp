@@ -33,17 +33,25 @@ struct ComparisonParams {
   double top_k_separation_deg = 30.0;
 };
 
-/// A labelled plan.
+/// A labelled plan, optionally with the regions observation points are drawn from (e.g. the
+/// hallways and lobbies of a generated building: PALMS+'s points are in transitional spaces).
 struct NamedPlan {
   std::string name;
   FloorPlan plan;
+  /// Closed polygons (world metres); empty = the whole valid area.
+  std::vector<std::vector<Vec2>> sample_regions;
 };
 
+/// True if p lies inside the closed polygon (even-odd rule; any orientation, non-convex allowed).
+bool point_in_polygon(const std::vector<Vec2>& polygon_m, const Vec2& p);
+
 /// N poses (position uniform over valid cells with at least clearance_m to the nearest blocked
-/// cell, jittered uniformly inside the cell; yaw uniform in [0, 2 pi)). Point i of plan p draws
-/// from its own stream seeded by (seed, plan_index, i): same seed -> same points.
+/// cell, and inside one of `regions` when given, jittered uniformly inside the cell; yaw uniform
+/// in [0, 2 pi)). Point i of plan p draws from its own stream seeded by (seed, plan_index, i):
+/// same seed -> same points. Throws InputError when no cell qualifies.
 std::vector<Pose2> sample_observation_poses(const FloorPlan& plan, int n, std::uint64_t seed, int plan_index,
-                                            double clearance_m, double resolution_m = 0.1);
+                                            double clearance_m, double resolution_m = 0.1,
+                                            const std::vector<std::vector<Vec2>>& regions = {});
 
 struct PointOutcome {
   std::string plan;
@@ -56,6 +64,8 @@ struct PointOutcome {
   bool top_k_hit_1m = false;  ///< some top-K mode within 1 m (and the yaw threshold is not used)
   double time_s = 0.0;
   int num_segments = 0;
+  /// Mean of the perfect observation's 36 ray ranges: how open the spot is.
+  double mean_range_m = 0.0;
 };
 
 struct MatcherSummary {

@@ -27,6 +27,7 @@
 
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "floorcast/localization/matcher.hpp"
@@ -74,6 +75,9 @@ struct KernelMatcherParams {
   /// FFT round-off guard: heatmap values below this are set to 0 (see README; single-precision
   /// FFT noise on these kernels is ~1e-6, real scores are >= ~1e-4 where any wall matches).
   double zero_below = 1e-5;
+  /// What the plan raster draws: "outline" (wall surfaces), "centreline" (wall axes, like the
+  /// line plans PALMS reads) or "filled" (wall bodies).
+  std::string plan_raster = "outline";
 
   nlohmann::ordered_json to_json() const;
   /// Applies overrides (keys as in to_json); throws InputError naming the key.

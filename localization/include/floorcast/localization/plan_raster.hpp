@@ -39,6 +39,10 @@ cv::Mat rasterize_outline(const std::vector<LabeledSegment>& outline, const Grid
 /// doors count as closed). CV_8U, 255 = valid.
 cv::Mat matcher_valid_mask(const FloorPlan& plan, const GridSpec& grid, const BlockingOptions& blocking);
 
+/// Centrelines of blocking footprints (wall pieces, door leaves, glass panes: their axis;
+/// obstacles: their polygon's edges), as segments.
+std::vector<Segment2> footprint_centrelines(const std::vector<Footprint>& footprints);
+
 /// Outline segments without labels.
 std::vector<Segment2> outline_segments(const std::vector<LabeledSegment>& outline);
 
