@@ -41,6 +41,23 @@ TEST(CompareMatchers, SamplingIsSeededAndClear) {
   EXPECT_THROW(sample_observation_poses(plan, 5, 1, 0, 50.0), InputError);
 }
 
+TEST(CompareMatchers, SamplingRegions) {
+  const std::vector<Vec2> l_shape = {{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}};
+  EXPECT_TRUE(point_in_polygon(l_shape, {0.5, 2.5}));
+  EXPECT_TRUE(point_in_polygon(l_shape, {3.5, 0.5}));
+  EXPECT_FALSE(point_in_polygon(l_shape, {2.5, 2.0}));  // in the notch
+  EXPECT_FALSE(point_in_polygon(l_shape, {-0.1, 0.5}));
+  // Only the east room (x > 5) of the asymmetric plan.
+  const FloorPlan plan = test::asymmetric_floor();
+  const std::vector<std::vector<Vec2>> east = {{{5, 0}, {12, 0}, {12, 5}, {5, 5}}};
+  for (const Pose2& p : sample_observation_poses(plan, 30, 4, 0, 0.3, 0.1, east)) {
+    EXPECT_GT(p.x_m, 5.3);
+    EXPECT_LT(p.y_m, 4.7);
+  }
+  const std::vector<std::vector<Vec2>> nowhere = {{{20, 20}, {21, 20}, {21, 21}}};
+  EXPECT_THROW(sample_observation_poses(plan, 3, 4, 0, 0.3, 0.1, nowhere), InputError);
+}
+
 TEST(CompareMatchers, SummaryOnSmallPlan) {
   std::vector<NamedPlan> plans = {{"asym", test::asymmetric_floor(), {}}};
   ComparisonParams params;

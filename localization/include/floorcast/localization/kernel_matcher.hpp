@@ -72,9 +72,10 @@ struct KernelMatcherParams {
   bool glass_blocks = true;
   bool obstacles_block = false;
   double cut_height_m = 1.5;
-  /// FFT round-off guard: heatmap values below this are set to 0 (see README; single-precision
-  /// FFT noise on these kernels is ~1e-6, real scores are >= ~1e-4 where any wall matches).
-  double zero_below = 1e-5;
+  /// FFT round-off guard: heatmap values below this are set to 0. Single-precision round-off
+  /// reaches ~3e-5 on the campus (`bench match` measures it); one matched wall pixel is worth
+  /// ~1e-4 and good matches score 0.2-0.3.
+  double zero_below = 1e-4;
   /// What the plan raster draws: "outline" (wall surfaces), "centreline" (wall axes, like the
   /// line plans PALMS reads) or "filled" (wall bodies).
   std::string plan_raster = "outline";
