@@ -73,6 +73,7 @@ void register_compare_matchers(CLI::App& root) {
     std::string orientations = "palms+";
     std::vector<std::string> rooms;
     std::vector<std::string> specs;
+    bool doors_open = false;
     std::string room_kinds = "hallway,corridor,lobby,atrium,lounge,hall,vestibule";
     std::string out;
   };
@@ -96,6 +97,8 @@ void register_compare_matchers(CLI::App& root) {
                   "Rooms files (`plan generate --rooms`), one per plan in order: points only in rooms of --room-kinds");
   cmd->add_option("--room-kinds", o->room_kinds, "Room kinds sampled with --rooms (comma-separated)")
       ->capture_default_str();
+  cmd->add_flag("--doors-open", o->doors_open,
+                "Open doors stay open in the observations and the matchers' plans (default: all closed, PALMS+ 4.4)");
   cmd->add_option("--matcher", o->specs,
                   "Extra matcher LABEL=NAME[:JSON overrides], e.g. 'kernel_s1=kernel:{\"scales\":[1]}' (repeatable)");
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
@@ -131,12 +134,13 @@ void register_compare_matchers(CLI::App& root) {
     params.seed = o->seed;
     params.clearance_m = o->clearance_m;
     params.observation.max_range_m = o->range_m;
-    params.observation.doors_closed = true;
+    params.observation.doors_closed = !o->doors_open;
     params.observation.num_rays = 36;
     std::vector<MatcherSpec> specs = default_comparison_specs(parse_ray_counts(o->rays));
     specs[0].overrides["orientations"] = o->orientations;
     specs[0].overrides["max_range_m"] = o->range_m;
     for (std::size_t i = 1; i < specs.size(); ++i) specs[i].overrides["max_range_m"] = o->range_m;
+    for (MatcherSpec& spec : specs) spec.overrides["doors_closed"] = !o->doors_open;
     for (const std::string& text : o->specs) {
       const auto eq = text.find('=');
       if (eq == std::string::npos || eq == 0) throw InputError("--matcher \"" + text + "\": expected LABEL=NAME[:JSON]");
@@ -152,6 +156,7 @@ void register_compare_matchers(CLI::App& root) {
         }
       }
       if (!spec.overrides.contains("max_range_m")) spec.overrides["max_range_m"] = o->range_m;
+      if (!spec.overrides.contains("doors_closed")) spec.overrides["doors_closed"] = !o->doors_open;
       for (const MatcherSpec& s : specs) {
         if (s.label == spec.label) throw InputError("--matcher \"" + text + "\": label \"" + spec.label + "\" used twice");
       }
@@ -173,7 +178,7 @@ void register_compare_matchers(CLI::App& root) {
     run["clearance_m"] = o->clearance_m;
     run["rooms"] = o->rooms;
     if (!o->rooms.empty()) run["room_kinds"] = o->room_kinds;
-    run["observation"] = {{"max_range_m", o->range_m}, {"doors_closed", true}, {"rays", 36}};
+    run["observation"] = {{"max_range_m", o->range_m}, {"doors_closed", !o->doors_open}, {"rays", 36}};
     nlohmann::ordered_json matchers = nlohmann::ordered_json::array();
     for (const MatcherPrecompute& p : r.precompute) {
       matchers.push_back({{"plan", p.plan}, {"matcher", p.matcher}, {"precompute_s", p.precompute_s},

@@ -59,6 +59,7 @@ nlohmann::ordered_json KernelMatcherParams::to_json() const {
   j["cut_height_m"] = cut_height_m;
   j["zero_below"] = zero_below;
   j["plan_raster"] = plan_raster;
+  j["line_rule"] = line_rule;
   return j;
 }
 
@@ -89,6 +90,10 @@ void KernelMatcherParams::apply_overrides(const nlohmann::json& overrides) {
   r.read("cut_height_m", cut_height_m, 0.0, 100.0);
   r.read("zero_below", zero_below, 0.0, 1.0);
   r.read("plan_raster", plan_raster);
+  r.read("line_rule", line_rule);
+  if (line_rule != "closed" && line_rule != "half_open") {
+    r.fail("line_rule", "expected closed or half_open, got \"" + line_rule + "\"");
+  }
   if (plan_raster != "outline" && plan_raster != "centreline" && plan_raster != "filled") {
     r.fail("plan_raster", "expected outline, centreline or filled, got \"" + plan_raster + "\"");
   }
@@ -148,7 +153,8 @@ LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::
   LayoutKernels k;
   // RW: lines, blurred, distance-weighted, within the square window of the (scaled) range.
   cv::Mat lines = cv::Mat::zeros(K, K, CV_8U);
-  draw_segment_lines(lines, segs, origin, res);
+  draw_segment_lines(lines, segs, origin, res,
+                     params.line_rule == "closed" ? LineRule::kClosed : LineRule::kHalfOpen);
   const int reach_px = std::min(R, static_cast<int>(std::floor(reach_m / res + 1e-9)));
   if (reach_px < R) {
     cv::Mat window = cv::Mat::zeros(K, K, CV_8U);
@@ -206,12 +212,13 @@ KernelMatcher::KernelMatcher(const FloorPlan& plan, const KernelMatcherParams& p
   grid_ = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
   const std::vector<LabeledSegment> outline = blocking_outline(plan, blocking_of(params_));
   impl_->plan_segments = outline_segments(outline);
+  const LineRule rule = params_.line_rule == "closed" ? LineRule::kClosed : LineRule::kHalfOpen;
   if (params_.plan_raster == "outline") {
-    plan_raster_ = rasterize_outline(outline, grid_);
+    plan_raster_ = rasterize_outline(outline, grid_, rule);
   } else if (params_.plan_raster == "centreline") {
     plan_raster_ = cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_8U);
     draw_segment_lines(plan_raster_, footprint_centrelines(blocking_footprints(plan, blocking_of(params_))),
-                       {grid_.origin_x_m, grid_.origin_y_m}, grid_.resolution_m_per_px);
+                       {grid_.origin_x_m, grid_.origin_y_m}, grid_.resolution_m_per_px, rule);
   } else {
     plan_raster_ = rasterize_occupancy(plan, grid_, blocking_of(params_));
   }

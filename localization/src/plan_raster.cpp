@@ -37,7 +37,9 @@ bool clip_to_box(Vec2& a, Vec2& b, double x0, double y0, double x1, double y1) {
 
 }  // namespace
 
-void draw_segment_lines(cv::Mat& image, const std::vector<Segment2>& segments, const Vec2& origin, double res) {
+void draw_segment_lines(cv::Mat& image, const std::vector<Segment2>& segments, const Vec2& origin, double res,
+                        LineRule rule) {
+  const bool closed = rule == LineRule::kClosed;
   CV_Assert(image.type() == CV_8U);
   // Clip to the image plus a one-pixel border first (keeps coordinates small, slopes exact).
   const double bx0 = origin.x() - res, by0 = origin.y() - res;
@@ -49,12 +51,13 @@ void draw_segment_lines(cv::Mat& image, const std::vector<Segment2>& segments, c
     Vec2 q = {snap((b.x() - origin.x()) / res - 0.5), snap((b.y() - origin.y()) / res - 0.5)};
     if (p.y() > q.y()) std::swap(p, q);
     const double dx = q.x() - p.x(), dy = q.y() - p.y();
-    // Pixel (c, r) is the closed square [c - 1/2, c + 1/2] x [r - 1/2, r + 1/2].
-    const int r0 = std::max(0, static_cast<int>(std::ceil(p.y() - 0.5)));
+    // Pixel (c, r) is the closed square [c - 1/2, c + 1/2] x [r - 1/2, r + 1/2], or the half-open
+    // [c - 1/2, c + 1/2) x [r - 1/2, r + 1/2).
+    const int r0 = std::max(0, static_cast<int>(closed ? std::ceil(p.y() - 0.5) : std::floor(p.y() + 0.5)));
     const int r1 = std::min(image.rows - 1, static_cast<int>(std::floor(q.y() + 0.5)));
     for (int r = r0; r <= r1; ++r) {
       const double ylo = std::max(p.y(), r - 0.5), yhi = std::min(q.y(), r + 0.5);
-      if (ylo > yhi) continue;
+      if (ylo > yhi || (!closed && ylo == r + 0.5)) continue;
       double xa, xb;
       if (dy == 0.0) {
         xa = std::min(p.x(), q.x());
@@ -64,7 +67,7 @@ void draw_segment_lines(cv::Mat& image, const std::vector<Segment2>& segments, c
         xb = snap(p.x() + (yhi - p.y()) / dy * dx);
         if (xa > xb) std::swap(xa, xb);
       }
-      const int c0 = std::max(0, static_cast<int>(std::ceil(xa - 0.5)));
+      const int c0 = std::max(0, static_cast<int>(closed ? std::ceil(xa - 0.5) : std::floor(xa + 0.5)));
       const int c1 = std::min(image.cols - 1, static_cast<int>(std::floor(xb + 0.5)));
       if (c0 <= c1) std::memset(image.ptr<std::uint8_t>(r) + c0, 255, static_cast<std::size_t>(c1 - c0 + 1));
     }
@@ -131,9 +134,9 @@ std::vector<Segment2> outline_segments(const std::vector<LabeledSegment>& outlin
   return out;
 }
 
-cv::Mat rasterize_outline(const std::vector<LabeledSegment>& outline, const GridSpec& grid) {
+cv::Mat rasterize_outline(const std::vector<LabeledSegment>& outline, const GridSpec& grid, LineRule rule) {
   cv::Mat img = cv::Mat::zeros(grid.height_px, grid.width_px, CV_8U);
-  draw_segment_lines(img, outline_segments(outline), {grid.origin_x_m, grid.origin_y_m}, grid.resolution_m_per_px);
+  draw_segment_lines(img, outline_segments(outline), {grid.origin_x_m, grid.origin_y_m}, grid.resolution_m_per_px, rule);
   return img;
 }
 

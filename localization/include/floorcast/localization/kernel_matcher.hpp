@@ -79,6 +79,8 @@ struct KernelMatcherParams {
   /// What the plan raster draws: "outline" (wall surfaces), "centreline" (wall axes, like the
   /// line plans PALMS reads) or "filled" (wall bodies).
   std::string plan_raster = "outline";
+  /// Line rasterisation (plan and RW): "closed" or "half_open" (see plan_raster.hpp).
+  std::string line_rule = "closed";
 
   nlohmann::ordered_json to_json() const;
   /// Applies overrides (keys as in to_json); throws InputError naming the key.

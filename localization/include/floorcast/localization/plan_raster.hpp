@@ -21,8 +21,12 @@ namespace floorcast {
 /// Symmetric under quarter turns and reflections (no tie-breaking), 4-connected like PALMS'
 /// "enhanced" Bresenham, and every drawn pixel contains a point of its segment (the property the
 /// CES collision test relies on, see kernel_matcher.hpp). Parts outside the image are clipped.
+enum class LineRule {
+  kClosed,    ///< closed pixel squares: symmetric, 2 px where a line runs on a pixel boundary
+  kHalfOpen,  ///< half-open squares [c - 1/2, c + 1/2): 1 px everywhere, ties to the +x / +y side
+};
 void draw_segment_lines(cv::Mat& image_8u, const std::vector<Segment2>& segments_m, const Vec2& origin_m,
-                        double resolution_m_per_px);
+                        double resolution_m_per_px, LineRule rule = LineRule::kClosed);
 
 /// Fills triangles (value 255) into a CV_8U image: exactly the pixels whose centre lies strictly
 /// inside one of them (symmetric, no tie-breaking; centres exactly on an edge are left out).
@@ -32,7 +36,8 @@ void fill_triangles(cv::Mat& image_8u, const std::vector<std::array<Vec2, 3>>& t
 /// The plan raster of the layout matchers: the blocking outline (wall surfaces, free space on one
 /// side) drawn with draw_segment_lines on `grid`. CV_8U, 255 = wall surface, 0 elsewhere (wall interiors
 /// included).
-cv::Mat rasterize_outline(const std::vector<LabeledSegment>& outline, const GridSpec& grid);
+cv::Mat rasterize_outline(const std::vector<LabeledSegment>& outline, const GridSpec& grid,
+                          LineRule rule = LineRule::kClosed);
 
 /// Where an observer may stand for a matcher: the plan's valid area (valid_area_mask) minus the
 /// cells blocked under the matcher's own blocking options (e.g. inside an open door's leaf when
