@@ -52,6 +52,7 @@ nlohmann::ordered_json KernelMatcherParams::to_json() const {
   j["histogram_bins"] = orientation.histogram_bins;
   j["nms_radius_bins"] = orientation.nms_radius_bins;
   j["dense_step_deg"] = orientation.dense_step_deg;
+  j["refine_orientations"] = orientation.refine;
   j["scales"] = scales;
   j["doors_closed"] = doors_closed;
   j["glass_blocks"] = glass_blocks;
@@ -83,6 +84,7 @@ void KernelMatcherParams::apply_overrides(const nlohmann::json& overrides) {
   r.read("histogram_bins", orientation.histogram_bins, 4, 3600);
   r.read("nms_radius_bins", orientation.nms_radius_bins, 0, 1800);
   r.read("dense_step_deg", orientation.dense_step_deg, 0.1, 180.0);
+  r.read("refine_orientations", orientation.refine);
   r.read("scales", scales, 0.1, 10.0);
   r.read("doors_closed", doors_closed);
   r.read("glass_blocks", glass_blocks);

@@ -131,9 +131,61 @@ double principal_orientation_rad(const std::vector<Segment2>& segments, int bins
   return out;
 }
 
+/// Distinct directions in [0, pi) (merged within 1e-6 rad) with their total length.
+std::vector<std::pair<double, double>> distinct_directions(const std::vector<Segment2>& segments) {
+  std::vector<std::pair<double, double>> d;
+  for (const Segment2& s : segments) {
+    const double len = s.length_m();
+    if (!(len > 0.0)) continue;
+    double a = std::fmod(s.direction_rad(), kPi);
+    if (a < 0.0) a += kPi;
+    if (a >= kPi) a -= kPi;
+    d.emplace_back(a, len);
+  }
+  std::sort(d.begin(), d.end());
+  std::vector<std::pair<double, double>> out;
+  for (const auto& [a, l] : d) {
+    if (!out.empty() && a - out.back().first < 1e-6) {
+      out.back().second += l;
+    } else {
+      out.emplace_back(a, l);
+    }
+  }
+  return out;
+}
+
+double refine_orientation(const std::vector<std::pair<double, double>>& plan, const std::vector<Segment2>& obs,
+                          double yaw, double half_window, double kernel) {
+  const std::vector<std::pair<double, double>> od = distinct_directions(obs);
+  if (od.empty() || plan.empty() || !(kernel > 0.0)) return yaw;
+  constexpr double kStep = 0.01 * kPi / 180.0;
+  const int n = static_cast<int>(std::floor(half_window / kStep));
+  double best_v = -1.0, best = yaw;
+  int best_abs = 0;
+  for (int k = -n; k <= n; ++k) {
+    const double y = yaw + k * kStep;
+    double v = 0.0;
+    for (const auto& [th, l] : od) {
+      for (const auto& [ph, L] : plan) {
+        double d = std::fmod(th + y - ph, kPi);
+        if (d < 0.0) d += kPi;
+        d = std::min(d, kPi - d);  // circular distance in [0, pi/2]
+        if (d < kernel) v += l * L * (1.0 - d / kernel);
+      }
+    }
+    if (v > best_v + 1e-12 * std::max(1.0, best_v) || (std::abs(v - best_v) <= 1e-12 * std::max(1.0, best_v) && std::abs(k) < best_abs)) {
+      best_v = v;
+      best = y;
+      best_abs = std::abs(k);
+    }
+  }
+  return best_v > 0.0 ? best : yaw;
+}
+
 PlanOrientationCache make_plan_orientation_cache(const OrientationParams& params,
                                                  const std::vector<Segment2>& plan_segments) {
   PlanOrientationCache c;
+  c.directions = distinct_directions(plan_segments);
   c.histogram = direction_histogram(plan_segments, params.histogram_bins);
   c.principal_rad = principal_orientation_rad(plan_segments);
   for (double v : c.histogram) c.has_segments = c.has_segments || v > 0.0;
@@ -156,6 +208,9 @@ std::vector<double> orientation_candidates(const OrientationParams& params, cons
     double theta = std::fmod(plan.principal_rad - obs_principal, 0.5 * kPi);
     if (theta < -0.25 * kPi) theta += 0.5 * kPi;
     if (theta >= 0.25 * kPi) theta -= 0.5 * kPi;
+    if (params.refine) {
+      theta = refine_orientation(plan.directions, obs, theta, 1.0 * kPi / 180.0, 0.5 * kPi / 180.0);
+    }
     for (int k = 0; k < 4; ++k) out.push_back(wrap_2pi(theta + k * 0.5 * kPi));
     return out;
   }
@@ -164,8 +219,15 @@ std::vector<double> orientation_candidates(const OrientationParams& params, cons
   const std::vector<double> corr = circular_correlation(plan.histogram, obs_hist);
   const int half = std::max(1, params.num_orientations / 2);
   const std::vector<int> peaks = circular_peaks(corr, params.nms_radius_bins, half);
-  for (int p : peaks) out.push_back(wrap_2pi(kPi * p / B));
-  for (int p : peaks) out.push_back(wrap_2pi(kPi * p / B + kPi));
+  std::vector<double> yaws;
+  for (int p : peaks) {
+    double y = kPi * p / B;
+    // One bin either way covers the quantisation of both histograms.
+    if (params.refine) y = refine_orientation(plan.directions, obs, y, kPi / B, 0.5 * kPi / B);
+    yaws.push_back(y);
+  }
+  for (double y : yaws) out.push_back(wrap_2pi(y));
+  for (double y : yaws) out.push_back(wrap_2pi(y + kPi));
   return out;
 }
 

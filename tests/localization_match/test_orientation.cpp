@@ -90,6 +90,30 @@ TEST(Orientation, RotatedPlanRotatesCandidates) {
   for (double ca : a) EXPECT_LE(nearest_candidate_error(b, ca + 30.0 * kPi / 180.0), 0.5 * kPi / 180.0 + 1e-9);
 }
 
+TEST(Orientation, RefinementRecoversExactYaw) {
+  const FloorPlan plan = test::asymmetric_floor();
+  const PerfectObserver observer(plan);
+  const auto cache = make_plan_orientation_cache(OrientationParams{}, outline_segments(observer.outline()));
+  for (double yaw_deg : {17.3, 133.71, 301.95}) {
+    const double yaw = yaw_deg * kPi / 180.0;
+    const Observation2D obs = observer.observe({3.2, 1.6, yaw});
+    const double refined = refine_orientation(cache.directions, obs.segments_m, yaw + 0.37 * kPi / 180.0,
+                                              kPi / 180.0, 0.5 * kPi / 180.0);
+    EXPECT_LE(angle_distance_rad(refined, yaw), 0.006 * kPi / 180.0) << yaw_deg;
+  }
+  OrientationParams refined;
+  refined.refine = true;
+  const Observation2D obs = observer.observe({2.2, 5.4, 0.7});
+  for (double c : orientation_candidates(refined, cache, obs.segments_m)) {
+    // Every candidate sits on an exact alignment (within the 0.01 deg grid) of some wall family.
+    double d = 1e9;
+    for (double k = 0; k < 4; ++k) d = std::min(d, angle_distance_rad(c, 0.7 + k * 0.5 * kPi));
+    if (d < 1.0 * kPi / 180.0) {
+      EXPECT_LE(d, 0.006 * kPi / 180.0);
+    }
+  }
+}
+
 TEST(Orientation, ModeNames) {
   EXPECT_EQ(parse_orientation_mode("palms"), OrientationMode::kPalms);
   EXPECT_EQ(parse_orientation_mode("palms+"), OrientationMode::kPalmsPlus);
