@@ -1,0 +1,92 @@
+// The shipped scenarios and the CI gate's baseline must stay loadable and consistent with each
+// other: a renamed matcher, a dropped cell or a moved building file fails here, not in CI's gate.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "floorcast/eval/gate.hpp"
+#include "floorcast/floorplans/types.hpp"
+#include "floorcast/scenarios/scenario.hpp"
+
+namespace floorcast {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kRoot = FLOORCAST_SOURCE_DIR;
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in.good()) << path;
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return nlohmann::json::parse(ss.str());
+}
+
+std::vector<std::string> split_pointer(const std::string& p) {
+  std::vector<std::string> parts;
+  std::stringstream ss(p.substr(1));
+  std::string t;
+  while (std::getline(ss, t, '/')) parts.push_back(t);
+  return parts;
+}
+
+TEST(BuiltinScenarios, EveryShippedScenarioLoadsAndResolves) {
+  const std::set<std::string> expected = {"quickstart", "perfect_observation", "full_system",
+                                          "scale_ablation", "sensor_sweep", "gate"};
+  std::set<std::string> found;
+  for (const auto& entry : fs::directory_iterator(kRoot + "/scenarios")) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    Scenario s;
+    ASSERT_NO_THROW(s = load_scenario(entry.path().string(), kRoot));
+    EXPECT_FALSE(s.cells.empty());
+    EXPECT_FALSE(s.buildings.empty());
+    EXPECT_EQ(s.hash.size(), 16u);
+    found.insert(entry.path().stem().string());
+  }
+  for (const std::string& name : expected) EXPECT_TRUE(found.count(name)) << name << ".yaml is missing";
+}
+
+TEST(BuiltinScenarios, GateBaselineRefersToWhatTheGateScenarioProduces) {
+  const Scenario s = load_scenario(kRoot + "/scenarios/gate.yaml", kRoot);
+  const nlohmann::json baseline = read_json(kRoot + "/results/baselines/gate.json");
+  ASSERT_TRUE(baseline.contains("checks"));
+  std::set<std::string> groups = {"all"};
+  for (const BuildingSpec& b : s.buildings) groups.insert(b.label);
+  nlohmann::json good, bad;
+  for (const auto& c : baseline["checks"]) {
+    const std::string ptr = c["pointer"].get<std::string>();
+    const auto parts = split_pointer(ptr);
+    ASSERT_EQ(parts.size(), 6u) << ptr;
+    EXPECT_EQ(parts[0], "cells");
+    const std::size_t cell = std::stoul(parts[1]);
+    ASSERT_LT(cell, s.cells.size()) << ptr;
+    EXPECT_TRUE(groups.count(parts[3])) << ptr << ": no building labelled " << parts[3];
+    bool has_matcher = false;
+    for (const MatcherSpec& m : s.cells[cell].matchers) has_matcher |= m.label == parts[4];
+    EXPECT_TRUE(has_matcher) << ptr << ": no matcher labelled " << parts[4];
+    // A summary right at each floor passes; one just below every floor fails every check.
+    const double floor = c.value("min", 0.0);
+    good[nlohmann::json::json_pointer(ptr)] = floor;
+    bad[nlohmann::json::json_pointer(ptr)] = floor - 0.01;
+  }
+  for (const auto& r : baseline["timing_ratios"]) {
+    const double base = r["baseline"].get<double>();
+    good[nlohmann::json::json_pointer(r["numerator"].get<std::string>())] = base;
+    good[nlohmann::json::json_pointer(r["denominator"].get<std::string>())] = 1.0;
+    bad[nlohmann::json::json_pointer(r["numerator"].get<std::string>())] = 10.0 * base;
+    bad[nlohmann::json::json_pointer(r["denominator"].get<std::string>())] = 1.0;
+  }
+  const GateOutcome pass = evaluate_gate(good, baseline, "gate.json");
+  EXPECT_TRUE(pass.passed);
+  EXPECT_TRUE(pass.failures.empty());
+  const GateOutcome fail = evaluate_gate(bad, baseline, "gate.json");
+  EXPECT_FALSE(fail.passed);
+  EXPECT_EQ(fail.failures.size(), baseline["checks"].size() + baseline["timing_ratios"].size());
+}
+
+}  // namespace
+}  // namespace floorcast
