@@ -53,6 +53,42 @@ TEST(KernelMatcher, KernelsFollowPalms) {
   EXPECT_EQ(cv::countNonZero(empty.ces), 0);
 }
 
+// Known answers for the score's ingredients as PALMS' code builds them (CES.py: blur (15, 3) px,
+// Gaussian distance weight of sigma 10 m that favours NEAR walls, shrink 0.7 about the observer,
+// one-pixel erosion). Two long walls, one 3.5 m in front of the observer and one 8.5 m behind,
+// placed so every edge falls mid-pixel.
+TEST(KernelMatcher, KernelIngredientsKnownAnswers) {
+  const KernelMatcherParams p;  // defaults = the paper's values
+  const int R = kernel_radius_px(p);
+  // Free space on each segment's left, as observations are oriented.
+  const std::vector<Segment2> obs = {{Vec2(3.5, -4.0), Vec2(3.5, 4.0)}, {Vec2(-8.5, 4.0), Vec2(-8.5, -4.0)}};
+  const LayoutKernels k = make_layout_kernels(p, obs, 0.0, 1.0, R);
+  const auto P = [&](int dx_px) { return static_cast<double>(k.p.at<float>(R, R + dx_px)); };
+  // Across a long straight line the blurred profile is the 1-D Gaussian of sigma 3 px, times the
+  // distance weight exp(-d^2 / (2 * 10^2)): one pixel outwards costs exp(-1/18) and the weight
+  // of 3.6 m vs 3.5 m.
+  const double w_step = std::exp(-(3.6 * 3.6 - 3.5 * 3.5) / 200.0);
+  EXPECT_NEAR(P(36) / P(35), std::exp(-1.0 / 18.0) * w_step, 1e-4);
+  EXPECT_NEAR(P(34) / P(35), std::exp(-1.0 / 18.0) / std::exp(-(3.5 * 3.5 - 3.4 * 3.4) / 200.0), 1e-4);
+  // Near walls weigh more than far ones (PALMS: "weight segments closer to the observation point
+  // more"): same blur, weight ratio exp(-(8.5^2 - 3.5^2) / 200).
+  EXPECT_NEAR(P(-85) / P(35), std::exp(-(8.5 * 8.5 - 3.5 * 3.5) / 200.0), 1e-4);
+  // P is a distribution: min-max scaled, then divided by its sum.
+  EXPECT_NEAR(cv::sum(k.p)[0], 1.0, 1e-4);
+  // The 15 px blur reaches 7 px from the line and no farther.
+  EXPECT_GT(P(35 + 7), 0.0);
+  EXPECT_EQ(P(35 + 8), 0.0);
+  // CES along the x axis: shrunk to 0.7 * 3.5 = 2.45 m and 0.7 * 8.5 = 5.95 m, so it holds the
+  // pixel centres up to 2.4 m and down to -5.9 m; eroded by one pixel: 2.3 m and -5.8 m.
+  EXPECT_EQ(k.ces.at<float>(R, R + 23), 1.0f);
+  EXPECT_EQ(k.ces.at<float>(R, R + 24), 0.0f);
+  EXPECT_EQ(k.ces.at<float>(R, R - 58), 1.0f);
+  EXPECT_EQ(k.ces.at<float>(R, R - 59), 0.0f);
+  // alpha: every alpha >= 1 correlates the same clipped score; PALMS' 10 is one of them.
+  EXPECT_EQ(p.alpha, 10.0);
+  EXPECT_GE(correlation_alpha(p.alpha), 1.0);
+}
+
 TEST(KernelMatcher, PosteriorEqualsDirectCorrelation) {
   // A small room and a short range so the direct correlation is cheap.
   FloorPlan plan;
