@@ -19,7 +19,7 @@ void add_observation_options(CLI::App& cmd, ObserveCliOptions& o) {
       ->check(CLI::IsMember({"mono", "lidar"}));
   cmd.add_option("--scale-alignment", o.scale_alignment, "Mono scale alignment (PALMS+ Table 4): full, ground or none")
       ->check(CLI::IsMember({"full", "ground", "none"}));
-  cmd.add_option("--extractor", o.extractor, "LiDAR plane extractor: pcl (normals + region growing) or voxelplane")
+  cmd.add_option("--extractor", o.extractor, "LiDAR plane extractor: voxelplane (default) or pcl (normals + region growing)")
       ->check(CLI::IsMember({"pcl", "voxelplane"}));
   cmd.add_flag("--mask-glass", o.mask_glass, "Drop glass-affected pixels (the PALMS+* setting)");
   cmd.add_option("--observe-params", o.params_file,

@@ -14,7 +14,7 @@ namespace floorcast::cli {
 struct ObserveCliOptions {
   std::string path;             ///< "" = from the scan's sensor (lidar -> lidar, else mono)
   std::string scale_alignment;  ///< "" = default (full)
-  std::string extractor;        ///< "" = default (pcl)
+  std::string extractor;        ///< "" = default (voxelplane)
   bool mask_glass = false;
   std::string params_file;
 };

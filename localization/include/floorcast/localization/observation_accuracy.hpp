@@ -13,7 +13,8 @@ namespace floorcast {
 
 struct SegmentAccuracyParams {
   /// A point sampled on one segment lies on a segment of the other set when it is within
-  /// max_distance_m of it and their directions differ by at most max_angle_deg.
+  /// max_distance_m of it and their directions differ by at most max_angle_deg (so a segment
+  /// also "recovers" up to max_distance_m of wall beyond each of its ends).
   double max_distance_m = 0.2;
   double max_angle_deg = 10.0;
   double sample_step_m = 0.05;  ///< segments are sampled at (at most) this spacing
