@@ -63,13 +63,22 @@ std::vector<Pose2> sample_observation_poses(const FloorPlan& plan, int n, std::u
   ro.resolution_m_per_px = resolution_m;
   const PlanRasters rasters = make_plan_rasters(plan, ro);
   const GridSpec& g = rasters.grid;
-  // A blocked cell's centre may be up to half a diagonal farther than the wall surface in it,
-  // and the point moves up to half a diagonal inside its cell: keep one resolution of slack.
-  const float need = static_cast<float>(clearance_m + resolution_m);
+  // Nobody stands inside furniture: every obstacle footprint blocks, whatever its height (the
+  // default rasters cut at 1.5 m, where beds, sofas and desks do not exist). The clearance is
+  // kept from walls and obstacles alike.
+  BlockingOptions standing = ro.blocking;
+  standing.obstacles_block = true;
+  standing.cut_height_m = 0.01;
+  cv::Mat blocked = rasterize_occupancy(plan, g, standing);
+  cv::max(blocked, rasters.occupancy, blocked);
+  const cv::Mat distance_m = distance_to_blocked_m(blocked, g);
+  // A blocked cell's centre may be up to half a diagonal farther than the surface in it, and the
+  // point moves up to half a diagonal inside its cell: keep a full diagonal of slack.
+  const float need = static_cast<float>(clearance_m + std::sqrt(2.0) * resolution_m);
   std::vector<std::pair<int, int>> cells;
   for (int r = 0; r < g.height_px; ++r) {
     const std::uint8_t* v = rasters.valid.ptr<std::uint8_t>(r);
-    const float* d = rasters.distance_m.ptr<float>(r);
+    const float* d = distance_m.ptr<float>(r);
     for (int c = 0; c < g.width_px; ++c) {
       if (!v[c] || d[c] < need) continue;
       bool in_region = regions.empty();

@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
+#include "floorcast/floorplans/io.hpp"
 #include "floorcast/localization/compare_matchers.hpp"
 #include "match_test_plans.hpp"
 
@@ -39,6 +42,34 @@ TEST(CompareMatchers, SamplingIsSeededAndClear) {
     EXPECT_LT(p.yaw_rad, 2.0 * 3.14159265358979323846);
   }
   EXPECT_THROW(sample_observation_poses(plan, 5, 1, 0, 50.0), InputError);
+}
+
+TEST(CompareMatchers, SamplingKeepsClearOfFurniture) {
+  // The shipped apartment is furnished (beds, sofas, tables: all lower than the 1.5 m cut of the
+  // default rasters). No observer stands inside or within the clearance of any of them.
+  const FloorPlan plan = load_floor_plan(std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/apartment.json");
+  ASSERT_GT(plan.obstacles.size(), 5u);
+  BlockingOptions ground;
+  ground.obstacles_block = true;
+  ground.cut_height_m = 0.01;
+  std::vector<Footprint> furniture;
+  for (const Footprint& f : blocking_footprints(plan, ground))
+    if (f.label == SurfaceLabel::kObstacle) furniture.push_back(f);
+  ASSERT_EQ(furniture.size(), plan.obstacles.size());
+  const double clearance_m = 0.3;
+  for (const Pose2& p : sample_observation_poses(plan, 300, 3, 0, clearance_m)) {
+    for (const Footprint& f : furniture) {
+      ASSERT_FALSE(point_in_polygon(f.polygon_m, p.position_m())) << "pose inside obstacle " << f.source_index;
+      double d = 1e9;
+      for (std::size_t k = 0; k < f.polygon_m.size(); ++k) {
+        const Vec2 a = f.polygon_m[k], b = f.polygon_m[(k + 1) % f.polygon_m.size()];
+        const Vec2 e = b - a;
+        const double t = std::clamp((p.position_m() - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+        d = std::min(d, (a + t * e - p.position_m()).norm());
+      }
+      EXPECT_GE(d, clearance_m) << "obstacle " << f.source_index;
+    }
+  }
 }
 
 TEST(CompareMatchers, SamplingRegions) {

@@ -27,8 +27,8 @@ case "$what" in
     kill -9 "$pid" 2>/dev/null || true
     wait "$pid" 2>/dev/null || true
     n=$(find "$work/killed/units" -name '*.json' | wc -l)
-    echo "killed after $n of 20 units"
-    if [ "$n" -ge 20 ]; then echo "run finished before it could be killed"; exit 1; fi
+    echo "killed after $n of 32 units"
+    if [ "$n" -ge 32 ]; then echo "run finished before it could be killed"; exit 1; fi
     test ! -f "$work/killed/summary.json"
     run "$data/small.yaml" -o "$work/killed" --jobs 2
     "$fc" compare-runs "$work/full" "$work/killed"

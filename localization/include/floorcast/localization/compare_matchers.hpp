@@ -46,7 +46,8 @@ struct NamedPlan {
 bool point_in_polygon(const std::vector<Vec2>& polygon_m, const Vec2& p);
 
 /// N poses (position uniform over valid cells with at least clearance_m to the nearest blocked
-/// cell, and inside one of `regions` when given, jittered uniformly inside the cell; yaw uniform
+/// cell — walls, closed doors, glass, and every obstacle footprint whatever its height, since
+/// nobody stands inside furniture — and inside one of `regions` when given, jittered uniformly inside the cell; yaw uniform
 /// in [0, 2 pi)). Point i of plan p draws from its own stream seeded by (seed, plan_index, i):
 /// same seed -> same points. Throws InputError when no cell qualifies.
 std::vector<Pose2> sample_observation_poses(const FloorPlan& plan, int n, std::uint64_t seed, int plan_index,

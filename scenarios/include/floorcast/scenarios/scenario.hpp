@@ -14,6 +14,7 @@
 
 #include "floorcast/eval/metrics.hpp"
 #include "floorcast/localization/matcher.hpp"
+#include "floorcast/localization/observation_module.hpp"
 
 namespace floorcast {
 
@@ -46,7 +47,8 @@ struct ObservationSpec {
   std::string setting = "full";          ///< scan: full | partial | single
   std::string path = "mono";             ///< scan: observation path mono | lidar
   std::string scale_alignment = "full";  ///< scan, mono path: full | ground | none
-  std::string extractor = "pcl";         ///< scan, lidar path: pcl | voxelplane
+  /// scan, lidar path: pcl | voxelplane (default: the observation module's own default)
+  std::string extractor = to_string(LidarPathParams{}.extractor);
   bool mask_glass = false;               ///< scan: drop glass-affected pixels ("PALMS+*")
   /// scan: observation-module parameter overrides (keys as in its to_json).
   nlohmann::json observe_params = nlohmann::json::object();
