@@ -6,6 +6,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -20,21 +23,31 @@ struct CliRun {
   std::string out, err;
 };
 
+/// A path in the temp folder unique to this process and call: ctest runs the test cases of this
+/// file as separate processes in parallel, so fixed names would race.
+std::string temp_path(const std::string& stem) {
+  static int counter = 0;
+  return (std::filesystem::temp_directory_path() /
+          (stem + "_" + std::to_string(::getpid()) + "_" + std::to_string(counter++)))
+      .string();
+}
+
 CliRun run_cli(const std::string& args) {
-  const auto dir = std::filesystem::temp_directory_path();
-  const std::string out = (dir / "floorcast_cli_import_out.txt").string();
-  const std::string err = (dir / "floorcast_cli_import_err.txt").string();
+  const std::string out = temp_path("floorcast_cli_import_out") + ".txt";
+  const std::string err = temp_path("floorcast_cli_import_err") + ".txt";
   const std::string cmd = std::string(FLOORCAST_CLI) + " " + args + " >" + out + " 2>" + err;
   const int status = std::system(cmd.c_str());
   CliRun r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = read_text_file(out);
   r.err = read_text_file(err);
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
   return r;
 }
 
 TEST(CliImport, ImportsCleansAndWritesAValidPlan) {
-  const std::string plan = (std::filesystem::temp_directory_path() / "floorcast_cli_import_plan.json").string();
+  const std::string plan = temp_path("floorcast_cli_import_plan") + ".json";
   const CliRun r = run_cli("plan import " + test::data_path("csv/two_rooms_messy.csv") + " --format csv --level 2 -o " + plan);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("cleanup: walls 12 -> 6"), std::string::npos) << r.out;
@@ -52,7 +65,7 @@ TEST(CliImport, ImportsCleansAndWritesAValidPlan) {
 }
 
 TEST(CliImport, ErrorsExitWithCodeTwoAndAReason) {
-  const std::string plan = (std::filesystem::temp_directory_path() / "floorcast_cli_import_bad.json").string();
+  const std::string plan = temp_path("floorcast_cli_import_bad") + ".json";
   const CliRun png = run_cli("plan import " + test::data_path("png/two_rooms_f3loc.png") + " --format png -o " + plan);
   EXPECT_EQ(png.exit_code, 2);
   EXPECT_NE(png.err.find("--resolution"), std::string::npos) << png.err;

@@ -5,6 +5,8 @@
 #include <cstring>
 #include <filesystem>
 
+#include <unistd.h>
+
 #include "floorcast/localization/distance_volume_io.hpp"
 #include "floorcast/localization/plan_raster.hpp"
 #include "floorcast/localization/ray_matcher.hpp"
@@ -203,7 +205,8 @@ TEST(RayMatcher, IdenticalAcrossThreadCounts) {
 
 TEST(RayMatcher, DiskCacheRoundTrip) {
   const FloorPlan plan = test::asymmetric_floor();
-  const std::string dir = (std::filesystem::temp_directory_path() / "floorcast_test_ray_cache").string();
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("floorcast_test_ray_cache_" + std::to_string(::getpid()))).string();
   std::filesystem::remove_all(dir);
   RayMatcherParams p;
   p.cache_dir = dir;
