@@ -7,6 +7,8 @@
 #include <numeric>
 #include <set>
 #include <sstream>
+#include <string>
+#include <type_traits>
 #include <unordered_map>
 
 #include <Eigen/Dense>
@@ -796,38 +798,28 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
     ++report.openings_dropped;
   };
 
-  std::vector<Door> doors;
-  for (std::size_t i = 0; i < plan.doors.size(); ++i) {
-    Door d = plan.doors[i];
-    std::string why;
-    const Placement p = place(d.wall_id, d.center_m, d.width_m, false, why);
-    const std::string name = "doors[" + std::to_string(i) + "] (id " + quoted(d.id) + ")";
-    if (p.wall < 0) {
-      unattachable(name, why);
-      continue;
+  // Doors and windows alike: place each on its (merged) wall, fit its span, or drop it with a note.
+  auto reattach = [&](const auto& openings, const char* kind, bool is_window) {
+    std::remove_const_t<std::remove_reference_t<decltype(openings)>> kept;
+    for (std::size_t i = 0; i < openings.size(); ++i) {
+      auto o = openings[i];
+      std::string why;
+      const Placement p = place(o.wall_id, o.center_m, o.width_m, is_window, why);
+      const std::string name = std::string(kind) + "[" + std::to_string(i) + "] (id " + quoted(o.id) + ")";
+      if (p.wall < 0) {
+        unattachable(name, why);
+        continue;
+      }
+      fit_span(p, o.center_m, o.width_m);
+      const std::string& wid = merged[static_cast<std::size_t>(p.wall)].id;
+      if (wid != o.wall_id) ++report.openings_reattached;
+      o.wall_id = wid;
+      kept.push_back(std::move(o));
     }
-    fit_span(p, d.center_m, d.width_m);
-    const std::string& wid = merged[static_cast<std::size_t>(p.wall)].id;
-    if (wid != d.wall_id) ++report.openings_reattached;
-    d.wall_id = wid;
-    doors.push_back(std::move(d));
-  }
-  std::vector<Window> windows;
-  for (std::size_t i = 0; i < plan.windows.size(); ++i) {
-    Window w = plan.windows[i];
-    std::string why;
-    const Placement p = place(w.wall_id, w.center_m, w.width_m, true, why);
-    const std::string name = "windows[" + std::to_string(i) + "] (id " + quoted(w.id) + ")";
-    if (p.wall < 0) {
-      unattachable(name, why);
-      continue;
-    }
-    fit_span(p, w.center_m, w.width_m);
-    const std::string& wid = merged[static_cast<std::size_t>(p.wall)].id;
-    if (wid != w.wall_id) ++report.openings_reattached;
-    w.wall_id = wid;
-    windows.push_back(std::move(w));
-  }
+    return kept;
+  };
+  std::vector<Door> doors = reattach(plan.doors, "doors", false);
+  std::vector<Window> windows = reattach(plan.windows, "windows", true);
 
   // Merge openings of one kind whose spans overlap on one wall.
   std::map<std::string, int> merged_index;

@@ -66,6 +66,17 @@ ImportResult finish_import(FloorPlan plan, const std::string& source, const std:
   return partial;
 }
 
+void append_walls(FloorPlan& plan, const std::vector<Segment2>& segments, double thickness_m) {
+  for (const Segment2& s : segments) {
+    Wall w;
+    w.id = "w" + std::to_string(plan.walls.size() + 1);
+    w.a_m = s.a_m;
+    w.b_m = s.b_m;
+    w.thickness_m = thickness_m;
+    plan.walls.push_back(std::move(w));
+  }
+}
+
 double distance_to_segments(const Vec2& p, const std::vector<Segment2>& segments) {
   double best = std::numeric_limits<double>::infinity();
   for (const Segment2& s : segments) {

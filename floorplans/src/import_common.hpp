@@ -43,6 +43,9 @@ struct BoundaryPieces {
 BoundaryPieces classify_boundaries(const std::vector<BoundaryEdge>& edges, double tolerance_m,
                                    double angle_tolerance_rad);
 
+/// Appends one wall per segment, ids "w1", "w2", ... continuing the plan's wall count.
+void append_walls(FloorPlan& plan, const std::vector<Segment2>& segments, double thickness_m);
+
 /// Distance from p to the nearest of the segments (infinity if none).
 double distance_to_segments(const Vec2& p, const std::vector<Segment2>& segments);
 

@@ -301,14 +301,7 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
   ImportResult result;
   FloorPlan plan;
   plan.level = static_cast<int>(std::clamp<long long>(selected->ordinal, -1000000, 1000000));
-  for (const Segment2& s : pieces.walls) {
-    Wall w;
-    w.id = "w" + std::to_string(plan.walls.size() + 1);
-    w.a_m = s.a_m;
-    w.b_m = s.b_m;
-    w.thickness_m = thickness;
-    plan.walls.push_back(std::move(w));
-  }
+  import_detail::append_walls(plan, pieces.walls, thickness);
 
   int opening_count = 0;
   if (!opening_geojson.empty()) {

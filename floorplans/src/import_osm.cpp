@@ -361,14 +361,7 @@ ImportResult import_osm_xml(const std::string& xml_text, const std::string& sour
   if (static_cast<double>(plan.level) != level) {
     result.notes.push_back("level " + fmt(level) + " is not an integer; the plan's level is " + std::to_string(plan.level));
   }
-  for (const Segment2& s : pieces.walls) {
-    Wall w;
-    w.id = "w" + std::to_string(plan.walls.size() + 1);
-    w.a_m = s.a_m;
-    w.b_m = s.b_m;
-    w.thickness_m = thickness;
-    plan.walls.push_back(std::move(w));
-  }
+  import_detail::append_walls(plan, pieces.walls, thickness);
   const double reach = 0.5 * thickness + options.cleanup.opening_attach_tolerance_m;
   for (long long nid : door_nodes) {
     const Vec2 p = project(nid);

@@ -110,6 +110,19 @@ struct Problem {
   std::vector<std::unique_ptr<Term>> terms;
 };
 
+/// Index of the target point nearest to the query point i of `t` at scales (lam_m, lam_n): the
+/// NN in {t_n + lam_n r_j} of p = t_m + lam_m q_i is the NN of (p - t_n) / lam_n in {r_j}.
+std::size_t nearest_target(const Term& t, std::size_t i, double lam_m, double lam_n) {
+  const Eigen::Vector3d p = t.t_m + lam_m * t.query_dir[i];
+  const Eigen::Vector3f xf = ((p - t.t_n) / lam_n).cast<float>();
+  std::size_t j = 0;
+  float sq = 0.0f;
+  nanoflann::KNNResultSet<float, std::size_t> rs(1);
+  rs.init(&j, &sq);
+  t.tree->findNeighbors(rs, xf.data(), nanoflann::SearchParams(10));
+  return j;
+}
+
 std::vector<Eigen::Vector3d> rotated(const ViewCloud& v, const std::vector<int>& idx) {
   const Eigen::Matrix3d R = v.T_scan_camera.linear();
   std::vector<Eigen::Vector3d> out(idx.size());
@@ -204,13 +217,7 @@ TermValue evaluate_term(const Term& t, double lam_m, double lam_n) {
   std::vector<double> dist(np), dd_m(np), dd_n(np);
   for (std::size_t i = 0; i < np; ++i) {
     const Eigen::Vector3d p = t.t_m + lam_m * t.query_dir[i];
-    const Eigen::Vector3d x = (p - t.t_n) / lam_n;  // NN in {t_n + lam_n r_j} = NN of x in {r_j}
-    std::size_t j = 0;
-    float sq = 0.0f;
-    const Eigen::Vector3f xf = x.cast<float>();
-    nanoflann::KNNResultSet<float, std::size_t> rs(1);
-    rs.init(&j, &sq);
-    t.tree->findNeighbors(rs, xf.data(), nanoflann::SearchParams(10));
+    const std::size_t j = nearest_target(t, i, lam_m, lam_n);
     const Eigen::Vector3d e = p - (t.t_n + lam_n * t.target_dir[j]);
     const double d = e.norm();
     dist[i] = d;
@@ -264,13 +271,7 @@ Association associate(const Term& t, double lam_m, double lam_n) {
   std::vector<double> dist(np);
   for (std::size_t i = 0; i < np; ++i) {
     const Eigen::Vector3d p = t.t_m + lam_m * t.query_dir[i];
-    const Eigen::Vector3d x = (p - t.t_n) / lam_n;
-    std::size_t j = 0;
-    float sq = 0.0f;
-    const Eigen::Vector3f xf = x.cast<float>();
-    nanoflann::KNNResultSet<float, std::size_t> rs(1);
-    rs.init(&j, &sq);
-    t.tree->findNeighbors(rs, xf.data(), nanoflann::SearchParams(10));
+    const std::size_t j = nearest_target(t, i, lam_m, lam_n);
     a.nn[i] = static_cast<int>(j);
     dist[i] = (p - (t.t_n + lam_n * t.target_dir[j])).norm();
     const Eigen::Vector3d c = t.t_m - t.t_n;
