@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "floorcast/floorplans/io.hpp"
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 
 namespace floorcast::cli {
 namespace {

@@ -18,16 +18,10 @@
 #include "floorcast/localization/compare_matchers.hpp"
 #include "floorcast/localization/kernel_matcher.hpp"
 #include "floorcast/localization/ray_matcher.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast::cli {
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 /// Median per stage over several match results.
 std::map<std::string, double> median_stages(const std::vector<MatchResult>& results) {
@@ -90,7 +84,6 @@ void print_stages(const char* title, const std::map<std::string, double>& stages
 /// plan give only 4 candidates with a positive histogram correlation; the benchmark times the
 /// paper's O = 10 by adding yaws of a 36-step grid away from the ones present.
 std::vector<double> pad_yaws(std::vector<double> yaws, std::size_t n) {
-  constexpr double kPi = 3.14159265358979323846;
   for (int k = 0; k < 36 && yaws.size() < n; ++k) {
     const double y = 2.0 * kPi * (k + 0.5) / 36.0;
     bool near = false;

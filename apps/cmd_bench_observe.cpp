@@ -32,13 +32,6 @@ double process_cpu_s() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /// `count` observer poses spread over the interior: cells at least `clearance_m` from any wall,
 /// taken at evenly spaced ranks of a fixed pseudo-random order (deterministic).
 std::vector<Pose2> bench_poses(const FloorPlan& plan, int count, double clearance_m) {
@@ -110,7 +103,7 @@ void register_bench_observe(CLI::App& root) {
       ScanParams sp = scan_preset(run.preset);
       for (std::size_t k = 0; k < poses.size(); ++k) {
         sp.seed = 1000 + k;
-        const Scan scan = simulate_scan(scene, poses[k], sp);
+        const Scan scan = simulate_scan(scene, poses[k], sp).scan;
         for (int rep = 0; rep < o->repeats; ++rep) {
           const double cpu0 = process_cpu_s();
           const ObservationResult r = observe_scan(scan, run.params);

@@ -22,12 +22,6 @@
 namespace floorcast::cli {
 namespace {
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 double process_cpu_ms() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
@@ -121,7 +115,7 @@ void register_bench_sim(CLI::App& root) {
     // Independent rasteriser (OSMesa, llvmpipe) on the same six views, for reference.
     std::vector<double> gl_ms;
     {
-      const Scan views = simulate_scan(scene, pose, render_params);
+      const Scan views = simulate_scan(scene, pose, render_params).scan;
       GlDepthRenderer gl(scene.mesh(), render_params.geometry.width_px, render_params.geometry.height_px);
       const Eigen::Isometry3d T_world_scan = scan_frame_in_world(pose, render_params.geometry.camera_height_m);
       for (int r = 0; r < o->repeats; ++r) {

@@ -143,7 +143,7 @@ void register_bench_walls(CLI::App& root) {
         }
         ScanParams sp = preset;
         sp.seed = o->seed + k;
-        const Scan scan = simulate_scan(scene, poses[k], sp);
+        const Scan scan = simulate_scan(scene, poses[k], sp).scan;
         ++scans;
         for (const Segment2& t : truth) truth_total_m += t.length_m();
         if (lidar) {

@@ -13,14 +13,14 @@
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/localization/matcher.hpp"
 #include "floorcast/localization/plan_raster.hpp"
-#include "floorcast/sim/observation_io.hpp"
-#include "floorcast/sim/scan_io.hpp"
+#include "floorcast/core/observation_io.hpp"
+#include "floorcast/core/scan_io.hpp"
+#include "floorcast/core/math.hpp"
 #include "observe_cli.hpp"
 
 namespace floorcast::cli {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// What the localizer consumes: the 2D observation, plus the ground truth when the file knows it.
 struct LocalizationInput {

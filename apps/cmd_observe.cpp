@@ -8,7 +8,8 @@
 
 #include "cli_common.hpp"
 #include "floorcast/localization/observation_module.hpp"
-#include "floorcast/sim/observation_io.hpp"
+#include "floorcast/core/observation_io.hpp"
+#include "floorcast/core/scan_io.hpp"
 #include "floorcast/sim/scan_io.hpp"
 #include "observe_cli.hpp"
 
@@ -63,10 +64,13 @@ ObservationRecord observation_record(const Scan& scan, const std::string& scan_d
   ObservationRecord rec;
   rec.observation = r.observation;
   rec.source = "observation module (" + r.diagnostics.path + ")";
-  rec.T_world_observer = scan.truth.T_world_scan;  // scan folders always carry their ground truth
   rec.metadata["scan"] = scan_dir;
   rec.metadata["sensor"] = scan.sensor;
-  rec.metadata["setting"] = scan.setting;
+  // Simulated scans carry their ground truth beside the sensor data; recorded scans do not.
+  if (const std::optional<SimulationRecord> sim = load_simulation_record(scan_dir, scan.views.size())) {
+    rec.T_world_observer = sim->truth.T_world_scan;
+    rec.metadata["setting"] = scan_setting_name(sim->params.setting);
+  }
   rec.metadata["path"] = r.diagnostics.path;
   rec.metadata["scale_alignment"] = r.diagnostics.scale_alignment;
   std::ostringstream scales;

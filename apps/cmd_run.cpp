@@ -83,7 +83,7 @@ class ProgressPrinter {
 OJson timing_block(const std::vector<double>& references) {
   std::vector<double> r = references;
   OJson t;
-  t["reference_s"] = r.empty() ? OJson(nullptr) : OJson(median_of(r));
+  t["reference_s"] = r.empty() ? OJson(nullptr) : OJson(median(r));
   t["reference_runs_s"] = r;
   t["reference_workload"] = "1024x1024 float DFT forward+inverse + 15x15 Gaussian blur, 1 thread (eval/timing.hpp)";
   return t;

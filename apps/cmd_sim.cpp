@@ -12,15 +12,15 @@
 #include "floorcast/sim/clutter.hpp"
 #include "floorcast/sim/gltf_io.hpp"
 #include "floorcast/sim/mesh.hpp"
-#include "floorcast/sim/observation_io.hpp"
+#include "floorcast/core/observation_io.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
 #include "floorcast/sim/scan_io.hpp"
 #include "floorcast/sim/scan_sim.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast::cli {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// Parses "X,Y,YAW_DEG" (metres, metres, degrees).
 Pose2 parse_pose(const std::string& text) {
@@ -133,9 +133,10 @@ void register_sim(CLI::App& root) {
     check_observer_pose(full, pose, so->plan);
     const RayScene scene(extrude_plan(full, extrusion(b)));
     const auto t1 = std::chrono::steady_clock::now();
-    const Scan s = simulate_scan(scene, pose, params);
+    const SimulatedScan sim = simulate_scan(scene, pose, params);
     const auto t2 = std::chrono::steady_clock::now();
-    save_scan(so->out, s);
+    save_simulated_scan(so->out, sim);
+    const Scan& s = sim.scan;
     long returns = 0, pixels = 0, glass = 0;
     for (const DepthView& v : s.views) {
       returns += cv::countNonZero(v.depth_m > 0.0f);

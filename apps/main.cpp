@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "cli_common.hpp"
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"floorcast: floor-plan-based indoor localization test-bed (PALMS / PALMS+ family)"};

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "floorcast/localization/observation_module.hpp"
-#include "floorcast/sim/observation_io.hpp"
+#include "floorcast/core/observation_io.hpp"
 
 namespace floorcast::cli {
 

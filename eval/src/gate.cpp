@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 
 namespace floorcast {
 namespace {

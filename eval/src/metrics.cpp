@@ -8,22 +8,7 @@
 
 namespace floorcast {
 
-std::uint64_t mix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 
-double median_of(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const std::size_t n = values.size();
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(n / 2), values.end());
-  const double upper = values[n / 2];
-  if (n % 2 == 1) return upper;
-  const double lower = *std::max_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(n / 2));
-  return 0.5 * (lower + upper);
-}
 
 std::string threshold_name(double metres) {
   std::ostringstream os;
@@ -80,13 +65,13 @@ std::vector<Metric<SingleShotRecord>> single_shot_metrics(const ScoringParams& p
                  });
                }});
   m.push_back({"median_position_error_m", [](const Sample& s) {
-                 return median_of(collect(s, [](const SingleShotRecord& r) { return r.position_error_m; }));
+                 return median(collect(s, [](const SingleShotRecord& r) { return r.position_error_m; }));
                }});
   m.push_back({"mean_position_error_m", [](const Sample& s) {
                  return mean_of(collect(s, [](const SingleShotRecord& r) { return r.position_error_m; }));
                }});
   m.push_back({"median_yaw_error_deg", [](const Sample& s) {
-                 return median_of(collect(s, [](const SingleShotRecord& r) { return r.yaw_error_deg; }));
+                 return median(collect(s, [](const SingleShotRecord& r) { return r.yaw_error_deg; }));
                }});
   m.push_back({"mean_yaw_error_deg", [](const Sample& s) {
                  return mean_of(collect(s, [](const SingleShotRecord& r) { return r.yaw_error_deg; }));
@@ -95,7 +80,7 @@ std::vector<Metric<SingleShotRecord>> single_shot_metrics(const ScoringParams& p
                  return mean_of(collect(s, [](const SingleShotRecord& r) { return r.time_s; }));
                }});
   m.push_back({"median_time_s", [](const Sample& s) {
-                 return median_of(collect(s, [](const SingleShotRecord& r) { return r.time_s; }));
+                 return median(collect(s, [](const SingleShotRecord& r) { return r.time_s; }));
                }});
   return m;
 }

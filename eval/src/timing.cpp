@@ -29,7 +29,7 @@ double reference_workload_s(int repeats) {
     times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   cv::setNumThreads(previous_threads);
-  return median_of(times);
+  return median(times);
 }
 
 }  // namespace floorcast

@@ -1,4 +1,5 @@
 #include "floorcast/floorplans/cleanup.hpp"
+#include "floorcast/core/math.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,7 +17,6 @@
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 class UnionFind {
  public:

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "floorcast/core/hash.hpp"
 #include "floorcast/floorplans/io.hpp"
 
 namespace floorcast {
@@ -78,13 +79,7 @@ PlanCounts plan_counts(const FloorPlan& plan) {
 }
 
 std::uint64_t plan_hash(const FloorPlan& plan) {
-  const std::string text = floor_plan_to_json(plan);
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char ch : text) {
-    h ^= ch;
-    h *= 1099511628211ULL;
-  }
-  return h;
+  return fnv1a64(floor_plan_to_json(plan));
 }
 
 }  // namespace floorcast

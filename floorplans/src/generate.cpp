@@ -1,7 +1,7 @@
 // Procedural buildings: archetype names and dispatch (the archetypes live in generate_*.cpp).
 #include "floorcast/floorplans/generate.hpp"
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 
 namespace floorcast {
 

@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast::generate_detail {
 
@@ -76,7 +77,7 @@ Frame rotated_frame(const Vec2& origin, int degrees) {
   f.origin = origin;
   f.c = c;
   f.s = s;
-  f.yaw_rad = static_cast<double>(degrees) * (3.14159265358979323846 / 180.0);
+  f.yaw_rad = static_cast<double>(degrees) * (kPi / 180.0);
   return f;
 }
 

@@ -415,31 +415,6 @@ std::string floor_plan_to_json(const FloorPlan& plan) {
   return root.dump(2) + "\n";
 }
 
-std::string read_text_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open for reading: " + std::strerror(errno));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": read error");
-  return ss.str();
-}
-
-void write_text_file_atomic(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(path + ": cannot open for writing: " + std::strerror(errno));
-    out << text;
-    out.flush();
-    if (!out) throw InputError(path + ": write error");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    std::remove(tmp.c_str());
-    throw InputError(path + ": cannot move the written file into place: " + reason);
-  }
-}
-
 FloorPlan load_floor_plan(const std::string& path, const PlanLimits& limits) {
   return parse_floor_plan_json(read_text_file(path), path, limits);
 }

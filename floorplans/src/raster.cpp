@@ -65,14 +65,6 @@ void paint_footprint(cv::Mat& occ, const GridSpec& grid, const Footprint& f) {
 
 }  // namespace
 
-bool GridSpec::world_to_cell(const Vec2& p_m, int& row, int& col) const {
-  const Vec2 g = world_to_grid(p_m);
-  if (!std::isfinite(g.x()) || !std::isfinite(g.y())) return false;
-  col = static_cast<int>(std::floor(g.x()));
-  row = static_cast<int>(std::floor(g.y()));
-  return contains(row, col);
-}
-
 GridSpec grid_for_plan(const FloorPlan& plan, double resolution_m_per_px, double margin_m) {
   const Eigen::Vector4d box = plan_bbox_m(plan);
   GridSpec g;

@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "floorcast/floorplans/raster.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kHeaderPx = 36;
 constexpr int kFooterPx = 56;
 constexpr int kMinWidthPx = 420;  // room for the title, scale bar and legend

@@ -1,4 +1,5 @@
 #include "floorcast/localization/compare_matchers.hpp"
+#include "floorcast/core/math.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,14 +10,6 @@
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 std::string fmt(double v, int decimals) {
   char buf[64];

@@ -8,11 +8,11 @@
 #include <stdexcept>
 
 #include "floorcast/floorplans/geometry.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 

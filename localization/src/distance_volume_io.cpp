@@ -8,7 +8,7 @@
 #include <fstream>
 #include <vector>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 
 namespace floorcast {
 namespace {

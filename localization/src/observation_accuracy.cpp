@@ -1,5 +1,6 @@
 // Observed wall segments against ground truth, by sampling both sets along their length.
 #include "floorcast/localization/observation_accuracy.hpp"
+#include "floorcast/core/math.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +11,6 @@
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 struct Sample {
   Vec2 p;
@@ -58,13 +58,6 @@ int nearest_compatible(const Vec2& p, const Segment2& dir, const std::vector<Seg
   }
   if (dist) *dist = best_d;
   return best;
-}
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 }  // namespace
@@ -116,7 +109,7 @@ SegmentAccuracy segment_accuracy(const std::vector<Segment2>& observed, const st
       if (l > on_truth[main_truth]) main_truth = k;
     }
     acc.angle_errors_deg.push_back(direction_difference_deg(o, truth[static_cast<std::size_t>(main_truth)]));
-    acc.offset_errors_m.push_back(median_of(dists));
+    acc.offset_errors_m.push_back(median(dists));
   }
   return acc;
 }

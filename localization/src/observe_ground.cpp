@@ -8,6 +8,7 @@
 #include <map>
 
 #include "floorcast/localization/observation_module.hpp"
+#include "floorcast/core/math.hpp"
 #include "observe_pcl.hpp"
 
 namespace floorcast {
@@ -34,7 +35,7 @@ GroundPlaneResult detect_ground_plane(const PointCloud3f& points_scan, const Gro
   // Keep those whose normal (k nearest neighbours among the low points) is near vertical.
   auto low_pcl = detail::to_pcl(low);
   auto normals = detail::estimate_normals(low_pcl, params.normal_k);
-  const double cos_tilt = std::cos(params.max_normal_tilt_deg * M_PI / 180.0);
+  const double cos_tilt = std::cos(params.max_normal_tilt_deg * kPi / 180.0);
   PointCloud3f candidates;
   for (std::size_t i = 0; i < low.size(); ++i) {
     const auto& n = normals->points[i];

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "floorcast/localization/observation_module.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 
@@ -14,7 +15,7 @@ WallPlaneResult extract_wall_segments(const PointCloud3f& points_scan, const Lid
   } else {
     res.planes = extract_planes_region_growing(points_scan, params.pcl);
   }
-  const double sin_tilt = std::sin(params.max_wall_tilt_deg * M_PI / 180.0);
+  const double sin_tilt = std::sin(params.max_wall_tilt_deg * kPi / 180.0);
   for (std::size_t k = 0; k < res.planes.size(); ++k) {
     const Plane3& pl = res.planes[k];
     if (std::abs(pl.normal.z()) > sin_tilt) continue;  // not vertical

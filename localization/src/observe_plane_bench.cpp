@@ -7,21 +7,21 @@
 #include <limits>
 
 #include "floorcast/localization/observe_plane_bench.hpp"
+#include "floorcast/core/math.hpp"
+#include "floorcast/core/random.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// Small portable generator (splitmix64 stream): same numbers on every platform.
 class Rng {
  public:
   explicit Rng(std::uint64_t seed) : state_(seed) {}
   std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
+    const std::uint64_t z = mix64(state_);
+    state_ += 0x9e3779b97f4a7c15ULL;
+    return z;
   }
   double uniform() { return (next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
   double uniform(double a, double b) { return a + (b - a) * uniform(); }
@@ -44,13 +44,6 @@ Eigen::Vector3d in_cone(Rng& rng, const Eigen::Vector3d& axis, double max_angle_
   const double c = rng.uniform(cos_max, 1.0), a = rng.uniform(0.0, 2.0 * kPi), s = std::sqrt(1.0 - c * c);
   Eigen::Vector3d e1 = axis.unitOrthogonal(), e2 = axis.cross(e1);
   return (c * axis + s * std::cos(a) * e1 + s * std::sin(a) * e2).normalized();
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 }  // namespace

@@ -9,13 +9,13 @@
 #include <queue>
 #include <unordered_map>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 #include "floorcast/localization/observe_planes.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 double deg2rad(double d) { return d * kPi / 180.0; }
 
 /// Weighted first and second moments of a point set; planes are fitted from them.

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "floorcast/localization/observe_planes.hpp"
+#include "floorcast/core/math.hpp"
 #include "observe_pcl.hpp"
 
 namespace floorcast {
@@ -94,7 +95,7 @@ std::vector<Plane3> extract_planes_region_growing(const PointCloud3f& points,
   rg.setNumberOfNeighbours(params.neighbours_k);
   rg.setInputCloud(cloud);
   rg.setInputNormals(normals);
-  rg.setSmoothnessThreshold(static_cast<float>(params.smoothness_deg * M_PI / 180.0));
+  rg.setSmoothnessThreshold(static_cast<float>(params.smoothness_deg * kPi / 180.0));
   rg.setCurvatureThreshold(static_cast<float>(params.curvature_threshold));
   std::vector<pcl::PointIndices> clusters;
   rg.extract(clusters);

@@ -13,17 +13,11 @@
 #include <nanoflann.hpp>
 #include <stdexcept>
 
+#include "floorcast/core/random.hpp"
 #include "floorcast/localization/observation_module.hpp"
 
 namespace floorcast {
 namespace {
-
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 
 /// Up to `limit` of `indices`, chosen uniformly at random by a hash of (seed, stream, index):
 /// the same subset at any thread count and on any platform. Returned in ascending order.
@@ -31,9 +25,9 @@ std::vector<int> hashed_subset(const std::vector<int>& indices, std::size_t limi
                                std::uint64_t stream) {
   if (indices.size() <= limit) return indices;
   std::vector<std::pair<std::uint64_t, int>> h(indices.size());
-  const std::uint64_t base = splitmix64(seed ^ splitmix64(stream));
+  const std::uint64_t base = mix64(seed ^ mix64(stream));
   for (std::size_t k = 0; k < indices.size(); ++k) {
-    h[k] = {splitmix64(base + static_cast<std::uint64_t>(indices[k])), indices[k]};
+    h[k] = {mix64(base + static_cast<std::uint64_t>(indices[k])), indices[k]};
   }
   std::nth_element(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(limit), h.end());
   std::vector<int> out(limit);
@@ -71,10 +65,10 @@ std::vector<int> candidate_pool(const ViewCloud& v, std::size_t target, std::uin
   }
   const double frac = static_cast<double>(target) / static_cast<double>(n);
   const std::uint64_t threshold = static_cast<std::uint64_t>(frac * 18446744073709551615.0);
-  const std::uint64_t base = splitmix64(seed ^ splitmix64(stream + 0x51ed2701u));
+  const std::uint64_t base = mix64(seed ^ mix64(stream + 0x51ed2701u));
   out.reserve(target + target / 8);
   for (std::size_t i = 0; i < n; ++i) {
-    if (splitmix64(base + i) < threshold) out.push_back(static_cast<int>(i));
+    if (mix64(base + i) < threshold) out.push_back(static_cast<int>(i));
   }
   return out;
 }

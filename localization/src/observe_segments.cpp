@@ -6,11 +6,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include "floorcast/localization/observation_module.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// Total-least-squares re-fit of a segment to the points near it, in passes with a halving band
 /// (so points of a perpendicular wall at a corner drop out); endpoints are projected on the

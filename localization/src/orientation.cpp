@@ -1,4 +1,5 @@
 #include "floorcast/localization/orientation.hpp"
+#include "floorcast/core/math.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +7,6 @@
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double wrap_2pi(double a) {
   a = std::fmod(a, 2.0 * kPi);

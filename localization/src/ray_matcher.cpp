@@ -10,8 +10,10 @@
 #include <cstring>
 #include <filesystem>
 
+#include "floorcast/core/hash.hpp"
 #include "floorcast/localization/distance_volume_io.hpp"
 #include "floorcast/localization/plan_raster.hpp"
+#include "floorcast/core/math.hpp"
 #include "param_json.hpp"
 #include "timing.hpp"
 
@@ -19,7 +21,6 @@ namespace floorcast {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr double kPi = 3.14159265358979323846;
 
 double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
@@ -107,20 +108,7 @@ void exp_neg_scaled(const std::int32_t* acc, int T, float k, float* out) {
   }
 }
 
-std::string hex64(std::uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
 
-std::uint64_t fnv1a(const std::string& s) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char ch : s) {
-    h ^= ch;
-    h *= 1099511628211ULL;
-  }
-  return h;
-}
 
 }  // namespace
 
@@ -171,7 +159,7 @@ RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params) : 
     k["plan_hash"] = hex64(plan_hash(plan));
     k["algorithm"] = "zbuffer-parallelogram-v1";
     key = k.dump();
-    cache_path = (std::filesystem::path(params_.cache_dir) / ("distance_volume_" + hex64(fnv1a(key)) + ".bin")).string();
+    cache_path = (std::filesystem::path(params_.cache_dir) / ("distance_volume_" + hex64(fnv1a64(key)) + ".bin")).string();
     if (auto v = load_distance_volume(cache_path, key); v && v->grid == grid) {
       volume_ = std::move(*v);
       from_cache_ = true;

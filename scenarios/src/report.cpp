@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "floorcast/eval/plot.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 namespace {
@@ -252,7 +253,7 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
         << "_position_error_m," << label << "_yaw_error_deg," << label << "_best_top" << sp.top_k << "_error_m," << label
         << "_match_s";
   csv << "\n";
-  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  constexpr double kDeg = 180.0 / kPi;
   for (const WorkUnit& w : expected) {
     const UnitResult& u = *by_id.at(w.id);
     const CellSpec& cell = scenario.cells[static_cast<std::size_t>(w.cell)];

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
+#include "floorcast/core/hash.hpp"
 #include "floorcast/floorplans/io.hpp"
 
 namespace floorcast {
@@ -32,14 +33,7 @@ Json read_json(const fs::path& p) {
 }  // namespace
 
 std::string configuration_hash(const OJson& resolved_full) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char c : Json(resolved_full).dump()) {
-    h ^= c;
-    h *= 1099511628211ULL;
-  }
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-  return buf;
+  return hex64(fnv1a64(Json(resolved_full).dump()));
 }
 
 RunDirectory::RunDirectory(std::string root) : root_(std::move(root)) {}

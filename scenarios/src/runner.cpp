@@ -25,6 +25,7 @@
 #include "floorcast/sim/scan_io.hpp"
 #include "floorcast/sim/scan_params.hpp"
 #include "floorcast/sim/scan_sim.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 namespace {
@@ -32,7 +33,6 @@ namespace {
 using OJson = nlohmann::ordered_json;
 using Json = nlohmann::json;
 using Clock = std::chrono::steady_clock;
-constexpr double kPi = 3.14159265358979323846;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -201,7 +201,7 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
     params.seed = mix64(cell.observation.seed ^ mix64((static_cast<std::uint64_t>(b) << 32) ^
                                                       static_cast<std::uint64_t>(unit.point)));
     const auto t0 = Clock::now();
-    const Scan scan = simulate_scan(*building.scene, r.truth, params);
+    const Scan scan = simulate_scan(*building.scene, r.truth, params).scan;
     r.timings_s["simulate"] = seconds_since(t0);
     const ObservationResult obs = observe_scan(scan, d.observe_params[static_cast<std::size_t>(unit.cell)]);
     r.timings_s["observe"] = obs.total_s;

@@ -11,7 +11,8 @@
 #include <sstream>
 
 #include "floorcast/floorplans/io.hpp"
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/hash.hpp"
+#include "floorcast/core/types.hpp"
 #include "floorcast/scenarios/scenario.hpp"
 
 namespace floorcast {
@@ -166,20 +167,7 @@ class Checker {
   const std::map<std::string, YAML::Mark>& marks_;
 };
 
-std::string hex64(std::uint64_t h) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-  return buf;
-}
 
-std::uint64_t fnv1a(const std::string& s) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char c : s) {
-    h ^= c;
-    h *= 1099511628211ULL;
-  }
-  return h;
-}
 
 const std::vector<std::string> kArchetypes = {"apartment", "office", "campus", "angled"};
 
@@ -555,7 +543,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
     j["matchers"] = m;
     r["cells"].push_back(j);
   }
-  s.hash = hex64(fnv1a(Json(r).dump()));  // canonical (sorted-key) form
+  s.hash = hex64(fnv1a64(Json(r).dump()));  // canonical (sorted-key) form
   return s;
 }
 
@@ -613,7 +601,7 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
     }
     if (s.cells.empty() || s.buildings.empty()) throw InputError(source + ": resolved scenario has no cells or buildings");
     s.resolved = resolved;
-    s.hash = hex64(fnv1a(resolved.dump()));
+    s.hash = hex64(fnv1a64(resolved.dump()));
     return s;
   } catch (const Json::exception& e) {
     throw InputError(source + ": not a resolved scenario: " + e.what());

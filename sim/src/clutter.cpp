@@ -6,12 +6,12 @@
 
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/raster.hpp"
-#include "floorcast/sim/random.hpp"
+#include "floorcast/core/random.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 struct Kind {
   const char* name;

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 
 namespace floorcast {
 namespace {

@@ -10,11 +10,11 @@
 
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/raster.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 MeshLabel to_mesh_label(SurfaceLabel s) {
   switch (s) {

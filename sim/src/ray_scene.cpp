@@ -11,7 +11,7 @@
 #include <limits>
 #include <string>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 
 namespace floorcast {
 

@@ -5,61 +5,21 @@
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
-#include "floorcast/floorplans/io.hpp"
-#include "json_reader.hpp"
+#include "floorcast/core/file_io.hpp"
+#include "floorcast/core/pose_json.hpp"
+#include "floorcast/core/scan_io.hpp"
+#include "floorcast/core/json_reader.hpp"
 
 namespace floorcast {
 namespace {
 
 using nlohmann::ordered_json;
-using detail::JsonReader;
 
-constexpr int kScanFormatVersion = 1;
-constexpr double kDepthUnitM = 0.001;
 
-std::string view_file(std::size_t k, const char* what) {
-  std::ostringstream s;
-  s << "view_" << std::setw(3) << std::setfill('0') << k << "_" << what << ".png";
-  return s.str();
-}
+constexpr int kSimulationFormatVersion = 1;
 
-ordered_json pose_matrix_json(const Eigen::Isometry3d& T) {
-  ordered_json rows = ordered_json::array();
-  for (int r = 0; r < 4; ++r) {
-    ordered_json row = ordered_json::array();
-    for (int c = 0; c < 4; ++c) row.push_back(T.matrix()(r, c));
-    rows.push_back(row);
-  }
-  return rows;
-}
-
-Eigen::Isometry3d pose_matrix_from_json(const JsonReader& parent, const nlohmann::json& j, const std::string& key) {
-  const std::string path = parent.child_path(key);
-  auto fail = [&](const std::string& why) { throw InputError(parent.source() + ": " + path + ": " + why); };
-  if (!j.is_array() || j.size() != 4) fail("expected a 4x4 matrix (array of 4 rows)");
-  Eigen::Matrix4d M;
-  for (int r = 0; r < 4; ++r) {
-    const nlohmann::json& row = j[static_cast<std::size_t>(r)];
-    if (!row.is_array() || row.size() != 4) fail("row " + std::to_string(r) + " must have 4 numbers");
-    for (int c = 0; c < 4; ++c) {
-      const nlohmann::json& v = row[static_cast<std::size_t>(c)];
-      if (!v.is_number() || !std::isfinite(v.get<double>())) fail("entries must be finite numbers");
-      M(r, c) = v.get<double>();
-    }
-  }
-  if ((M.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-9) fail("last row must be [0, 0, 0, 1]");
-  const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
-  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.determinant() < 0.0) {
-    fail("rotation part is not a rotation matrix");
-  }
-  if (M.topRightCorner<3, 1>().norm() > 1e5) fail("translation absurdly large");
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.matrix() = M;
-  return T;
-}
 
 ordered_json params_json_impl(const ScanParams& p) {
   const ScanGeometry& g = p.geometry;
@@ -183,202 +143,96 @@ ScanParams params_from_json_impl(const JsonReader& r) {
   return p;
 }
 
-void write_png(const std::string& path, const cv::Mat& image) {
-  std::vector<unsigned char> bytes;
-  bool ok = false;
-  try {
-    ok = cv::imencode(".png", image, bytes);
-  } catch (const cv::Exception& e) {
-    throw InputError(path + ": cannot encode PNG: " + e.what());
-  }
-  if (!ok) throw InputError(path + ": cannot encode PNG");
-  write_text_file_atomic(path, std::string(bytes.begin(), bytes.end()));
-}
-
-cv::Mat read_png(const std::string& path, int expected_type, int width, int height, const std::string& what) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": " + what + " image missing");
-  cv::Mat m;
-  try {
-    m = cv::imread(path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    throw InputError(path + ": cannot decode " + what + " image: " + e.what());
-  }
-  if (m.empty()) throw InputError(path + ": cannot decode " + what + " image (not a PNG?)");
-  if (m.type() != expected_type) {
-    throw InputError(path + ": " + what + " image must be single-channel " +
-                     (expected_type == CV_16U ? "16-bit" : "8-bit") + " (got type " + std::to_string(m.type()) + ")");
-  }
-  if (m.cols != width || m.rows != height) {
-    throw InputError(path + ": " + what + " image is " + std::to_string(m.cols) + "x" + std::to_string(m.rows) +
-                     " but the intrinsics say " + std::to_string(width) + "x" + std::to_string(height));
-  }
-  return m;
-}
-
 }  // namespace
 
-std::string scan_json_text(const Scan& scan) {
+std::string simulation_json_text(const SimulatedScan& sim) {
   ordered_json j;
-  j["format"] = "floorcast-scan";
-  j["format_version"] = kScanFormatVersion;
-  j["sensor"] = scan.sensor;
-  j["setting"] = scan.setting;
-  j["seed"] = scan.params.seed;
-  j["depth_unit_m"] = kDepthUnitM;
-  j["frames"] =
-      "world: plan metres, z up; scan: origin at the camera centre, gravity aligned, +x = heading, z up; "
-      "camera: OpenCV (x right, y down, z forward); depth = z-depth, 0 = no return";
+  j["format"] = "floorcast-simulation";
+  j["format_version"] = kSimulationFormatVersion;
+  j["frames"] = "world: plan metres, z up; T_world_scan places the scan frame (core/scan.hpp) in the world";
+  j["setting"] = scan_setting_name(sim.params.setting);
+  j["seed"] = sim.params.seed;
   ordered_json truth;
-  truth["T_world_scan"] = {{"x_m", scan.truth.T_world_scan.x_m},
-                           {"y_m", scan.truth.T_world_scan.y_m},
-                           {"yaw_rad", scan.truth.T_world_scan.yaw_rad}};
-  truth["camera_height_m"] = scan.truth.camera_height_m;
-  truth["view_depth_scale"] = scan.truth.view_depth_scale;
+  truth["T_world_scan"] = {{"x_m", sim.truth.T_world_scan.x_m},
+                           {"y_m", sim.truth.T_world_scan.y_m},
+                           {"yaw_rad", sim.truth.T_world_scan.yaw_rad}};
+  truth["camera_height_m"] = sim.truth.camera_height_m;
+  truth["view_depth_scale"] = sim.truth.view_depth_scale;
   ordered_json trues = ordered_json::array();
-  for (const Eigen::Isometry3d& T : scan.truth.T_scan_camera_true) trues.push_back(pose_matrix_json(T));
+  for (const Eigen::Isometry3d& T : sim.truth.T_scan_camera_true) trues.push_back(pose_matrix_json(T));
   truth["T_scan_camera_true"] = trues;
   j["ground_truth"] = truth;
-  j["params"] = scan_params_to_json(scan.params);
-  ordered_json views = ordered_json::array();
-  for (std::size_t k = 0; k < scan.views.size(); ++k) {
-    const DepthView& v = scan.views[k];
-    ordered_json jv;
-    jv["view_index"] = v.view_index;
-    jv["intrinsics"] = {{"width_px", v.intrinsics.width_px}, {"height_px", v.intrinsics.height_px},
-                        {"fx_px", v.intrinsics.fx_px},       {"fy_px", v.intrinsics.fy_px},
-                        {"cx_px", v.intrinsics.cx_px},       {"cy_px", v.intrinsics.cy_px}};
-    jv["T_scan_camera"] = pose_matrix_json(v.T_scan_camera);
-    jv["depth"] = view_file(k, "depth");
-    jv["glass_mask"] = view_file(k, "glass");
-    if (!v.confidence.empty()) jv["confidence"] = view_file(k, "confidence");
-    views.push_back(jv);
-  }
-  j["views"] = views;
+  j["params"] = scan_params_to_json(sim.params);
   return j.dump(2) + "\n";
 }
 
-void save_scan(const std::string& dir, const Scan& scan) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir)) {
-    throw InputError(dir + ": cannot create directory" + (ec ? ": " + ec.message() : std::string()));
-  }
-  for (std::size_t k = 0; k < scan.views.size(); ++k) {
-    const DepthView& v = scan.views[k];
-    const std::string where = dir + ": views[" + std::to_string(k) + "]";
-    if (v.depth_m.type() != CV_32F || v.depth_m.cols != v.intrinsics.width_px ||
-        v.depth_m.rows != v.intrinsics.height_px) {
-      throw InputError(where + ": depth must be CV_32F of the intrinsics' size");
-    }
-    cv::Mat mm(v.depth_m.rows, v.depth_m.cols, CV_16U);
-    for (int r = 0; r < mm.rows; ++r) {
-      const float* src = v.depth_m.ptr<float>(r);
-      auto* dst = mm.ptr<std::uint16_t>(r);
-      for (int c = 0; c < mm.cols; ++c) {
-        const double d = src[c];
-        const double q = std::round(d / kDepthUnitM);
-        dst[c] = (!(d > 0.0) || q > 65535.0) ? std::uint16_t{0} : static_cast<std::uint16_t>(std::max(1.0, q));
-      }
-    }
-    write_png(dir + "/" + view_file(k, "depth"), mm);
-    cv::Mat glass = v.glass_mask;
-    if (glass.empty()) glass = cv::Mat::zeros(v.depth_m.size(), CV_8U);
-    if (glass.type() != CV_8U || glass.size() != v.depth_m.size()) throw InputError(where + ": glass mask must be CV_8U of the depth's size");
-    write_png(dir + "/" + view_file(k, "glass"), glass);
-    if (!v.confidence.empty()) {
-      if (v.confidence.type() != CV_8U || v.confidence.size() != v.depth_m.size()) {
-        throw InputError(where + ": confidence must be CV_8U of the depth's size");
-      }
-      write_png(dir + "/" + view_file(k, "confidence"), v.confidence);
-    }
-  }
-  write_text_file_atomic(dir + "/scan.json", scan_json_text(scan));
+void save_simulated_scan(const std::string& dir, const SimulatedScan& sim) {
+  save_scan(dir, sim.scan);
+  write_text_file_atomic(dir + "/simulation.json", simulation_json_text(sim));
 }
 
-Scan load_scan(const std::string& dir) {
-  const std::string json_path = dir + "/scan.json";
-  if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": not a scan folder (no such directory)");
-  if (!std::filesystem::is_regular_file(json_path)) throw InputError(json_path + ": missing (not a scan folder?)");
+std::optional<SimulationRecord> load_simulation_record(const std::string& dir, std::size_t num_views) {
+  // Wave-1 folders (scan.json version 1) kept the simulator's fields inside scan.json.
+  const std::string scan_json = dir + "/scan.json";
+  const std::string sim_json = dir + "/simulation.json";
+  const bool legacy = !std::filesystem::is_regular_file(sim_json);
+  const std::string path = legacy ? scan_json : sim_json;
+  if (legacy && !std::filesystem::is_regular_file(scan_json)) return std::nullopt;
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(read_text_file(json_path));
+    j = nlohmann::json::parse(read_text_file(path));
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(json_path + ": malformed JSON: " + e.what());
+    throw InputError(path + ": malformed JSON: " + e.what());
   }
-  const JsonReader r(j, json_path, "");
-  r.only({"format", "format_version", "sensor", "setting", "seed", "depth_unit_m", "frames", "ground_truth", "params",
-          "views"});
-  if (r.string("format") != "floorcast-scan") r.fail_key("format", "expected \"floorcast-scan\"");
-  if (r.integer("format_version", 0, 1000000) != kScanFormatVersion) {
-    r.fail_key("format_version", "unsupported (this floorcast reads version " + std::to_string(kScanFormatVersion) + ")");
-  }
-  const double unit = r.number("depth_unit_m", 1e-6, 1.0);
-  Scan scan;
-  scan.sensor = r.string("sensor");
-  scan.setting = r.string("setting");
-  scan.params = params_from_json_impl(r.object("params"));
-  if (r.uint64("seed") != scan.params.seed) r.fail_key("seed", "differs from params.seed");
-  ScanSetting setting;
-  if (!parse_scan_setting(scan.setting, setting)) r.fail_key("setting", "expected full, partial or single");
-
-  const nlohmann::json& jviews = r.raw("views");
-  if (!jviews.is_array() || jviews.empty()) r.fail_key("views", "expected a non-empty array");
-  for (std::size_t k = 0; k < jviews.size(); ++k) {
-    const JsonReader v(jviews[k], json_path, "views[" + std::to_string(k) + "]");
-    v.only({"view_index", "intrinsics", "T_scan_camera", "depth", "glass_mask", "confidence"});
-    DepthView view;
-    view.view_index = static_cast<int>(v.integer("view_index", 0, 100000));
-    const JsonReader in = v.object("intrinsics");
-    in.only({"width_px", "height_px", "fx_px", "fy_px", "cx_px", "cy_px"});
-    view.intrinsics.width_px = static_cast<int>(in.integer("width_px", 1, 8192));
-    view.intrinsics.height_px = static_cast<int>(in.integer("height_px", 1, 8192));
-    view.intrinsics.fx_px = in.number("fx_px", 1e-3, 1e7);
-    view.intrinsics.fy_px = in.number("fy_px", 1e-3, 1e7);
-    view.intrinsics.cx_px = in.number("cx_px", -1e5, 1e5);
-    view.intrinsics.cy_px = in.number("cy_px", -1e5, 1e5);
-    view.T_scan_camera = pose_matrix_from_json(v, v.raw("T_scan_camera"), "T_scan_camera");
-    const int W = view.intrinsics.width_px, H = view.intrinsics.height_px;
-    auto file = [&](const std::string& key) {
-      const std::string name = v.string(key);
-      if (name.empty() || name.find('/') != std::string::npos || name.find('\\') != std::string::npos) {
-        v.fail_key(key, "must be a plain file name inside the scan folder");
-      }
-      return dir + "/" + name;
-    };
-    const cv::Mat mm = read_png(file("depth"), CV_16U, W, H, "depth");
-    mm.convertTo(view.depth_m, CV_32F, unit);
-    view.glass_mask = read_png(file("glass_mask"), CV_8U, W, H, "glass mask");
-    if (v.has("confidence")) {
-      view.confidence = read_png(file("confidence"), CV_8U, W, H, "confidence");
-      double lo = 0.0, hi = 0.0;
-      cv::minMaxLoc(view.confidence, &lo, &hi);
-      if (hi > 2.0) throw InputError(file("confidence") + ": confidence values must be 0, 1 or 2");
+  const JsonReader r(j, path, "");
+  if (legacy) {
+    if (!r.has("ground_truth")) return std::nullopt;
+  } else {
+    r.only({"format", "format_version", "frames", "setting", "seed", "ground_truth", "params"});
+    if (r.string("format") != "floorcast-simulation") r.fail_key("format", "expected \"floorcast-simulation\"");
+    if (r.integer("format_version", 0, 1000000) != kSimulationFormatVersion) {
+      r.fail_key("format_version",
+                 "unsupported (this floorcast reads version " + std::to_string(kSimulationFormatVersion) + ")");
     }
-    scan.views.push_back(std::move(view));
   }
+  SimulationRecord sim;
+  sim.params = params_from_json_impl(r.object("params"));
+  if (r.uint64("seed") != sim.params.seed) r.fail_key("seed", "differs from params.seed");
+  ScanSetting setting;
+  if (!parse_scan_setting(r.string("setting"), setting)) r.fail_key("setting", "expected full, partial or single");
+  if (setting != sim.params.setting) r.fail_key("setting", "differs from params.setting");
 
   const JsonReader t = r.object("ground_truth");
   t.only({"T_world_scan", "camera_height_m", "view_depth_scale", "T_scan_camera_true"});
   const JsonReader p = t.object("T_world_scan");
   p.only({"x_m", "y_m", "yaw_rad"});
-  scan.truth.T_world_scan.x_m = p.number("x_m", -1e5, 1e5);
-  scan.truth.T_world_scan.y_m = p.number("y_m", -1e5, 1e5);
-  scan.truth.T_world_scan.yaw_rad = p.number("yaw_rad", -100.0, 100.0);
-  scan.truth.camera_height_m = t.number("camera_height_m", 0.0, 50.0);
-  const std::vector<double> scales = t.numbers("view_depth_scale", static_cast<int>(scan.views.size()));
+  sim.truth.T_world_scan.x_m = p.number("x_m", -1e5, 1e5);
+  sim.truth.T_world_scan.y_m = p.number("y_m", -1e5, 1e5);
+  sim.truth.T_world_scan.yaw_rad = p.number("yaw_rad", -100.0, 100.0);
+  sim.truth.camera_height_m = t.number("camera_height_m", 0.0, 50.0);
+  const std::size_t n = num_views;
+  const std::vector<double> scales = t.numbers("view_depth_scale", static_cast<int>(n));
   for (std::size_t k = 0; k < scales.size(); ++k) {
     if (!(scales[k] > 0.0)) t.fail_key("view_depth_scale[" + std::to_string(k) + "]", "must be positive");
   }
-  scan.truth.view_depth_scale = scales;
+  sim.truth.view_depth_scale = scales;
   const nlohmann::json& trues = t.raw("T_scan_camera_true");
-  if (!trues.is_array() || trues.size() != scan.views.size()) {
-    t.fail_key("T_scan_camera_true", "expected one 4x4 matrix per view");
-  }
+  if (!trues.is_array() || trues.size() != n) t.fail_key("T_scan_camera_true", "expected one 4x4 matrix per view");
   for (std::size_t k = 0; k < trues.size(); ++k) {
-    scan.truth.T_scan_camera_true.push_back(
+    sim.truth.T_scan_camera_true.push_back(
         pose_matrix_from_json(t, trues[k], "T_scan_camera_true[" + std::to_string(k) + "]"));
   }
-  return scan;
+  return sim;
+}
+
+SimulatedScan load_simulated_scan(const std::string& dir) {
+  SimulatedScan sim;
+  sim.scan = load_scan(dir);
+  std::optional<SimulationRecord> record = load_simulation_record(dir, sim.scan.views.size());
+  if (!record) throw InputError(dir + ": not a simulated scan (no simulation.json): its ground truth is unknown");
+  sim.truth = std::move(record->truth);
+  sim.params = std::move(record->params);
+  return sim;
 }
 
 ordered_json scan_params_to_json(const ScanParams& params) { return params_json_impl(params); }

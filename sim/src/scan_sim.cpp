@@ -12,12 +12,12 @@
 
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/raster.hpp"
-#include "floorcast/sim/random.hpp"
+#include "floorcast/core/random.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr int kTile = 16;  // tiles of kTile x kTile pixels: one Embree stream each
 
@@ -563,7 +563,7 @@ Eigen::Isometry3d scan_frame_in_world(const Pose2& T_world_scan, double camera_h
   return T;
 }
 
-Scan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, const ScanParams& params,
+SimulatedScan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, const ScanParams& params,
                    const SimulationOptions& options) {
   validate_scan_params(params);
   if (!std::isfinite(T_world_scan.x_m) || !std::isfinite(T_world_scan.y_m) || !std::isfinite(T_world_scan.yaw_rad)) {
@@ -574,9 +574,8 @@ Scan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, const ScanP
   std::vector<ViewJob> jobs = make_jobs(T_world_scan, params, K, true, options.keep_true_depth);
   trace_views(scene, params, K, jobs, options.keep_true_depth);
 
-  Scan scan;
-  scan.sensor = params.preset;
-  scan.setting = scan_setting_name(params.setting);
+  SimulatedScan scan;
+  scan.scan.sensor = params.preset;
   scan.params = params;
   scan.truth.T_world_scan = T_world_scan;
   scan.truth.camera_height_m = g.camera_height_m;
@@ -603,7 +602,7 @@ Scan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, const ScanP
     scan.truth.T_scan_camera_true.push_back(T_true);
     scan.truth.view_depth_scale.push_back(scale);
     if (options.keep_true_depth) scan.truth.depth_m.push_back(job.first);
-    scan.views.push_back(std::move(view));
+    scan.scan.views.push_back(std::move(view));
   }
   return scan;
 }

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "floorcast/eval/gate.hpp"
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 
 namespace floorcast {
 namespace {

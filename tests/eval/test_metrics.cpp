@@ -39,9 +39,9 @@ TEST(Metrics, KnownAnswers) {
 }
 
 TEST(Metrics, MedianOddEvenEmpty) {
-  EXPECT_DOUBLE_EQ(median_of({3, 1, 2}), 2.0);
-  EXPECT_DOUBLE_EQ(median_of({4, 1, 3, 2}), 2.5);
-  EXPECT_DOUBLE_EQ(median_of({}), 0.0);
+  EXPECT_DOUBLE_EQ(median({3, 1, 2}), 2.0);
+  EXPECT_DOUBLE_EQ(median({4, 1, 3, 2}), 2.5);
+  EXPECT_DOUBLE_EQ(median({}), 0.0);
 }
 
 TEST(Metrics, BootstrapIntervalsAreDeterministicAndShrinkWithN) {

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "floorcast/floorplans/geometry.hpp"
+#include "floorcast/core/math.hpp"
 #include "test_plans.hpp"
 
 namespace floorcast {
@@ -130,8 +131,8 @@ TEST(Geometry, PoseTransformsInvertEachOther) {
   const Pose2 pose{3.0, -2.0, 0.7};
   const Vec2 p(1.5, 4.0);
   EXPECT_LT((pose.inverse_transform(pose.transform(p)) - p).norm(), 1e-12);
-  EXPECT_NEAR(wrap_angle_rad(3.5 * 3.14159265358979323846), -0.5 * 3.14159265358979323846, 1e-12);
-  EXPECT_NEAR(angle_distance_rad(0.1, 2 * 3.14159265358979323846 - 0.1), 0.2, 1e-12);
+  EXPECT_NEAR(wrap_angle_rad(3.5 * kPi), -0.5 * kPi, 1e-12);
+  EXPECT_NEAR(angle_distance_rad(0.1, 2 * kPi - 0.1), 0.2, 1e-12);
 }
 
 }  // namespace

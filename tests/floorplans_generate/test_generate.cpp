@@ -11,12 +11,12 @@
 #include "floorcast/floorplans/generate.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/floorplans/raster.hpp"
+#include "floorcast/core/math.hpp"
 #include "generate_checks.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 const std::vector<Archetype>& archetypes() {
   static const std::vector<Archetype> a = all_archetypes();

@@ -6,6 +6,7 @@
 
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/localization/compare_matchers.hpp"
+#include "floorcast/core/math.hpp"
 #include "match_test_plans.hpp"
 
 namespace floorcast {
@@ -39,7 +40,7 @@ TEST(CompareMatchers, SamplingIsSeededAndClear) {
     }
     EXPECT_GE(d, 0.5);
     EXPECT_GE(p.yaw_rad, 0.0);
-    EXPECT_LT(p.yaw_rad, 2.0 * 3.14159265358979323846);
+    EXPECT_LT(p.yaw_rad, 2.0 * kPi);
   }
   EXPECT_THROW(sample_observation_poses(plan, 5, 1, 0, 50.0), InputError);
 }

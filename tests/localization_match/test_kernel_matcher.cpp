@@ -7,12 +7,12 @@
 #include "floorcast/localization/kernel_matcher.hpp"
 #include "floorcast/localization/plan_raster.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
+#include "floorcast/core/math.hpp"
 #include "match_test_plans.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(KernelMatcher, KernelsFollowPalms) {
   const FloorPlan plan = test::asymmetric_floor();

@@ -5,12 +5,12 @@
 #include "floorcast/localization/orientation.hpp"
 #include "floorcast/localization/plan_raster.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
+#include "floorcast/core/math.hpp"
 #include "match_test_plans.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double nearest_candidate_error(const std::vector<double>& cands, double yaw) {
   double best = 1e9;

@@ -5,11 +5,11 @@
 #include <cmath>
 
 #include "floorcast/localization/posterior.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 Posterior make_posterior(int slices, int h, int w) {
   Posterior p;

@@ -11,12 +11,12 @@
 #include "floorcast/localization/plan_raster.hpp"
 #include "floorcast/localization/ray_matcher.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
+#include "floorcast/core/math.hpp"
 #include "match_test_plans.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// True when the ray passes within eps of a segment endpoint (a grazing ray: which side it
 /// falls on is a matter of round-off).

@@ -7,11 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast::test {
 
-constexpr double kSegPi = 3.14159265358979323846;
+constexpr double kSegPi = floorcast::kPi;
 
 struct WallMatch {
   /// Extracted segments that lie on no wall (angle > max_angle or an endpoint > max_dist off

@@ -13,11 +13,12 @@
 #include <limits>
 #include <vector>
 
-#include "floorcast/sim/scan.hpp"
+#include "floorcast/core/scan.hpp"
+#include "floorcast/core/math.hpp"
+#include "floorcast/core/random.hpp"
 
 namespace floorcast::test {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// A rectangle: corner + two orthogonal edge vectors.
 struct Rect {
@@ -120,12 +121,7 @@ struct RenderOptions {
 /// Standard normal value from a hash of (seed, row, col): per-pixel noise independent of the
 /// evaluation order, so rows can render in parallel.
 inline double pixel_gaussian(std::uint32_t seed, int r, int c) {
-  auto mix = [](std::uint64_t x) {
-    x += 0x9e3779b97f4a7c15ULL;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-  };
+  const auto mix = [](std::uint64_t x) { return mix64(x); };
   const std::uint64_t h1 = mix((std::uint64_t(seed) << 40) ^ (std::uint64_t(r) << 20) ^ std::uint64_t(c));
   const std::uint64_t h2 = mix(h1);
   const double u1 = ((h1 >> 11) + 1) * (1.0 / 9007199254740993.0), u2 = (h2 >> 11) * (1.0 / 9007199254740992.0);
@@ -162,7 +158,6 @@ inline Scan render_scan(const Scene& scene, int n_views = 6, double hfov_deg = 1
                         double noise_sigma_m = 0.0, double yaw0_deg = 0.0) {
   Scan s;
   s.sensor = "synthetic";
-  s.setting = "full";
   const CameraIntrinsics K = intrinsics(w, h, hfov_deg);
   for (int i = 0; i < n_views; ++i) {
     RenderOptions opt;
@@ -171,8 +166,6 @@ inline Scan render_scan(const Scene& scene, int n_views = 6, double hfov_deg = 1
     opt.seed = 100u + static_cast<std::uint32_t>(i);
     const Eigen::Isometry3d T = camera_pose(yaw0_deg + 360.0 * i / n_views, pitch_deg);
     s.views.push_back(render_view(scene, K, T, opt));
-    s.truth.T_scan_camera_true.push_back(T);
-    s.truth.view_depth_scale.push_back(opt.depth_scale);
   }
   return s;
 }

@@ -7,13 +7,13 @@
 #include <random>
 
 #include "floorcast/localization/observation_module.hpp"
+#include "floorcast/core/math.hpp"
 #include "segment_checks.hpp"
 #include "synthetic_scan.hpp"
 
 namespace floorcast {
 namespace {
 
-using test::kPi;
 
 /// An L-shaped room around the observer (not symmetric, so scale errors show).
 test::Scene l_room() {

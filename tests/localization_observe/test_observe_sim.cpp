@@ -14,12 +14,12 @@
 #include "floorcast/sim/perfect_observation.hpp"
 #include "floorcast/sim/ray_scene.hpp"
 #include "floorcast/sim/scan_sim.hpp"
+#include "floorcast/core/math.hpp"
 #include "segment_checks.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 struct Building {
   FloorPlan plan;
@@ -40,7 +40,7 @@ TEST(ObserveSim, InjectedScalesRecoveredOnAPerfectDepthScan) {
   const Building& b = two_rooms();
   ScanParams sp = scan_preset("perfect");
   sp.seed = 5;
-  Scan scan = simulate_scan(*b.scene, {2.4, 2.2, 0.4}, sp);
+  Scan scan = simulate_scan(*b.scene, {2.4, 2.2, 0.4}, sp).scan;
   const std::vector<double> injected = {1.0, 0.8, 1.25, 0.9, 1.15, 0.85};
   for (std::size_t k = 0; k < scan.views.size(); ++k) scan.views[k].depth_m *= injected[k];
   for (const bool ray_init : {true, false}) {
@@ -61,7 +61,7 @@ TEST(ObserveSim, GroundHeightWithinTwoCentimetres) {
   for (const double cam_h : {1.3, 1.5, 1.7}) {
     ScanParams sp = scan_preset("perfect");
     sp.geometry.camera_height_m = cam_h;
-    const Scan scan = simulate_scan(*b.scene, {6.5, 2.6, 1.0}, sp);
+    const Scan scan = simulate_scan(*b.scene, {6.5, 2.6, 1.0}, sp).scan;
     ObservationParams p;
     p.scale.mode = ScaleAlignment::kNone;
     const ObservationResult r = observe_scan(scan, p);
@@ -73,7 +73,7 @@ TEST(ObserveSim, GroundHeightWithinTwoCentimetres) {
 TEST(ObserveSim, PerfectScanSegmentsLieOnVisibleWalls) {
   const Building& b = two_rooms();
   const Pose2 pose{2.4, 2.2, 0.4};
-  const Scan scan = simulate_scan(*b.scene, pose, scan_preset("perfect"));
+  const Scan scan = simulate_scan(*b.scene, pose, scan_preset("perfect")).scan;
   const ObservationResult r = observe_scan(scan, ObservationParams{});
   // Everything a horizontal cut at camera height meets: walls, glass, door leaves, the pillar.
   PerfectObservationParams pp;
@@ -130,7 +130,7 @@ TEST(ObserveSim, MonoScanLocalisesWithTheKernelMatcher) {
     const Pose2& truth = distinctive_poses()[k];
     ScanParams sp = scan_preset("mono");
     sp.seed = 30 + k;
-    const double err = localisation_error(simulate_scan(*apartment().scene, truth, sp), truth, ObservationParams{});
+    const double err = localisation_error(simulate_scan(*apartment().scene, truth, sp).scan, truth, ObservationParams{});
     ok += err < 1.0 ? 1 : 0;
   }
   EXPECT_GE(ok, 2);
@@ -141,7 +141,7 @@ TEST(ObserveSim, LidarScanLocalisesWithTheKernelMatcher) {
     const Pose2& truth = distinctive_poses()[k];
     ScanParams sp = scan_preset("lidar");
     sp.seed = 40 + k;
-    const Scan scan = simulate_scan(*apartment().scene, truth, sp);
+    const Scan scan = simulate_scan(*apartment().scene, truth, sp).scan;
     for (const PlaneExtractorKind kind : {PlaneExtractorKind::kPclRegionGrowing, PlaneExtractorKind::kVoxelPlane}) {
       ObservationParams p;
       p.path = ObservationPath::kLidar;
@@ -169,7 +169,7 @@ LidarWallScores lidar_wall_scores(const LidarPathParams& lidar) {
   for (std::size_t k = 0; k < poses.size(); ++k) {
     ScanParams sp = scan_preset("lidar");
     sp.seed = 21 + k;
-    const Scan scan = simulate_scan(*b.scene, poses[k], sp);
+    const Scan scan = simulate_scan(*b.scene, poses[k], sp).scan;
     ObservationParams p;
     p.path = ObservationPath::kLidar;
     p.lidar = lidar;

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "floorcast/eval/gate.hpp"
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 #include "floorcast/scenarios/scenario.hpp"
 
 namespace floorcast {

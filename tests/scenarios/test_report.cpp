@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <set>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 #include "floorcast/scenarios/run_directory.hpp"
 
 namespace floorcast {

@@ -4,7 +4,7 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 #include "floorcast/scenarios/runner.hpp"
 
 namespace floorcast {

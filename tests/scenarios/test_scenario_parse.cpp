@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 #include "floorcast/scenarios/scenario.hpp"
 
 namespace floorcast {

@@ -9,7 +9,7 @@
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/sim/clutter.hpp"
 #include "floorcast/sim/gltf_io.hpp"
-#include "floorcast/sim/observation_io.hpp"
+#include "floorcast/core/observation_io.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
 #include "floorcast/sim/ray_scene.hpp"
 #include "sim_test_util.hpp"

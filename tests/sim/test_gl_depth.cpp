@@ -20,7 +20,7 @@ TEST(GlDepth, AgreesWithEmbreeDepth) {
   p.geometry.height_px = 120;
   p.geometry.num_views = 6;
   const Pose2 pose{2.2, 2.1, 0.3};
-  const Scan scan = simulate_scan(scene, pose, p);
+  const Scan scan = simulate_scan(scene, pose, p).scan;
   GlDepthRenderer gl(mesh, 160, 120);
   const Eigen::Isometry3d T_world_scan = scan_frame_in_world(pose, p.geometry.camera_height_m);
   long total = 0, close = 0, both = 0;

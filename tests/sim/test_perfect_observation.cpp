@@ -5,11 +5,11 @@
 
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 FloorPlan room(double w, double h, double t) {
   FloorPlan p;

@@ -6,14 +6,14 @@
 #include <cmath>
 #include <numeric>
 
-#include "floorcast/sim/random.hpp"
+#include "floorcast/core/random.hpp"
 #include "floorcast/sim/scan_sim.hpp"
+#include "floorcast/core/math.hpp"
 #include "sim_test_util.hpp"
 
 namespace floorcast {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 ScanParams small_perfect(int views, int w, int h, double hfov, double pitch) {
   ScanParams p = scan_preset("perfect");
@@ -35,13 +35,13 @@ bool same_bytes(const cv::Mat& a, const cv::Mat& b) {
   return true;
 }
 
-bool same_scan(const Scan& a, const Scan& b) {
-  if (a.views.size() != b.views.size()) return false;
-  for (std::size_t k = 0; k < a.views.size(); ++k) {
-    if (!same_bytes(a.views[k].depth_m, b.views[k].depth_m)) return false;
-    if (!same_bytes(a.views[k].glass_mask, b.views[k].glass_mask)) return false;
-    if (!same_bytes(a.views[k].confidence, b.views[k].confidence)) return false;
-    if (!a.views[k].T_scan_camera.isApprox(b.views[k].T_scan_camera, 0.0)) return false;
+bool same_scan(const SimulatedScan& a, const SimulatedScan& b) {
+  if (a.scan.views.size() != b.scan.views.size()) return false;
+  for (std::size_t k = 0; k < a.scan.views.size(); ++k) {
+    if (!same_bytes(a.scan.views[k].depth_m, b.scan.views[k].depth_m)) return false;
+    if (!same_bytes(a.scan.views[k].glass_mask, b.scan.views[k].glass_mask)) return false;
+    if (!same_bytes(a.scan.views[k].confidence, b.scan.views[k].confidence)) return false;
+    if (!a.scan.views[k].T_scan_camera.isApprox(b.scan.views[k].T_scan_camera, 0.0)) return false;
   }
   return a.truth.view_depth_scale == b.truth.view_depth_scale;
 }
@@ -94,11 +94,11 @@ TEST(ScanRender, BoxRoomDepthsEqualExactDistances) {
   for (double pitch : {0.0, -15.0, 20.0}) {
     const ScanParams p = small_perfect(5, 48, 36, 90.0, pitch);
     const Pose2 pose{2.3, 1.7, 0.4};
-    const Scan scan = simulate_scan(scene, pose, p);
-    ASSERT_EQ(scan.views.size(), 5u);
+    const SimulatedScan scan = simulate_scan(scene, pose, p);
+    ASSERT_EQ(scan.scan.views.size(), 5u);
     const Eigen::Isometry3d T_world_scan = scan_frame_in_world(pose, 1.5);
     int checked = 0;
-    for (const DepthView& v : scan.views) {
+    for (const DepthView& v : scan.scan.views) {
       const Eigen::Isometry3d T = T_world_scan * v.T_scan_camera;
       for (int r = 0; r < v.intrinsics.height_px; ++r) {
         for (int c = 0; c < v.intrinsics.width_px; ++c) {
@@ -137,7 +137,7 @@ TEST(ScanRender, CameraRaysAreTheRaysTheRendererCasts) {
   const RayScene scene(extrude_plan(test::feature_plan()));
   ScanParams p = small_perfect(3, 40, 20, 90.0, -10.0);  // 40 x 20: partial 16-pixel tiles
   const Pose2 pose{2.0, 2.0, 0.2};
-  const Scan scan = simulate_scan(scene, pose, p);
+  const SimulatedScan scan = simulate_scan(scene, pose, p);
   const std::vector<Ray3> rays = scan_camera_rays(pose, p);
   ASSERT_EQ(rays.size(), 3u * 40u * 20u);
   std::vector<RayHit3> hits(rays.size());
@@ -150,7 +150,7 @@ TEST(ScanRender, CameraRaysAreTheRaysTheRendererCasts) {
         for (int v = ty * 16; v < std::min(20, ty * 16 + 16); ++v)
           for (int u = tx * 16; u < std::min(40, tx * 16 + 16); ++u, ++i) {
             ASSERT_TRUE(hits[i].hit());
-            EXPECT_EQ(hits[i].t, scan.views[static_cast<std::size_t>(k)].depth_m.at<float>(v, u));
+            EXPECT_EQ(hits[i].t, scan.scan.views[static_cast<std::size_t>(k)].depth_m.at<float>(v, u));
           }
   EXPECT_EQ(i, rays.size());
 }
@@ -159,18 +159,18 @@ TEST(ScanRender, RangeLimitsGiveNoReturn) {
   const RayScene scene(extrude_plan(test::box_room(20.0, 4.0, 0.2)));
   ScanParams p = small_perfect(1, 16, 12, 30.0, 0.0);
   p.sensor.max_range_m = 5.0;
-  const Scan scan = simulate_scan(scene, {1.0, 2.0, 0.0}, p);  // facing the far wall 18.9 m away
-  const cv::Mat& d = scan.views[0].depth_m;
+  const SimulatedScan scan = simulate_scan(scene, {1.0, 2.0, 0.0}, p);  // facing the far wall 18.9 m away
+  const cv::Mat& d = scan.scan.views[0].depth_m;
   EXPECT_EQ(d.at<float>(6, 8), 0.0f);
   p.sensor.max_range_m = 30.0;
-  const Scan far = simulate_scan(scene, {1.0, 2.0, 0.0}, p);
-  EXPECT_GT(far.views[0].depth_m.at<float>(6, 8), 18.0f);
+  const SimulatedScan far = simulate_scan(scene, {1.0, 2.0, 0.0}, p);
+  EXPECT_GT(far.scan.views[0].depth_m.at<float>(6, 8), 18.0f);
 }
 
 /// Camera facing the glass wall of test::glass_split_room at x = 5 (faces at 4.99 / 5.01),
 /// from (2, 2) looking +x: centre pixel distances: glass 2.99, east wall behind 7.9, and the
 /// reflected path back to the west wall (x = 0.1): 2.99 + 4.89 = 7.88.
-Scan glass_scan(double p_see, double p_reflect, bool per_pixel = false) {
+SimulatedScan glass_scan(double p_see, double p_reflect, bool per_pixel = false) {
   static const RayScene scene(extrude_plan(test::glass_split_room()));
   ScanParams p = small_perfect(1, 9, 9, 20.0, 0.0);
   p.sensor.glass.p_see_through = p_see;
@@ -180,19 +180,19 @@ Scan glass_scan(double p_see, double p_reflect, bool per_pixel = false) {
 }
 
 TEST(ScanGlass, SeeThroughReturnsGeometryBehind) {
-  const Scan s = glass_scan(1.0, 0.0);
-  EXPECT_NEAR(s.views[0].depth_m.at<float>(4, 4), 7.9f, 1e-4f);
-  EXPECT_EQ(s.views[0].glass_mask.at<unsigned char>(4, 4), 255);
+  const SimulatedScan s = glass_scan(1.0, 0.0);
+  EXPECT_NEAR(s.scan.views[0].depth_m.at<float>(4, 4), 7.9f, 1e-4f);
+  EXPECT_EQ(s.scan.views[0].glass_mask.at<unsigned char>(4, 4), 255);
   EXPECT_NEAR(s.truth.depth_m[0].at<float>(4, 4), 2.99f, 1e-4f);  // first surface = the glass
-  EXPECT_EQ(cv::countNonZero(s.views[0].glass_mask), 81);
+  EXPECT_EQ(cv::countNonZero(s.scan.views[0].glass_mask), 81);
 }
 
 TEST(ScanGlass, GlassReturnAndReflection) {
-  const Scan ret = glass_scan(0.0, 0.0);
-  EXPECT_NEAR(ret.views[0].depth_m.at<float>(4, 4), 2.99f, 1e-4f);
-  EXPECT_EQ(ret.views[0].glass_mask.at<unsigned char>(4, 4), 255);
-  const Scan refl = glass_scan(0.0, 1.0);
-  EXPECT_NEAR(refl.views[0].depth_m.at<float>(4, 4), 2.99f + 4.89f, 2e-4f);
+  const SimulatedScan ret = glass_scan(0.0, 0.0);
+  EXPECT_NEAR(ret.scan.views[0].depth_m.at<float>(4, 4), 2.99f, 1e-4f);
+  EXPECT_EQ(ret.scan.views[0].glass_mask.at<unsigned char>(4, 4), 255);
+  const SimulatedScan refl = glass_scan(0.0, 1.0);
+  EXPECT_NEAR(refl.scan.views[0].depth_m.at<float>(4, 4), 2.99f + 4.89f, 2e-4f);
 }
 
 TEST(ScanGlass, OutcomeFrequenciesFollowProbabilities) {
@@ -203,10 +203,10 @@ TEST(ScanGlass, OutcomeFrequenciesFollowProbabilities) {
   p.sensor.glass = {0.5, 0.2, true, 4};
   for (std::uint64_t seed = 0; seed < 60; ++seed) {
     p.seed = seed;
-    const Scan s = simulate_scan(scene, {2.0, 2.0, 0.0}, p);
+    const SimulatedScan s = simulate_scan(scene, {2.0, 2.0, 0.0}, p);
     for (int r = 3; r <= 5; ++r) {
       for (int c = 3; c <= 5; ++c) {
-        const float d = s.views[0].depth_m.at<float>(r, c);
+        const float d = s.scan.views[0].depth_m.at<float>(r, c);
         if (std::abs(d - 2.99f) < 2e-3f) {
           ++n_ret;
         } else if (std::abs(d - 7.9f) < 2e-3f) {
@@ -230,11 +230,11 @@ TEST(ScanGlass, PerPaneDecisionIsCoherentAcrossTheView) {
     ScanParams p = small_perfect(1, 9, 9, 20.0, 0.0);
     p.sensor.glass = {0.5, 0.0, false, 4};
     p.seed = seed;
-    const Scan s = simulate_scan(scene, {2.0, 2.0, 0.0}, p);
-    const float centre = s.views[0].depth_m.at<float>(4, 4);
+    const SimulatedScan s = simulate_scan(scene, {2.0, 2.0, 0.0}, p);
+    const float centre = s.scan.views[0].depth_m.at<float>(4, 4);
     const bool through = centre > 3.5f;
     for (int c = 0; c < 9; ++c) {
-      EXPECT_EQ(s.views[0].depth_m.at<float>(4, c) > 3.5f, through) << "seed " << seed;
+      EXPECT_EQ(s.scan.views[0].depth_m.at<float>(4, c) > 3.5f, through) << "seed " << seed;
     }
   }
 }
@@ -251,14 +251,14 @@ TEST(SensorMono, ViewScaleErrorMatchesSigma) {
   std::vector<double> logs;
   for (std::uint64_t seed = 1; seed <= 6; ++seed) {
     p.seed = seed;
-    const Scan s = simulate_scan(scene, {2.5, 1.8, 0.0}, p, SimulationOptions{true});
-    for (std::size_t k = 0; k < s.views.size(); ++k) {
+    const SimulatedScan s = simulate_scan(scene, {2.5, 1.8, 0.0}, p, SimulationOptions{true});
+    for (std::size_t k = 0; k < s.scan.views.size(); ++k) {
       // Empirical scale of the view: median of measured / true depth.
       std::vector<double> ratios;
       for (int r = 0; r < 6; ++r)
         for (int c = 0; c < 8; ++c) {
           const float t = s.truth.depth_m[k].at<float>(r, c);
-          if (t > 0.0f) ratios.push_back(s.views[k].depth_m.at<float>(r, c) / t);
+          if (t > 0.0f) ratios.push_back(s.scan.views[k].depth_m.at<float>(r, c) / t);
         }
       ASSERT_FALSE(ratios.empty());
       std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
@@ -287,15 +287,15 @@ TEST(SensorMono, WarpIsSmoothAndNoiseMatchesSigma) {
   p.sensor.mono.flying_pixel_prob = 0.0;
   p.sensor.mono.warp_sigma_ln = 0.0;
   p.seed = 5;
-  const Scan s = simulate_scan(scene, {2.5, 1.8, 0.3}, p, SimulationOptions{true});
+  const SimulatedScan s = simulate_scan(scene, {2.5, 1.8, 0.3}, p, SimulationOptions{true});
   double sum2 = 0.0;
   int n = 0;
-  for (std::size_t k = 0; k < s.views.size(); ++k)
+  for (std::size_t k = 0; k < s.scan.views.size(); ++k)
     for (int r = 0; r < 120; ++r)
       for (int c = 0; c < 160; ++c) {
         const float t = s.truth.depth_m[k].at<float>(r, c);
         if (t <= 0.0f) continue;
-        const double e = s.views[k].depth_m.at<float>(r, c) / t - 1.0;
+        const double e = s.scan.views[k].depth_m.at<float>(r, c) / t - 1.0;
         sum2 += e * e;
         ++n;
       }
@@ -304,13 +304,13 @@ TEST(SensorMono, WarpIsSmoothAndNoiseMatchesSigma) {
   // With a warp and no noise, the ratio field is smooth: neighbouring pixels differ little.
   p.sensor.mono.noise_sigma_rel = 0.0;
   p.sensor.mono.warp_sigma_ln = 0.1;
-  const Scan w = simulate_scan(scene, {2.5, 1.8, 0.3}, p, SimulationOptions{true});
+  const SimulatedScan w = simulate_scan(scene, {2.5, 1.8, 0.3}, p, SimulationOptions{true});
   double max_step = 0.0, lo = 10.0, hi = 0.0;
   for (int r = 0; r < 120; ++r)
     for (int c = 1; c < 160; ++c) {
       const float t0 = w.truth.depth_m[0].at<float>(r, c - 1), t1 = w.truth.depth_m[0].at<float>(r, c);
       if (t0 <= 0.0f || t1 <= 0.0f) continue;
-      const double a = w.views[0].depth_m.at<float>(r, c - 1) / t0, b = w.views[0].depth_m.at<float>(r, c) / t1;
+      const double a = w.scan.views[0].depth_m.at<float>(r, c - 1) / t0, b = w.scan.views[0].depth_m.at<float>(r, c) / t1;
       max_step = std::max(max_step, std::abs(a - b));
       lo = std::min(lo, b);
       hi = std::max(hi, b);
@@ -333,9 +333,9 @@ TEST(SensorMono, FlyingPixelsOnlyAtDepthEdges) {
   p.sensor.mono.warp_sigma_ln = 0.0;
   p.sensor.mono.noise_sigma_rel = 0.0;
   p.sensor.mono.flying_pixel_prob = 1.0;
-  const Scan s = simulate_scan(scene, {1.0, 3.0, 0.0}, p, SimulationOptions{true});
+  const SimulatedScan s = simulate_scan(scene, {1.0, 3.0, 0.0}, p, SimulationOptions{true});
   const cv::Mat& t = s.truth.depth_m[0];
-  const cv::Mat& d = s.views[0].depth_m;
+  const cv::Mat& d = s.scan.views[0].depth_m;
   int changed = 0, edge_changed = 0;
   for (int r = 0; r < t.rows; ++r)
     for (int c = 1; c + 1 < t.cols; ++c) {
@@ -368,12 +368,12 @@ TEST(SensorLidar, AxialNoiseMatchesSigmaOfZ) {
   long n = 0;
   for (std::uint64_t seed = 0; seed < 3; ++seed) {
     p.seed = seed;
-    const Scan s = simulate_scan(scene, {3.0, 4.0, 0.2}, p, SimulationOptions{true});
-    for (std::size_t k = 0; k < s.views.size(); ++k)
-      for (int r = 0; r < s.views[k].depth_m.rows; ++r)
-        for (int c = 0; c < s.views[k].depth_m.cols; ++c) {
+    const SimulatedScan s = simulate_scan(scene, {3.0, 4.0, 0.2}, p, SimulationOptions{true});
+    for (std::size_t k = 0; k < s.scan.views.size(); ++k)
+      for (int r = 0; r < s.scan.views[k].depth_m.rows; ++r)
+        for (int c = 0; c < s.scan.views[k].depth_m.cols; ++c) {
           const double z = s.truth.depth_m[k].at<float>(r, c);
-          const double got = s.views[k].depth_m.at<float>(r, c);
+          const double got = s.scan.views[k].depth_m.at<float>(r, c);
           if (z <= 0.0) continue;
           ASSERT_GT(got, 0.0);
           const double sigma = m.sigma_base_m + m.sigma_quad_per_m * (z - m.sigma_z0_m) * (z - m.sigma_z0_m);
@@ -392,11 +392,11 @@ TEST(SensorLidar, RangeDropoutsAndConfidence) {
   const RayScene scene(extrude_plan(test::glass_split_room()));
   ScanParams p = scan_preset("lidar");
   p.seed = 3;
-  const Scan s = simulate_scan(scene, {2.0, 2.0, 0.0}, p, SimulationOptions{true});
-  ASSERT_EQ(s.views.size(), 18u);
+  const SimulatedScan s = simulate_scan(scene, {2.0, 2.0, 0.0}, p, SimulationOptions{true});
+  ASSERT_EQ(s.scan.views.size(), 18u);
   long returns = 0, truth_returns = 0, high = 0, glass_conf = 0, glass_px = 0;
-  for (std::size_t k = 0; k < s.views.size(); ++k) {
-    const DepthView& v = s.views[k];
+  for (std::size_t k = 0; k < s.scan.views.size(); ++k) {
+    const DepthView& v = s.scan.views[k];
     ASSERT_EQ(v.confidence.type(), CV_8U);
     for (int r = 0; r < v.depth_m.rows; ++r)
       for (int c = 0; c < v.depth_m.cols; ++c) {
@@ -431,7 +431,7 @@ TEST(ScanDeterminism, SameSeedSameBytesAtAnyThreadCount) {
     p.geometry.width_px /= 4;
     p.geometry.height_px /= 4;
     p.seed = 99;
-    Scan one, two;
+    SimulatedScan one, two;
     {
       tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
       one = simulate_scan(scene, {3.0, 2.0, 0.3}, p);
@@ -441,10 +441,10 @@ TEST(ScanDeterminism, SameSeedSameBytesAtAnyThreadCount) {
       two = simulate_scan(scene, {3.0, 2.0, 0.3}, p);
     }
     EXPECT_TRUE(same_scan(one, two)) << preset;
-    const Scan again = simulate_scan(scene, {3.0, 2.0, 0.3}, p);
+    const SimulatedScan again = simulate_scan(scene, {3.0, 2.0, 0.3}, p);
     EXPECT_TRUE(same_scan(one, again)) << preset;
     p.seed = 100;
-    const Scan other = simulate_scan(scene, {3.0, 2.0, 0.3}, p);
+    const SimulatedScan other = simulate_scan(scene, {3.0, 2.0, 0.3}, p);
     EXPECT_FALSE(same_scan(one, other)) << preset;
   }
 }
@@ -455,17 +455,17 @@ TEST(ScanTracker, ReportedPosesCarryJitterTruthDoesNot) {
   p.geometry.width_px = 12;
   p.geometry.height_px = 16;
   p.sensor.tracker = {1.0, 0.02};
-  const Scan s = simulate_scan(scene, {3.0, 2.0, 0.0}, p);
+  const SimulatedScan s = simulate_scan(scene, {3.0, 2.0, 0.0}, p);
   double rot = 0.0, trans = 0.0;
-  for (std::size_t k = 0; k < s.views.size(); ++k) {
+  for (std::size_t k = 0; k < s.scan.views.size(); ++k) {
     const Eigen::Isometry3d& T_true = s.truth.T_scan_camera_true[k];
-    EXPECT_TRUE(T_true.isApprox(view_pose(p.geometry, s.views[k].view_index), 1e-12));
-    const Eigen::Isometry3d delta = T_true.inverse() * s.views[k].T_scan_camera;
+    EXPECT_TRUE(T_true.isApprox(view_pose(p.geometry, s.scan.views[k].view_index), 1e-12));
+    const Eigen::Isometry3d delta = T_true.inverse() * s.scan.views[k].T_scan_camera;
     rot += Eigen::AngleAxisd(delta.linear()).angle();
-    trans += (s.views[k].T_scan_camera.translation() - T_true.translation()).norm();
+    trans += (s.scan.views[k].T_scan_camera.translation() - T_true.translation()).norm();
   }
-  rot /= static_cast<double>(s.views.size());
-  trans /= static_cast<double>(s.views.size());
+  rot /= static_cast<double>(s.scan.views.size());
+  trans /= static_cast<double>(s.scan.views.size());
   // Mean norm of a 3D isotropic Gaussian = sigma * 1.596.
   EXPECT_NEAR(rot * 180.0 / kPi, 1.596, 0.5);
   EXPECT_NEAR(trans, 0.02 * 1.596, 0.01);
@@ -476,15 +476,15 @@ TEST(ScanSettings, PartialAndSingleKeepTheirViews) {
   ScanParams p = small_perfect(6, 16, 12, 90.0, 0.0);
   p.setting = ScanSetting::kPartial;
   p.center_view = 2;
-  Scan s = simulate_scan(scene, {3.0, 2.0, 0.0}, p);
-  ASSERT_EQ(s.views.size(), 3u);
-  EXPECT_EQ(s.views[0].view_index, 1);
-  EXPECT_EQ(s.views[2].view_index, 3);
-  EXPECT_EQ(s.setting, "partial");
+  SimulatedScan s = simulate_scan(scene, {3.0, 2.0, 0.0}, p);
+  ASSERT_EQ(s.scan.views.size(), 3u);
+  EXPECT_EQ(s.scan.views[0].view_index, 1);
+  EXPECT_EQ(s.scan.views[2].view_index, 3);
+  EXPECT_EQ(s.params.setting, ScanSetting::kPartial);
   p.setting = ScanSetting::kSingle;
   s = simulate_scan(scene, {3.0, 2.0, 0.0}, p);
-  ASSERT_EQ(s.views.size(), 1u);
-  EXPECT_EQ(s.views[0].view_index, 2);
+  ASSERT_EQ(s.scan.views.size(), 1u);
+  EXPECT_EQ(s.scan.views[0].view_index, 2);
 }
 
 TEST(ObserverPose, InsideWallOutsideAndValid) {

@@ -1,4 +1,4 @@
-// Scan folders: round trip and validation.
+// Scan folders (core) and simulated scan folders (sim): round trip and validation.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/core/scan_io.hpp"
 #include "floorcast/sim/scan_io.hpp"
 #include "floorcast/sim/scan_sim.hpp"
 #include "sim_test_util.hpp"
@@ -28,7 +29,7 @@ class ScanIo : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  static Scan make_scan(const std::string& preset) {
+  static SimulatedScan make_scan(const std::string& preset) {
     static const RayScene scene(extrude_plan(test::feature_plan()));
     ScanParams p = scan_preset(preset);
     p.geometry.width_px /= 4;
@@ -48,8 +49,17 @@ class ScanIo : public ::testing::Test {
     }
   }
 
-  void edit_json(const std::function<void(nlohmann::json&)>& edit) {
-    const std::string path = (dir_ / "scan.json").string();
+  void expect_sim_error(const std::string& fragment) {
+    try {
+      (void)load_simulated_scan(dir_.string());
+      FAIL() << "expected an error containing: " << fragment;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+
+  void edit_json(const std::function<void(nlohmann::json&)>& edit, const char* file = "scan.json") {
+    const std::string path = (dir_ / file).string();
     nlohmann::json j = nlohmann::json::parse(read_text_file(path));
     edit(j);
     write_text_file_atomic(path, j.dump(2));
@@ -60,21 +70,23 @@ class ScanIo : public ::testing::Test {
 
 TEST_F(ScanIo, RoundTripLidarAndMono) {
   for (const char* preset : {"lidar", "mono"}) {
-    const Scan s = make_scan(preset);
-    save_scan(dir_.string(), s);
-    const Scan l = load_scan(dir_.string());
+    const SimulatedScan sim = make_scan(preset);
+    save_simulated_scan(dir_.string(), sim);
+    const SimulatedScan lsim = load_simulated_scan(dir_.string());
+    const Scan& s = sim.scan;
+    const Scan& l = lsim.scan;
     ASSERT_EQ(l.views.size(), s.views.size());
     EXPECT_EQ(l.sensor, s.sensor);
-    EXPECT_EQ(l.setting, "partial");
-    EXPECT_EQ(l.params.seed, 1234567890123ULL);
-    EXPECT_EQ(l.params.center_view, 1);
-    EXPECT_EQ(l.params.sensor.kind, s.params.sensor.kind);
-    EXPECT_EQ(l.params.sensor.max_range_m, s.params.sensor.max_range_m);
-    EXPECT_EQ(l.params.sensor.mono.scale_sigma_ln, s.params.sensor.mono.scale_sigma_ln);
-    EXPECT_EQ(l.params.sensor.lidar.sigma_quad_per_m, s.params.sensor.lidar.sigma_quad_per_m);
-    EXPECT_EQ(l.params.geometry.width_px, s.params.geometry.width_px);
-    EXPECT_EQ(l.truth.T_world_scan.yaw_rad, s.truth.T_world_scan.yaw_rad);
-    EXPECT_EQ(l.truth.view_depth_scale, s.truth.view_depth_scale);
+    EXPECT_EQ(lsim.params.setting, ScanSetting::kPartial);
+    EXPECT_EQ(lsim.params.seed, 1234567890123ULL);
+    EXPECT_EQ(lsim.params.center_view, 1);
+    EXPECT_EQ(lsim.params.sensor.kind, sim.params.sensor.kind);
+    EXPECT_EQ(lsim.params.sensor.max_range_m, sim.params.sensor.max_range_m);
+    EXPECT_EQ(lsim.params.sensor.mono.scale_sigma_ln, sim.params.sensor.mono.scale_sigma_ln);
+    EXPECT_EQ(lsim.params.sensor.lidar.sigma_quad_per_m, sim.params.sensor.lidar.sigma_quad_per_m);
+    EXPECT_EQ(lsim.params.geometry.width_px, sim.params.geometry.width_px);
+    EXPECT_EQ(lsim.truth.T_world_scan.yaw_rad, sim.truth.T_world_scan.yaw_rad);
+    EXPECT_EQ(lsim.truth.view_depth_scale, sim.truth.view_depth_scale);
     for (std::size_t k = 0; k < s.views.size(); ++k) {
       const DepthView& a = s.views[k];
       const DepthView& b = l.views[k];
@@ -82,7 +94,7 @@ TEST_F(ScanIo, RoundTripLidarAndMono) {
       EXPECT_EQ(a.intrinsics.fx_px, b.intrinsics.fx_px);
       EXPECT_EQ(a.intrinsics.cy_px, b.intrinsics.cy_px);
       EXPECT_TRUE(a.T_scan_camera.matrix() == b.T_scan_camera.matrix());
-      EXPECT_TRUE(s.truth.T_scan_camera_true[k].matrix() == l.truth.T_scan_camera_true[k].matrix());
+      EXPECT_TRUE(sim.truth.T_scan_camera_true[k].matrix() == lsim.truth.T_scan_camera_true[k].matrix());
       ASSERT_EQ(b.depth_m.type(), CV_32F);
       cv::Mat diff;
       cv::absdiff(a.depth_m, b.depth_m, diff);
@@ -101,7 +113,7 @@ TEST_F(ScanIo, RoundTripLidarAndMono) {
 }
 
 TEST_F(ScanIo, DepthIsMillimetrePng) {
-  const Scan s = make_scan("perfect");
+  const Scan s = make_scan("perfect").scan;
   save_scan(dir_.string(), s);
   const cv::Mat mm = cv::imread((dir_ / "view_000_depth.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(mm.type(), CV_16U);
@@ -110,36 +122,94 @@ TEST_F(ScanIo, DepthIsMillimetrePng) {
 }
 
 TEST_F(ScanIo, ErrorsNameFileElementAndReason) {
+  const Scan lidar = make_scan("lidar").scan;
   expect_error("no such directory");
   fs::create_directories(dir_);
   expect_error("scan.json: missing");
-  save_scan(dir_.string(), make_scan("lidar"));
+  save_scan(dir_.string(), lidar);
   edit_json([](nlohmann::json& j) { j["views"][1]["intrinsics"]["fx_px"] = -3.0; });
   expect_error("views[1].intrinsics.fx_px");
-  save_scan(dir_.string(), make_scan("lidar"));
+  save_scan(dir_.string(), lidar);
   edit_json([](nlohmann::json& j) { j["views"][0]["T_scan_camera"][0][0] = 2.0; });
   expect_error("not a rotation matrix");
-  save_scan(dir_.string(), make_scan("lidar"));
-  edit_json([](nlohmann::json& j) { j["params"]["sensor"]["lidar"]["bogus"] = 1; });
-  expect_error("params.sensor.lidar.bogus: unknown key");
-  save_scan(dir_.string(), make_scan("lidar"));
+  save_scan(dir_.string(), lidar);
   edit_json([](nlohmann::json& j) { j["format_version"] = 7; });
   expect_error("format_version");
-  save_scan(dir_.string(), make_scan("lidar"));
+  save_scan(dir_.string(), lidar);
   edit_json([](nlohmann::json& j) { j["views"][0]["depth"] = "../elsewhere.png"; });
   expect_error("plain file name");
-  save_scan(dir_.string(), make_scan("lidar"));
+  save_scan(dir_.string(), lidar);
+  edit_json([](nlohmann::json& j) { j["params"] = nlohmann::json::object(); });
+  expect_error("params: unknown key");
+  save_scan(dir_.string(), lidar);
   fs::remove(dir_ / "view_002_glass.png");
   expect_error("view_002_glass.png: glass mask image missing");
-  save_scan(dir_.string(), make_scan("lidar"));
+  save_scan(dir_.string(), lidar);
   cv::imwrite((dir_ / "view_001_depth.png").string(), cv::Mat::zeros(5, 5, CV_16U));
   expect_error("view_001_depth.png: depth image is 5x5");
-  save_scan(dir_.string(), make_scan("lidar"));
+  save_scan(dir_.string(), lidar);
   cv::imwrite((dir_ / "view_000_depth.png").string(), cv::Mat::zeros(48, 64, CV_8U));
   expect_error("16-bit");
-  save_scan(dir_.string(), make_scan("lidar"));
+  save_scan(dir_.string(), lidar);
   write_text_file_atomic((dir_ / "scan.json").string(), "{ not json");
   expect_error("malformed JSON");
+}
+
+TEST_F(ScanIo, SimulationFileErrorsNameFileElementAndReason) {
+  const SimulatedScan sim = make_scan("lidar");
+  save_scan(dir_.string(), sim.scan);
+  expect_sim_error("not a simulated scan");
+  save_simulated_scan(dir_.string(), sim);
+  edit_json([](nlohmann::json& j) { j["params"]["sensor"]["lidar"]["bogus"] = 1; }, "simulation.json");
+  expect_sim_error("simulation.json: params.sensor.lidar.bogus: unknown key");
+  save_simulated_scan(dir_.string(), sim);
+  edit_json([](nlohmann::json& j) { j["ground_truth"]["view_depth_scale"] = {1.0}; }, "simulation.json");
+  expect_sim_error("ground_truth.view_depth_scale");
+  save_simulated_scan(dir_.string(), sim);
+  edit_json([](nlohmann::json& j) { j["seed"] = 3; }, "simulation.json");
+  expect_sim_error("seed: differs from params.seed");
+}
+
+// A scan folder made by anything else (a phone app, a script around a depth network) needs only
+// views with intrinsics, poses and depth: no view index, masks, confidence, sensor or simulator
+// fields.
+TEST_F(ScanIo, SensorOnlyFolderNeedsOnlyViewsIntrinsicsAndPoses) {
+  fs::create_directories(dir_);
+  cv::Mat mm(4, 6, CV_16U, cv::Scalar(2500));
+  mm.at<std::uint16_t>(1, 2) = 0;
+  cv::imwrite((dir_ / "a.png").string(), mm);
+  cv::imwrite((dir_ / "b.png").string(), mm);
+  nlohmann::json j;
+  j["format"] = "floorcast-scan";
+  j["format_version"] = kScanFormatVersion;
+  const nlohmann::json K = {{"width_px", 6}, {"height_px", 4}, {"fx_px", 5.0}, {"fy_px", 5.0}, {"cx_px", 3.0}, {"cy_px", 2.0}};
+  const nlohmann::json I = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
+  j["views"] = {{{"intrinsics", K}, {"T_scan_camera", I}, {"depth", "a.png"}},
+                {{"intrinsics", K}, {"T_scan_camera", I}, {"depth", "b.png"}}};
+  write_text_file_atomic((dir_ / "scan.json").string(), j.dump(2));
+  const Scan s = load_scan(dir_.string());
+  ASSERT_EQ(s.views.size(), 2u);
+  EXPECT_EQ(s.views[1].view_index, 1);
+  EXPECT_TRUE(s.views[0].glass_mask.empty());
+  EXPECT_TRUE(s.views[0].confidence.empty());
+  EXPECT_FLOAT_EQ(s.views[0].depth_m.at<float>(0, 0), 2.5f);
+  EXPECT_EQ(s.views[0].depth_m.at<float>(1, 2), 0.0f);
+}
+
+// Wave-1 folders (scan.json version 1 with the simulator's fields inside) still load.
+TEST_F(ScanIo, VersionOneFoldersStillLoad) {
+  const SimulatedScan sim = make_scan("lidar");
+  save_simulated_scan(dir_.string(), sim);
+  nlohmann::json scan = nlohmann::json::parse(read_text_file((dir_ / "scan.json").string()));
+  const nlohmann::json simj = nlohmann::json::parse(read_text_file((dir_ / "simulation.json").string()));
+  scan["format_version"] = 1;
+  for (const char* k : {"setting", "seed", "ground_truth", "params"}) scan[k] = simj[k];
+  write_text_file_atomic((dir_ / "scan.json").string(), scan.dump(2));
+  fs::remove(dir_ / "simulation.json");
+  EXPECT_EQ(load_scan(dir_.string()).views.size(), sim.scan.views.size());
+  const SimulatedScan back = load_simulated_scan(dir_.string());
+  EXPECT_EQ(back.params.seed, sim.params.seed);
+  EXPECT_EQ(back.truth.view_depth_scale, sim.truth.view_depth_scale);
 }
 
 }  // namespace

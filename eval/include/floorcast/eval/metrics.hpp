@@ -13,6 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "floorcast/core/math.hpp"
+#include "floorcast/core/random.hpp"
+
 namespace floorcast {
 
 /// Outcome of one single-shot localization (one observation, one method).
@@ -75,12 +78,6 @@ Summary summarize(const std::vector<Record>& records, const std::vector<Metric<R
 
 Summary summarize_single_shot(const std::vector<SingleShotRecord>& records, const ScoringParams& params = {});
 
-/// Median of a copy (0 for an empty input); the mean of the two middle values for even sizes.
-double median_of(std::vector<double> values);
-
-/// Deterministic 64-bit mixer (splitmix64 finaliser); the basis of floorcast's counter-based
-/// random streams.
-std::uint64_t mix64(std::uint64_t x);
 
 
 template <class Record>

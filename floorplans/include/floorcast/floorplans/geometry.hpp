@@ -6,28 +6,11 @@
 #include <array>
 #include <vector>
 
+#include "floorcast/core/blocking.hpp"
+#include "floorcast/core/observation.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 
 namespace floorcast {
-
-/// Semantic label of a blocking element. Values are stable (used in files and meshes).
-enum class SurfaceLabel : int {
-  kWall = 0,
-  kDoorClosed = 1,
-  kGlass = 2,
-  kObstacle = 3,
-};
-
-/// What counts as blocking when cutting the plan with a horizontal plane.
-struct BlockingOptions {
-  bool closed_doors_block = true;   ///< closed door leaves block
-  bool open_doors_block = false;    ///< treat open doors as closed (PALMS+ sec. 4.4 "doors closed")
-  bool glass_blocks = true;         ///< glass walls and windows block
-  bool obstacles_block = false;     ///< clutter obstacles block
-  /// Height of the horizontal cut above the floor (decides whether a window or a partial-height
-  /// glass wall or an obstacle is cut). Default: a phone held at 1.5 m.
-  double cut_height_m = 1.5;
-};
 
 /// A convex polygon (counter-clockwise) with a label.
 struct Footprint {

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "floorcast/core/file_io.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 
 namespace floorcast {
@@ -42,11 +43,5 @@ FloorPlan load_floor_plan(const std::string& path, const PlanLimits& limits = {}
 
 /// Writes a plan file atomically (temporary file + rename). Throws InputError on failure.
 void save_floor_plan(const FloorPlan& plan, const std::string& path);
-
-/// Reads a whole file into a string; throws InputError naming the path on failure.
-std::string read_text_file(const std::string& path);
-
-/// Writes a whole file atomically (temporary file in the same folder, then rename).
-void write_text_file_atomic(const std::string& path, const std::string& text);
 
 }  // namespace floorcast

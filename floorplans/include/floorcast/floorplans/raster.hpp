@@ -7,37 +7,11 @@
 
 #include <opencv2/core.hpp>
 
+#include "floorcast/core/grid.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 
 namespace floorcast {
-
-struct GridSpec {
-  double origin_x_m = 0.0;
-  double origin_y_m = 0.0;
-  double resolution_m_per_px = 0.1;
-  int width_px = 0;
-  int height_px = 0;
-
-  Vec2 cell_center_m(int row, int col) const {
-    return {origin_x_m + (col + 0.5) * resolution_m_per_px,
-            origin_y_m + (row + 0.5) * resolution_m_per_px};
-  }
-  /// Continuous cell coordinates (col, row) of a world point (cell centres at integer + 0.5).
-  Vec2 world_to_grid(const Vec2& p_m) const {
-    return {(p_m.x() - origin_x_m) / resolution_m_per_px, (p_m.y() - origin_y_m) / resolution_m_per_px};
-  }
-  /// Cell containing p; false if outside the grid.
-  bool world_to_cell(const Vec2& p_m, int& row, int& col) const;
-  bool contains(int row, int col) const {
-    return row >= 0 && col >= 0 && row < height_px && col < width_px;
-  }
-  bool operator==(const GridSpec& o) const {
-    return origin_x_m == o.origin_x_m && origin_y_m == o.origin_y_m &&
-           resolution_m_per_px == o.resolution_m_per_px && width_px == o.width_px &&
-           height_px == o.height_px;
-  }
-};
 
 /// Grid covering the plan's bounding box plus a margin, with its origin snapped to a multiple of
 /// the resolution (so grids of one plan at one resolution always align).

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "floorcast/core/observation.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 #include "floorcast/localization/posterior.hpp"
 

@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 
 namespace floorcast {
 

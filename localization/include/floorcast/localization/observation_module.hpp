@@ -10,7 +10,7 @@
 // LiDAR path (PALMS): back-project -> merge/subsample -> vertical planes (PCL region growing or
 //   the VoxelPlane-Reloc extractor) -> each vertical plane becomes a segment spanning its extent.
 //
-// Frames: scan frame of sim/scan.hpp (origin at the camera centre, gravity aligned, z up, floor at
+// Frames: scan frame of core/scan.hpp (origin at the camera centre, gravity aligned, z up, floor at
 // z = -camera height); output segments in the 2D observer frame (scan x, y).
 #pragma once
 
@@ -23,9 +23,10 @@
 #include <utility>
 #include <vector>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/observation.hpp"
+#include "floorcast/core/scan.hpp"
+#include "floorcast/core/types.hpp"
 #include "floorcast/localization/observe_planes.hpp"
-#include "floorcast/sim/scan.hpp"
 
 namespace floorcast {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 #include "floorcast/scenarios/scenario.hpp"
 
 namespace floorcast {

@@ -15,7 +15,7 @@
 #include <opencv2/core.hpp>
 
 #include "floorcast/sim/mesh.hpp"
-#include "floorcast/sim/scan.hpp"
+#include "floorcast/core/scan.hpp"
 
 namespace floorcast {
 

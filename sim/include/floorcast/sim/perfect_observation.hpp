@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "floorcast/core/observation.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 
 namespace floorcast {

@@ -1,33 +1,37 @@
-// Scan folders (format documented in sim/README.md):
-//
-//   DIR/scan.json               intrinsics, view poses, sensor parameters, setting, seed, truth
-//   DIR/view_000_depth.png      16-bit depth in millimetres, 0 = no return (one per view)
-//   DIR/view_000_glass.png      8-bit glass mask, 255 = value affected by glass
-//   DIR/view_000_confidence.png 8-bit confidence 0..2 (sensors that have one: lidar)
-//
-// Depth is quantised to millimetres on save (round to nearest; depths >= 65.5355 m are written
-// as no return), so load(save(scan)) equals the scan up to 0.5 mm per pixel. Everything else
-// round-trips exactly (poses and parameters as shortest round-trip decimal numbers).
+// Simulated scan folders: a scan folder (core/scan_io.hpp: scan.json + view images, what any
+// sensor would write) plus simulation.json with what only the simulator knows (ground truth,
+// setting, seed, every sensor parameter). Format documented in sim/README.md.
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
-#include "floorcast/sim/scan.hpp"
+#include "floorcast/sim/simulated_scan.hpp"
 #include "floorcast/sim/scan_params.hpp"
 
 namespace floorcast {
 
-/// Writes a scan into `dir` (created if missing). Throws InputError on failure.
-void save_scan(const std::string& dir, const Scan& scan);
+/// Writes the scan folder and simulation.json into `dir` (created if missing).
+void save_simulated_scan(const std::string& dir, const SimulatedScan& scan);
 
-/// Reads and validates a scan folder. Throws InputError naming the file, the element and the
-/// reason (missing or malformed files and fields, unknown keys, image sizes or types that do not
-/// match the intrinsics, non-finite or absurd numbers, non-rigid poses).
-Scan load_scan(const std::string& dir);
+/// The simulator's side of a scan folder.
+struct SimulationRecord {
+  ScanTruth truth;
+  ScanParams params;
+};
 
-/// The scan.json text of a scan (what save_scan writes next to the images).
-std::string scan_json_text(const Scan& scan);
+/// Reads simulation.json (or the simulator fields of a wave-1 scan.json) of a scan folder with
+/// `num_views` views; nullopt when the folder was not written by the simulator (e.g. a phone
+/// scan). Throws InputError when the file exists but is invalid.
+std::optional<SimulationRecord> load_simulation_record(const std::string& dir, std::size_t num_views);
+
+/// Reads a simulated scan folder (also wave-1 folders, whose scan.json held the simulator's
+/// fields). Throws InputError naming the file, the element and the reason.
+SimulatedScan load_simulated_scan(const std::string& dir);
+
+/// The simulation.json text of a simulated scan.
+std::string simulation_json_text(const SimulatedScan& scan);
 
 /// Every scan parameter with its value (the "params" object of scan.json).
 nlohmann::ordered_json scan_params_to_json(const ScanParams& params);

@@ -10,7 +10,7 @@
 
 #include "floorcast/floorplans/floor_plan.hpp"
 #include "floorcast/sim/ray_scene.hpp"
-#include "floorcast/sim/scan.hpp"
+#include "floorcast/sim/simulated_scan.hpp"
 
 namespace floorcast {
 
@@ -37,7 +37,7 @@ std::vector<Ray3> scan_camera_rays(const Pose2& T_world_scan, const ScanParams& 
 
 /// Simulates a scan at T_world_scan. Validates params (InputError). The pose itself is not
 /// checked here (see check_observer_pose).
-Scan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, const ScanParams& params,
+SimulatedScan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, const ScanParams& params,
                    const SimulationOptions& options = {});
 
 /// Throws InputError unless the observer position is inside the building (connected to its

@@ -1,4 +1,4 @@
-// Small value types shared by every floorcast stage.
+// Small value types shared by every floorcast stage (core: no dependency beyond Eigen).
 //
 // Frames: world = floor-plan metres, x right, y up, yaw counter-clockwise from +x.
 // Observer frame (2D): origin at the observer, +x along the observer's heading (yaw 0), +y to its
@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "floorcast/core/math.hpp"
 
 namespace floorcast {
 
@@ -47,7 +49,6 @@ struct Pose2 {
 
 /// Wraps an angle to (-pi, pi].
 inline double wrap_angle_rad(double a) {
-  constexpr double kPi = 3.14159265358979323846;
   a = std::fmod(a + kPi, 2.0 * kPi);
   if (a <= 0.0) a += 2.0 * kPi;
   return a - kPi;
@@ -55,20 +56,6 @@ inline double wrap_angle_rad(double a) {
 
 /// Absolute angular difference in [0, pi].
 inline double angle_distance_rad(double a, double b) { return std::abs(wrap_angle_rad(a - b)); }
-
-/// A 2D observation of the walls around one observer, in the observer's frame.
-/// Produced by the simulator (perfect observations) and by the observation module; consumed by
-/// every matcher.
-struct Observation2D {
-  /// Observed wall surfaces as segments, observer frame, metres.
-  std::vector<Segment2> segments_m;
-  /// Optional F3Loc-style ranges along equiangular rays: ray i points at angle
-  /// i * 2*pi / ray_ranges_m.size() (CCW from the observer's +x). A ray without a return within
-  /// max_range_m holds max_range_m.
-  std::vector<double> ray_ranges_m;
-  /// Range the observation was limited to, metres.
-  double max_range_m = 10.0;
-};
 
 /// Thrown for bad user input (files, parameters). The message names the source, the element and
 /// the reason, e.g. "plan.json: walls[3] (id \"w3\"): wall has zero length".

@@ -1,9 +1,9 @@
-#include "floorcast/sim/observation_io.hpp"
+#include "floorcast/core/observation_io.hpp"
 
 #include <nlohmann/json.hpp>
 
-#include "floorcast/floorplans/io.hpp"
-#include "json_reader.hpp"
+#include "floorcast/core/file_io.hpp"
+#include "floorcast/core/json_reader.hpp"
 
 namespace floorcast {
 namespace {
@@ -70,7 +70,7 @@ ObservationRecord parse_observation_json(const std::string& text, const std::str
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source_name + ": malformed JSON: " + e.what());
   }
-  const detail::JsonReader r(j, source_name, "");
+  const JsonReader r(j, source_name, "");
   r.only({"format", "format_version", "frame", "source", "max_range_m", "segments_m", "segment_labels", "ray_ranges_m",
           "ground_truth", "metadata"});
   if (r.string("format") != "floorcast-observation") r.fail_key("format", "expected \"floorcast-observation\"");
@@ -118,7 +118,7 @@ ObservationRecord parse_observation_json(const std::string& text, const std::str
     }
   }
   if (r.has("ground_truth")) {
-    const detail::JsonReader g = r.object("ground_truth");
+    const JsonReader g = r.object("ground_truth");
     g.only({"x_m", "y_m", "yaw_rad"});
     rec.T_world_observer = Pose2{g.number("x_m", -1e5, 1e5), g.number("y_m", -1e5, 1e5), g.number("yaw_rad", -100.0, 100.0)};
   }

@@ -1,5 +1,5 @@
-// Observation files: the JSON form of an Observation2D that the simulator's perfect observer
-// writes and every matcher reads (`floorcast sim perfect ... -o DIR` writes DIR/observation.json).
+// Observation files: the JSON form of an Observation2D that the simulator's perfect observer and
+// the observation module write and every matcher reads (`floorcast sim perfect ... -o DIR` writes DIR/observation.json).
 //
 // Schema (format "floorcast-observation", format_version 1; keys in this order, unknown keys are
 // refused):
@@ -24,8 +24,8 @@
 #include <string>
 #include <vector>
 
-#include "floorcast/floorplans/geometry.hpp"
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/observation.hpp"
+#include "floorcast/core/types.hpp"
 
 namespace floorcast {
 

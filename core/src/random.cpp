@@ -1,4 +1,5 @@
-#include "floorcast/sim/random.hpp"
+#include "floorcast/core/random.hpp"
+#include "floorcast/core/math.hpp"
 
 #include <algorithm>
 #include <array>
@@ -35,7 +36,7 @@ double normal_quantile(double u) {
         ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1.0);
   }
   const double e = 0.5 * std::erfc(-x / std::sqrt(2.0)) - u;
-  const double g = e * std::sqrt(2.0 * 3.14159265358979323846) * std::exp(0.5 * x * x);
+  const double g = e * std::sqrt(2.0 * kPi) * std::exp(0.5 * x * x);
   return x - g / (1.0 + 0.5 * x * g);
 }
 

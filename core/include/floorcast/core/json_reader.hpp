@@ -1,5 +1,5 @@
-// Strict reading of JSON objects with error messages that name the file and the element
-// (private to the sim library's io parts).
+// Strict reading of JSON objects with error messages that name the file and the element: every
+// component's io part reads its files with it (one strict reader in floorcast).
 #pragma once
 
 #include <cmath>
@@ -8,9 +8,9 @@
 #include <set>
 #include <string>
 
-#include "floorcast/floorplans/types.hpp"
+#include "floorcast/core/types.hpp"
 
-namespace floorcast::detail {
+namespace floorcast {
 
 class JsonReader {
  public:
@@ -106,4 +106,4 @@ class JsonReader {
   std::string path_;
 };
 
-}  // namespace floorcast::detail
+}  // namespace floorcast

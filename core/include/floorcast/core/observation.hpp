@@ -1,0 +1,34 @@
+// The 2D observation every matcher consumes: observed wall surfaces (and optional F3Loc-style
+// ray ranges) in the observer's frame. Produced by perfect observers (sim) and by the observation
+// module (observe); plan-independent.
+#pragma once
+
+#include <vector>
+
+#include "floorcast/core/types.hpp"
+
+namespace floorcast {
+
+/// Semantic label of a blocking element. Values are stable (used in files and meshes).
+enum class SurfaceLabel : int {
+  kWall = 0,
+  kDoorClosed = 1,
+  kGlass = 2,
+  kObstacle = 3,
+};
+
+/// A 2D observation of the walls around one observer, in the observer's frame.
+/// Produced by the simulator (perfect observations) and by the observation module; consumed by
+/// every matcher.
+struct Observation2D {
+  /// Observed wall surfaces as segments, observer frame, metres.
+  std::vector<Segment2> segments_m;
+  /// Optional F3Loc-style ranges along equiangular rays: ray i points at angle
+  /// i * 2*pi / ray_ranges_m.size() (CCW from the observer's +x). A ray without a return within
+  /// max_range_m holds max_range_m.
+  std::vector<double> ray_ranges_m;
+  /// Range the observation was limited to, metres.
+  double max_range_m = 10.0;
+};
+
+}  // namespace floorcast

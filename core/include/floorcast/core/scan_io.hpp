@@ -1,0 +1,38 @@
+// Scan folders: the on-disk form of a sensor-only Scan (core/scan.hpp), written by the simulator,
+// a phone app or any script, read by `floorcast observe`. Format (documented in docs/formats.md):
+//
+//   DIR/scan.json               format, version, sensor, depth unit, one entry per view:
+//                               intrinsics, T_scan_camera (4x4), image file names
+//   DIR/view_000_depth.png      16-bit depth in depth units (default millimetres), 0 = no return
+//   DIR/view_000_glass.png      optional 8-bit mask, 255 = value affected by glass
+//   DIR/view_000_confidence.png optional 8-bit confidence 0..2
+//
+// A simulator may put more files beside these (sim writes simulation.json with the ground truth);
+// this reader never needs them. Depth is quantised to the depth unit on save (round to nearest;
+// depths beyond 65535 units are written as no return), so load(save(scan)) equals the scan up to
+// half a unit per pixel; poses round-trip exactly (shortest round-trip decimal numbers).
+#pragma once
+
+#include <string>
+
+#include "floorcast/core/scan.hpp"
+
+namespace floorcast {
+
+/// Current scan.json format version. Version 1 folders (wave 1: simulator fields inside
+/// scan.json) are still read; their simulator keys are left to sim's reader.
+constexpr int kScanFormatVersion = 2;
+
+/// Writes a scan into `dir` (created if missing). Throws InputError on failure.
+void save_scan(const std::string& dir, const Scan& scan);
+
+/// Reads and validates a scan folder. Only views, intrinsics and poses are required. Throws
+/// InputError naming the file, the element and the reason (missing or malformed files and
+/// fields, unknown keys, image sizes or types that do not match the intrinsics, non-finite or
+/// absurd numbers, non-rigid poses).
+Scan load_scan(const std::string& dir);
+
+/// The scan.json text of a scan (what save_scan writes next to the images).
+std::string scan_json_text(const Scan& scan);
+
+}  // namespace floorcast

@@ -1,0 +1,189 @@
+#include "floorcast/core/scan_io.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "floorcast/core/file_io.hpp"
+#include "floorcast/core/json_reader.hpp"
+#include "floorcast/core/pose_json.hpp"
+
+namespace floorcast {
+namespace {
+
+using nlohmann::ordered_json;
+
+constexpr double kDepthUnitM = 0.001;
+
+std::string view_file(std::size_t k, const char* what) {
+  std::ostringstream s;
+  s << "view_" << std::setw(3) << std::setfill('0') << k << "_" << what << ".png";
+  return s.str();
+}
+
+void write_png(const std::string& path, const cv::Mat& image) {
+  std::vector<unsigned char> bytes;
+  bool ok = false;
+  try {
+    ok = cv::imencode(".png", image, bytes);
+  } catch (const cv::Exception& e) {
+    throw InputError(path + ": cannot encode PNG: " + e.what());
+  }
+  if (!ok) throw InputError(path + ": cannot encode PNG");
+  write_text_file_atomic(path, std::string(bytes.begin(), bytes.end()));
+}
+
+cv::Mat read_png(const std::string& path, int expected_type, int width, int height, const std::string& what) {
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": " + what + " image missing");
+  cv::Mat m;
+  try {
+    m = cv::imread(path, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    throw InputError(path + ": cannot decode " + what + " image: " + e.what());
+  }
+  if (m.empty()) throw InputError(path + ": cannot decode " + what + " image (not a PNG?)");
+  if (m.type() != expected_type) {
+    throw InputError(path + ": " + what + " image must be single-channel " +
+                     (expected_type == CV_16U ? "16-bit" : "8-bit") + " (got type " + std::to_string(m.type()) + ")");
+  }
+  if (m.cols != width || m.rows != height) {
+    throw InputError(path + ": " + what + " image is " + std::to_string(m.cols) + "x" + std::to_string(m.rows) +
+                     " but the intrinsics say " + std::to_string(width) + "x" + std::to_string(height));
+  }
+  return m;
+}
+
+}  // namespace
+
+std::string scan_json_text(const Scan& scan) {
+  ordered_json j;
+  j["format"] = "floorcast-scan";
+  j["format_version"] = kScanFormatVersion;
+  j["sensor"] = scan.sensor;
+  j["depth_unit_m"] = kDepthUnitM;
+  j["frames"] =
+      "scan: origin at the camera centre, gravity aligned, +x = heading, z up; "
+      "camera: OpenCV (x right, y down, z forward); depth = z-depth, 0 = no return";
+  ordered_json views = ordered_json::array();
+  for (std::size_t k = 0; k < scan.views.size(); ++k) {
+    const DepthView& v = scan.views[k];
+    ordered_json jv;
+    jv["view_index"] = v.view_index;
+    jv["intrinsics"] = {{"width_px", v.intrinsics.width_px}, {"height_px", v.intrinsics.height_px},
+                        {"fx_px", v.intrinsics.fx_px},       {"fy_px", v.intrinsics.fy_px},
+                        {"cx_px", v.intrinsics.cx_px},       {"cy_px", v.intrinsics.cy_px}};
+    jv["T_scan_camera"] = pose_matrix_json(v.T_scan_camera);
+    jv["depth"] = view_file(k, "depth");
+    if (!v.glass_mask.empty()) jv["glass_mask"] = view_file(k, "glass");
+    if (!v.confidence.empty()) jv["confidence"] = view_file(k, "confidence");
+    views.push_back(jv);
+  }
+  j["views"] = views;
+  return j.dump(2) + "\n";
+}
+
+void save_scan(const std::string& dir, const Scan& scan) {
+  create_directories_or_throw(dir);
+  for (std::size_t k = 0; k < scan.views.size(); ++k) {
+    const DepthView& v = scan.views[k];
+    const std::string where = dir + ": views[" + std::to_string(k) + "]";
+    if (v.depth_m.type() != CV_32F || v.depth_m.cols != v.intrinsics.width_px ||
+        v.depth_m.rows != v.intrinsics.height_px) {
+      throw InputError(where + ": depth must be CV_32F of the intrinsics' size");
+    }
+    cv::Mat mm(v.depth_m.rows, v.depth_m.cols, CV_16U);
+    for (int r = 0; r < mm.rows; ++r) {
+      const float* src = v.depth_m.ptr<float>(r);
+      auto* dst = mm.ptr<std::uint16_t>(r);
+      for (int c = 0; c < mm.cols; ++c) {
+        const double d = src[c];
+        const double q = std::round(d / kDepthUnitM);
+        dst[c] = (!(d > 0.0) || q > 65535.0) ? std::uint16_t{0} : static_cast<std::uint16_t>(std::max(1.0, q));
+      }
+    }
+    write_png(dir + "/" + view_file(k, "depth"), mm);
+    if (!v.glass_mask.empty()) {
+      if (v.glass_mask.type() != CV_8U || v.glass_mask.size() != v.depth_m.size()) {
+        throw InputError(where + ": glass mask must be CV_8U of the depth's size");
+      }
+      write_png(dir + "/" + view_file(k, "glass"), v.glass_mask);
+    }
+    if (!v.confidence.empty()) {
+      if (v.confidence.type() != CV_8U || v.confidence.size() != v.depth_m.size()) {
+        throw InputError(where + ": confidence must be CV_8U of the depth's size");
+      }
+      write_png(dir + "/" + view_file(k, "confidence"), v.confidence);
+    }
+  }
+  write_text_file_atomic(dir + "/scan.json", scan_json_text(scan));
+}
+
+Scan load_scan(const std::string& dir) {
+  const std::string json_path = dir + "/scan.json";
+  if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": not a scan folder (no such directory)");
+  if (!std::filesystem::is_regular_file(json_path)) throw InputError(json_path + ": missing (not a scan folder?)");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(read_text_file(json_path));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(json_path + ": malformed JSON: " + e.what());
+  }
+  const JsonReader r(j, json_path, "");
+  if (!r.has("format") || r.string("format") != "floorcast-scan") r.fail_key("format", "expected \"floorcast-scan\"");
+  const long long version = r.integer("format_version", 0, 1000000);
+  if (version == 1) {
+    // Wave-1 folders kept the simulator's fields in scan.json; they are sim's business.
+    r.only({"format", "format_version", "sensor", "setting", "seed", "depth_unit_m", "frames", "ground_truth",
+            "params", "views"});
+  } else if (version == kScanFormatVersion) {
+    r.only({"format", "format_version", "sensor", "depth_unit_m", "frames", "views"});
+  } else {
+    r.fail_key("format_version", "unsupported (this floorcast reads versions 1 and " +
+                                     std::to_string(kScanFormatVersion) + ")");
+  }
+  const double unit = r.has("depth_unit_m") ? r.number("depth_unit_m", 1e-6, 1.0) : kDepthUnitM;
+  Scan scan;
+  if (r.has("sensor")) scan.sensor = r.string("sensor");
+
+  const nlohmann::json& jviews = r.raw("views");
+  if (!jviews.is_array() || jviews.empty()) r.fail_key("views", "expected a non-empty array");
+  for (std::size_t k = 0; k < jviews.size(); ++k) {
+    const JsonReader v(jviews[k], json_path, "views[" + std::to_string(k) + "]");
+    v.only({"view_index", "intrinsics", "T_scan_camera", "depth", "glass_mask", "confidence"});
+    DepthView view;
+    view.view_index = v.has("view_index") ? static_cast<int>(v.integer("view_index", 0, 100000)) : static_cast<int>(k);
+    const JsonReader in = v.object("intrinsics");
+    in.only({"width_px", "height_px", "fx_px", "fy_px", "cx_px", "cy_px"});
+    view.intrinsics.width_px = static_cast<int>(in.integer("width_px", 1, 8192));
+    view.intrinsics.height_px = static_cast<int>(in.integer("height_px", 1, 8192));
+    view.intrinsics.fx_px = in.number("fx_px", 1e-3, 1e7);
+    view.intrinsics.fy_px = in.number("fy_px", 1e-3, 1e7);
+    view.intrinsics.cx_px = in.number("cx_px", -1e5, 1e5);
+    view.intrinsics.cy_px = in.number("cy_px", -1e5, 1e5);
+    view.T_scan_camera = pose_matrix_from_json(v, v.raw("T_scan_camera"), "T_scan_camera");
+    const int W = view.intrinsics.width_px, H = view.intrinsics.height_px;
+    auto file = [&](const std::string& key) {
+      const std::string name = v.string(key);
+      if (name.empty() || name.find('/') != std::string::npos || name.find('\\') != std::string::npos) {
+        v.fail_key(key, "must be a plain file name inside the scan folder");
+      }
+      return dir + "/" + name;
+    };
+    const cv::Mat mm = read_png(file("depth"), CV_16U, W, H, "depth");
+    mm.convertTo(view.depth_m, CV_32F, unit);
+    if (v.has("glass_mask")) view.glass_mask = read_png(file("glass_mask"), CV_8U, W, H, "glass mask");
+    if (v.has("confidence")) {
+      view.confidence = read_png(file("confidence"), CV_8U, W, H, "confidence");
+      double lo = 0.0, hi = 0.0;
+      cv::minMaxLoc(view.confidence, &lo, &hi);
+      if (hi > 2.0) throw InputError(file("confidence") + ": confidence values must be 0, 1 or 2");
+    }
+    scan.views.push_back(std::move(view));
+  }
+  return scan;
+}
+
+}  // namespace floorcast
