@@ -15,9 +15,9 @@
 
 #include "cli_common.hpp"
 #include "floorcast/floorplans/io.hpp"
-#include "floorcast/localization/compare_matchers.hpp"
-#include "floorcast/localization/kernel_matcher.hpp"
-#include "floorcast/localization/ray_matcher.hpp"
+#include "floorcast/scenarios/compare_matchers.hpp"
+#include "floorcast/match/kernel_matcher.hpp"
+#include "floorcast/match/ray_matcher.hpp"
 #include "floorcast/core/math.hpp"
 
 namespace floorcast::cli {

@@ -17,7 +17,7 @@
 #include "cli_common.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/floorplans/raster.hpp"
-#include "floorcast/localization/observation_module.hpp"
+#include "floorcast/observe/observation_module.hpp"
 #include "floorcast/sim/mesh.hpp"
 #include "floorcast/sim/ray_scene.hpp"
 #include "floorcast/sim/scan_sim.hpp"

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "cli_common.hpp"
-#include "floorcast/localization/observe_plane_bench.hpp"
+#include "floorcast/bench/plane_accuracy.hpp"
 
 namespace floorcast::cli {
 namespace {

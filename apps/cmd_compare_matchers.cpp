@@ -8,7 +8,7 @@
 
 #include "cli_common.hpp"
 #include "floorcast/floorplans/io.hpp"
-#include "floorcast/localization/compare_matchers.hpp"
+#include "floorcast/scenarios/compare_matchers.hpp"
 
 namespace floorcast::cli {
 namespace {

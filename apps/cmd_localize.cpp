@@ -11,8 +11,8 @@
 
 #include "cli_common.hpp"
 #include "floorcast/floorplans/io.hpp"
-#include "floorcast/localization/matcher.hpp"
-#include "floorcast/localization/plan_raster.hpp"
+#include "floorcast/match/matcher.hpp"
+#include "floorcast/match/plan_raster.hpp"
 #include "floorcast/core/observation_io.hpp"
 #include "floorcast/core/scan_io.hpp"
 #include "floorcast/core/math.hpp"

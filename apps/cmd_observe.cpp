@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "cli_common.hpp"
-#include "floorcast/localization/observation_module.hpp"
+#include "floorcast/observe/observation_module.hpp"
 #include "floorcast/core/observation_io.hpp"
 #include "floorcast/core/scan_io.hpp"
 #include "floorcast/sim/scan_io.hpp"

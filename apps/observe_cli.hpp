@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "floorcast/localization/observation_module.hpp"
+#include "floorcast/observe/observation_module.hpp"
 #include "floorcast/core/observation_io.hpp"
 
 namespace floorcast::cli {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "floorcast/core/format.hpp"
 #include "floorcast/core/types.hpp"
 
 namespace floorcast {
@@ -35,12 +36,6 @@ bool lookup(const Json& summary, const std::string& pointer, double& value, std:
   return true;
 }
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os.precision(4);
-  os << v;
-  return os.str();
-}
 
 }  // namespace
 
@@ -78,7 +73,7 @@ GateOutcome evaluate_gate(const Json& summary, const Json& baseline, const std::
       if (!c["min"].is_number()) throw InputError(where + ": \"min\" must be a number");
       const double lo = c["min"].get<double>();
       if (v < lo) {
-        fail("accuracy regression: " + ptr + " = " + fmt(v) + " is below its floor " + fmt(lo));
+        fail("accuracy regression: " + ptr + " = " + format_general(v, 4) + " is below its floor " + format_general(lo, 4));
         ok = false;
       }
     }
@@ -86,11 +81,11 @@ GateOutcome evaluate_gate(const Json& summary, const Json& baseline, const std::
       if (!c["max"].is_number()) throw InputError(where + ": \"max\" must be a number");
       const double hi = c["max"].get<double>();
       if (v > hi) {
-        fail("accuracy regression: " + ptr + " = " + fmt(v) + " is above its ceiling " + fmt(hi));
+        fail("accuracy regression: " + ptr + " = " + format_general(v, 4) + " is above its ceiling " + format_general(hi, 4));
         ok = false;
       }
     }
-    if (ok) out.passes.push_back("ok: " + ptr + " = " + fmt(v));
+    if (ok) out.passes.push_back("ok: " + ptr + " = " + format_general(v, 4));
   }
 
   const Json ratios = baseline.value("timing_ratios", Json::array());
@@ -113,16 +108,16 @@ GateOutcome evaluate_gate(const Json& summary, const Json& baseline, const std::
       continue;
     }
     if (!(den > 0.0)) {
-      fail("timing check " + name + ": reference time is " + fmt(den));
+      fail("timing check " + name + ": reference time is " + format_general(den, 4));
       continue;
     }
     const double ratio = num / den;
     const double limit = r["baseline"].get<double>() * (1.0 + tol);
     if (ratio > limit) {
-      fail("timing regression: " + name + " ratio " + fmt(ratio) + " exceeds baseline " + fmt(r["baseline"].get<double>()) +
-           " x (1 + " + fmt(tol) + ") = " + fmt(limit));
+      fail("timing regression: " + name + " ratio " + format_general(ratio, 4) + " exceeds baseline " + format_general(r["baseline"].get<double>(), 4) +
+           " x (1 + " + format_general(tol, 4) + ") = " + format_general(limit, 4));
     } else {
-      out.passes.push_back("ok: " + name + " ratio " + fmt(ratio) + " <= " + fmt(limit));
+      out.passes.push_back("ok: " + name + " ratio " + format_general(ratio, 4) + " <= " + format_general(limit, 4));
     }
   }
   return out;

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <vector>
 
+#include "floorcast/core/format.hpp"
 #include "floorcast/floorplans/raster.hpp"
 #include "floorcast/core/math.hpp"
 
@@ -355,11 +356,6 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f", v);
-  return buf;
-}
 
 }  // namespace
 
@@ -444,21 +440,21 @@ std::string render_plan_svg(const FloorPlan& plan, const RenderOptions& options)
     switch (p.type) {
       case Prim::kPolygon:
         os << "<polygon points=\"";
-        for (std::size_t i = 0; i < p.pts.size(); ++i) os << (i ? " " : "") << num(p.pts[i].x) << "," << num(p.pts[i].y);
+        for (std::size_t i = 0; i < p.pts.size(); ++i) os << (i ? " " : "") << format_fixed(p.pts[i].x, 2) << "," << format_fixed(p.pts[i].y, 2);
         os << "\" fill=\"" << color << "\"/>\n";
         break;
       case Prim::kLine:
-        os << "<line x1=\"" << num(p.pts[0].x) << "\" y1=\"" << num(p.pts[0].y) << "\" x2=\"" << num(p.pts[1].x)
-           << "\" y2=\"" << num(p.pts[1].y) << "\" stroke=\"" << color << "\" stroke-width=\"" << num(p.width_px)
+        os << "<line x1=\"" << format_fixed(p.pts[0].x, 2) << "\" y1=\"" << format_fixed(p.pts[0].y, 2) << "\" x2=\"" << format_fixed(p.pts[1].x, 2)
+           << "\" y2=\"" << format_fixed(p.pts[1].y, 2) << "\" stroke=\"" << color << "\" stroke-width=\"" << format_fixed(p.width_px, 2)
            << "\"/>\n";
         break;
       case Prim::kPolyline:
         os << "<polyline points=\"";
-        for (std::size_t i = 0; i < p.pts.size(); ++i) os << (i ? " " : "") << num(p.pts[i].x) << "," << num(p.pts[i].y);
-        os << "\" fill=\"none\" stroke=\"" << color << "\" stroke-width=\"" << num(p.width_px) << "\"/>\n";
+        for (std::size_t i = 0; i < p.pts.size(); ++i) os << (i ? " " : "") << format_fixed(p.pts[i].x, 2) << "," << format_fixed(p.pts[i].y, 2);
+        os << "\" fill=\"none\" stroke=\"" << color << "\" stroke-width=\"" << format_fixed(p.width_px, 2) << "\"/>\n";
         break;
       case Prim::kCircle:
-        os << "<circle cx=\"" << num(p.pts[0].x) << "\" cy=\"" << num(p.pts[0].y) << "\" r=\"" << num(p.width_px)
+        os << "<circle cx=\"" << format_fixed(p.pts[0].x, 2) << "\" cy=\"" << format_fixed(p.pts[0].y, 2) << "\" r=\"" << format_fixed(p.width_px, 2)
            << "\" fill=\"" << color << "\"/>\n";
         break;
     }
@@ -467,7 +463,7 @@ std::string render_plan_svg(const FloorPlan& plan, const RenderOptions& options)
   if (!sc.texts.empty()) {
     os << "<g class=\"text\" font-family=\"sans-serif\">\n";
     for (const Text& t : sc.texts) {
-      os << "<text x=\"" << num(t.org.x) << "\" y=\"" << num(t.org.y) << "\" font-size=\"" << num(t.size_px)
+      os << "<text x=\"" << format_fixed(t.org.x, 2) << "\" y=\"" << format_fixed(t.org.y, 2) << "\" font-size=\"" << format_fixed(t.size_px, 2)
          << "\" fill=\"" << hex_color(t.color) << "\">" << xml_escape(t.text) << "</text>\n";
     }
     os << "</g>\n";

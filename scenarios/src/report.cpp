@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "floorcast/core/format.hpp"
 #include "floorcast/eval/plot.hpp"
 #include "floorcast/core/math.hpp"
 
@@ -40,10 +41,7 @@ std::string pct(const MetricValue& v) {
 }
 
 std::string num(double v, int decimals) {
-  if (!std::isfinite(v)) return "n/a";
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(decimals) << v;
-  return os.str();
+  return std::isfinite(v) ? format_fixed(v, decimals) : "n/a";
 }
 
 std::string csv_escape(const std::string& s) {

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "floorcast/eval/metrics.hpp"
-#include "floorcast/localization/matcher.hpp"
-#include "floorcast/localization/observation_module.hpp"
+#include "floorcast/match/matcher.hpp"
+#include "floorcast/observe/observation_module.hpp"
 
 namespace floorcast {
 

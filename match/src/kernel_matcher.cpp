@@ -1,0 +1,322 @@
+#include "floorcast/match/kernel_matcher.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <opencv2/imgproc.hpp>
+
+#include "floorcast/match/fft_correlator.hpp"
+#include "floorcast/match/plan_raster.hpp"
+#include "param_json.hpp"
+#include "floorcast/core/timing.hpp"
+
+namespace floorcast {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+Vec2 rotate_scale(const Vec2& p, double c, double s, double k) { return {k * (c * p.x() - s * p.y()), k * (s * p.x() + c * p.y())}; }
+
+BlockingOptions blocking_of(const KernelMatcherParams& p) {
+  BlockingOptions b;
+  b.closed_doors_block = true;
+  b.open_doors_block = p.doors_closed;
+  b.glass_blocks = p.glass_blocks;
+  b.obstacles_block = p.obstacles_block;
+  b.cut_height_m = p.cut_height_m;
+  return b;
+}
+
+}  // namespace
+
+nlohmann::ordered_json KernelMatcherParams::to_json() const {
+  nlohmann::ordered_json j;
+  j["resolution_m"] = resolution_m;
+  j["grid_margin_m"] = grid_margin_m;
+  j["max_range_m"] = max_range_m;
+  j["blur_size_px"] = blur_size_px;
+  j["blur_sigma_px"] = blur_sigma_px;
+  j["distance_sigma_m"] = distance_sigma_m;
+  j["alpha"] = alpha;
+  j["ces_shrink"] = ces_shrink;
+  j["ces_window_m"] = ces_window_m;
+  j["ces_erode_px"] = ces_erode_px;
+  j["orientations"] = orientation_mode_name(orientation.mode);
+  j["num_orientations"] = orientation.num_orientations;
+  j["histogram_bins"] = orientation.histogram_bins;
+  j["nms_radius_bins"] = orientation.nms_radius_bins;
+  j["dense_step_deg"] = orientation.dense_step_deg;
+  j["refine_orientations"] = orientation.refine;
+  j["scales"] = scales;
+  j["doors_closed"] = doors_closed;
+  j["glass_blocks"] = glass_blocks;
+  j["obstacles_block"] = obstacles_block;
+  j["cut_height_m"] = cut_height_m;
+  j["zero_below"] = zero_below;
+  j["plan_raster"] = plan_raster;
+  j["line_rule"] = line_rule;
+  return j;
+}
+
+void KernelMatcherParams::apply_overrides(const nlohmann::json& overrides) {
+  detail::ParamReader r(overrides, "matcher kernel");
+  r.read("resolution_m", resolution_m, 0.01, 1.0);
+  r.read("grid_margin_m", grid_margin_m, 0.0, 100.0);
+  r.read("max_range_m", max_range_m, 0.5, 100.0);
+  r.read("blur_size_px", blur_size_px, 0, 101);
+  if (blur_size_px > 0 && blur_size_px % 2 == 0) r.fail("blur_size_px", "must be odd (or 0 for no blur)");
+  r.read("blur_sigma_px", blur_sigma_px, 0.0, 50.0);
+  r.read("distance_sigma_m", distance_sigma_m, 0.0, 1e6);
+  r.read("alpha", alpha, 0.0, 1e6);
+  r.read("ces_shrink", ces_shrink, 0.0, 1.0);
+  r.read("ces_window_m", ces_window_m, 0.0, 100.0);
+  r.read("ces_erode_px", ces_erode_px, 0, 20);
+  std::string mode = orientation_mode_name(orientation.mode);
+  r.read("orientations", mode);
+  orientation.mode = parse_orientation_mode(mode);
+  r.read("num_orientations", orientation.num_orientations, 2, 720);
+  r.read("histogram_bins", orientation.histogram_bins, 4, 3600);
+  r.read("nms_radius_bins", orientation.nms_radius_bins, 0, 1800);
+  r.read("dense_step_deg", orientation.dense_step_deg, 0.1, 180.0);
+  r.read("refine_orientations", orientation.refine);
+  r.read("scales", scales, 0.1, 10.0);
+  r.read("doors_closed", doors_closed);
+  r.read("glass_blocks", glass_blocks);
+  r.read("obstacles_block", obstacles_block);
+  r.read("cut_height_m", cut_height_m, 0.0, 100.0);
+  r.read("zero_below", zero_below, 0.0, 1.0);
+  r.read("plan_raster", plan_raster);
+  r.read("line_rule", line_rule);
+  if (line_rule != "closed" && line_rule != "half_open") {
+    r.fail("line_rule", "expected closed or half_open, got \"" + line_rule + "\"");
+  }
+  if (plan_raster != "outline" && plan_raster != "centreline" && plan_raster != "filled") {
+    r.fail("plan_raster", "expected outline, centreline or filled, got \"" + plan_raster + "\"");
+  }
+  r.finish();
+}
+
+double correlation_alpha(double alpha) { return alpha >= 1.0 ? std::min(alpha, 1.5) : alpha; }
+
+int kernel_radius_px(const KernelMatcherParams& p) {
+  const double max_scale = *std::max_element(p.scales.begin(), p.scales.end());
+  const double reach_m = std::max(p.max_range_m * max_scale, p.ces_window_m);
+  return static_cast<int>(std::ceil(reach_m / p.resolution_m)) + p.blur_size_px / 2 + 1;
+}
+
+cv::Mat distance_weight_image(const KernelMatcherParams& params, int R) {
+  const int K = 2 * R + 1;
+  cv::Mat w(K, K, CV_32F, cv::Scalar(1.0f));
+  if (params.distance_sigma_m > 0.0) {
+    const double res = params.resolution_m;
+    const double inv2s2 = 1.0 / (2.0 * params.distance_sigma_m * params.distance_sigma_m);
+    for (int r = 0; r < K; ++r) {
+      float* row = w.ptr<float>(r);
+      const double dy = (r - R) * res;
+      for (int q = 0; q < K; ++q) {
+        const double dx = (q - R) * res;
+        row[q] = static_cast<float>(std::exp(-(dx * dx + dy * dy) * inv2s2));
+      }
+    }
+  }
+  return w;
+}
+
+LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::vector<Segment2>& obs, double yaw,
+                                  double scale, int R) {
+  return make_layout_kernels(params, obs, yaw, scale, R, distance_weight_image(params, R));
+}
+
+LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::vector<Segment2>& obs, double yaw,
+                                  double scale, int R, const cv::Mat& weight) {
+  const int K = 2 * R + 1;
+  const double res = params.resolution_m;
+  // The observer sits at the centre of pixel (R, R).
+  const Vec2 origin(-(R + 0.5) * res, -(R + 0.5) * res);
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const double reach_m = params.max_range_m * scale;
+
+  std::vector<Segment2> segs;
+  std::vector<std::array<Vec2, 3>> triangles;
+  segs.reserve(obs.size());
+  triangles.reserve(obs.size());
+  for (const Segment2& seg : obs) {
+    const Vec2 a = rotate_scale(seg.a_m, c, s, scale), b = rotate_scale(seg.b_m, c, s, scale);
+    segs.push_back({a, b});
+    triangles.push_back({Vec2::Zero(), params.ces_shrink * a, params.ces_shrink * b});
+  }
+
+  LayoutKernels k;
+  // RW: lines, blurred, distance-weighted, within the square window of the (scaled) range.
+  cv::Mat lines = cv::Mat::zeros(K, K, CV_8U);
+  draw_segment_lines(lines, segs, origin, res,
+                     params.line_rule == "closed" ? LineRule::kClosed : LineRule::kHalfOpen);
+  const int reach_px = std::min(R, static_cast<int>(std::floor(reach_m / res + 1e-9)));
+  if (reach_px < R) {
+    cv::Mat window = cv::Mat::zeros(K, K, CV_8U);
+    window(cv::Rect(R - reach_px, R - reach_px, 2 * reach_px + 1, 2 * reach_px + 1)).setTo(255);
+    cv::bitwise_and(lines, window, lines);
+  }
+  cv::Mat rw;
+  lines.convertTo(rw, CV_32F, 1.0 / 255.0);
+  if (params.blur_size_px > 1 && params.blur_sigma_px > 0.0) {
+    cv::GaussianBlur(rw, rw, cv::Size(params.blur_size_px, params.blur_size_px), params.blur_sigma_px,
+                     params.blur_sigma_px, cv::BORDER_CONSTANT);
+  }
+  rw = rw.mul(weight);
+  double mn = 0.0, mx = 0.0;
+  cv::minMaxLoc(rw, &mn, &mx);
+  if (mx > mn) {
+    rw = (rw - mn) / (mx - mn);
+    const double sum = cv::sum(rw)[0];
+    rw /= sum;
+    k.p = rw;
+  } else {
+    k.p = cv::Mat::zeros(K, K, CV_32F);
+  }
+
+  // CES: shrunk triangles, square window, erosion.
+  cv::Mat ces = cv::Mat::zeros(K, K, CV_8U);
+  fill_triangles(ces, triangles, origin, res);
+  const int win_px = std::min(R, static_cast<int>(std::floor(params.ces_window_m / res + 1e-9)));
+  if (win_px < R) {
+    cv::Mat window = cv::Mat::zeros(K, K, CV_8U);
+    window(cv::Rect(R - win_px, R - win_px, 2 * win_px + 1, 2 * win_px + 1)).setTo(255);
+    cv::bitwise_and(ces, window, ces);
+  }
+  if (params.ces_erode_px > 0) {
+    const int e = params.ces_erode_px;
+    const cv::Mat se = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * e + 1, 2 * e + 1));
+    cv::erode(ces, ces, se, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  }
+  ces.convertTo(k.ces, CV_32F, 1.0 / 255.0);
+  return k;
+}
+
+struct KernelMatcher::Impl {
+  std::unique_ptr<FftCorrelator> correlator;
+  int radius_px = 0;
+  cv::Mat distance_weight;
+  std::vector<Segment2> plan_segments;
+  mutable tbb::enumerable_thread_specific<std::unique_ptr<FftCorrelator::Workspace>> workspaces;
+};
+
+KernelMatcher::KernelMatcher(const FloorPlan& plan, const KernelMatcherParams& params)
+    : params_(params), impl_(std::make_unique<Impl>()) {
+  if (params_.scales.empty()) throw InputError("matcher kernel: no scale candidates");
+  const auto t0 = Clock::now();
+  grid_ = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
+  const std::vector<LabeledSegment> outline = blocking_outline(plan, blocking_of(params_));
+  impl_->plan_segments = outline_segments(outline);
+  const LineRule rule = params_.line_rule == "closed" ? LineRule::kClosed : LineRule::kHalfOpen;
+  if (params_.plan_raster == "outline") {
+    plan_raster_ = rasterize_outline(outline, grid_, rule);
+  } else if (params_.plan_raster == "centreline") {
+    plan_raster_ = cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_8U);
+    draw_segment_lines(plan_raster_, footprint_centrelines(blocking_footprints(plan, blocking_of(params_))),
+                       {grid_.origin_x_m, grid_.origin_y_m}, grid_.resolution_m_per_px, rule);
+  } else {
+    plan_raster_ = rasterize_occupancy(plan, grid_, blocking_of(params_));
+  }
+  valid_ = matcher_valid_mask(plan, grid_, blocking_of(params_));
+  orientation_cache_ = make_plan_orientation_cache(params_.orientation, impl_->plan_segments);
+  impl_->radius_px = kernel_radius_px(params_);
+  impl_->distance_weight = distance_weight_image(params_, impl_->radius_px);
+  cv::Mat plan_f;
+  plan_raster_.convertTo(plan_f, CV_32F, 1.0 / 255.0);
+  impl_->correlator = std::make_unique<FftCorrelator>(plan_f, impl_->radius_px);
+  precompute_s_ = seconds(t0, Clock::now());
+}
+
+KernelMatcher::~KernelMatcher() = default;
+
+int KernelMatcher::fft_cols() const { return impl_->correlator->fft_cols(); }
+int KernelMatcher::fft_rows() const { return impl_->correlator->fft_rows(); }
+
+std::size_t KernelMatcher::precompute_bytes() const {
+  return impl_->correlator->spectrum_bytes() + plan_raster_.total() + valid_.total();
+}
+
+MatchResult KernelMatcher::match(const Observation2D& obs) const {
+  const auto t0 = Clock::now();
+  const std::vector<double> yaws = orientation_candidates(params_.orientation, orientation_cache_, obs.segments_m);
+  const double orient_s = seconds(t0, Clock::now());
+  MatchResult r = match_yaws(obs, yaws);
+  r.stage_s["orientation_candidates"] = orient_s;
+  r.match_s = seconds(t0, Clock::now());
+  return r;
+}
+
+MatchResult KernelMatcher::match_yaws(const Observation2D& obs, const std::vector<double>& yaws) const {
+  const auto t0 = Clock::now();
+  MatchResult result;
+  Posterior& post = result.posterior;
+  post.grid = grid_;
+  post.yaw_rad = yaws;
+  post.scores.resize(yaws.size());
+
+  struct Times {
+    double kernels = 0, forward = 0, product = 0, inverse = 0, combine = 0;
+  };
+  tbb::enumerable_thread_specific<Times> times;
+  const int R = impl_->radius_px;
+  const float alpha = static_cast<float>(correlation_alpha(params_.alpha));
+  const float zero_below = static_cast<float>(params_.zero_below);
+
+  tbb::parallel_for(std::size_t{0}, yaws.size(), [&](std::size_t o) {
+    auto& ws = impl_->workspaces.local();
+    if (!ws) ws = impl_->correlator->make_workspace();
+    Times& tm = times.local();
+    cv::Mat best = cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_32F);
+    for (double scale : params_.scales) {
+      const double a = thread_cpu_s();
+      const LayoutKernels k = make_layout_kernels(params_, obs.segments_m, yaws[o], scale, R, impl_->distance_weight);
+      cv::Mat kernel = k.p - alpha * k.ces;
+      const double b = thread_cpu_s();
+      FftCorrelator::StageTimes st;
+      impl_->correlator->run(kernel, *ws, &st);
+      const double c = thread_cpu_s();
+      // Clip at 0, drop FFT round-off, restrict to the valid area, max over scales.
+      for (int row = 0; row < grid_.height_px; ++row) {
+        const float* h = impl_->correlator->result_row(*ws, row);
+        const std::uint8_t* v = valid_.ptr<std::uint8_t>(row);
+        float* out = best.ptr<float>(row);
+        for (int col = 0; col < grid_.width_px; ++col) {
+          const float x = (v[col] && h[col] >= zero_below) ? h[col] : 0.0f;
+          out[col] = std::max(out[col], x);
+        }
+      }
+      tm.kernels += b - a;
+      tm.forward += st.forward_s;
+      tm.product += st.product_s;
+      tm.inverse += st.inverse_s;
+      tm.combine += thread_cpu_s() - c;
+    }
+    post.scores[o] = best;
+  });
+
+  Times sum;
+  for (const Times& t : times) {
+    sum.kernels += t.kernels;
+    sum.forward += t.forward;
+    sum.product += t.product;
+    sum.inverse += t.inverse;
+    sum.combine += t.combine;
+  }
+  // Stage times are thread CPU seconds summed over workers; match_s is wall time.
+  result.stage_s["kernel_build"] = sum.kernels;
+  result.stage_s["fft_forward"] = sum.forward;
+  result.stage_s["spectrum_product"] = sum.product;
+  result.stage_s["fft_inverse"] = sum.inverse;
+  result.stage_s["clip_mask_max"] = sum.combine;
+  result.match_s = seconds(t0, Clock::now());
+  return result;
+}
+
+}  // namespace floorcast

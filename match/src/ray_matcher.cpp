@@ -1,0 +1,312 @@
+#include "floorcast/match/ray_matcher.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include "floorcast/core/hash.hpp"
+#include "floorcast/match/distance_volume_io.hpp"
+#include "floorcast/match/plan_raster.hpp"
+#include "floorcast/core/math.hpp"
+#include "param_json.hpp"
+#include "floorcast/core/timing.hpp"
+
+namespace floorcast {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+BlockingOptions blocking_of(const RayMatcherParams& p) {
+  BlockingOptions b;
+  b.closed_doors_block = true;
+  b.open_doors_block = p.doors_closed;
+  b.glass_blocks = p.glass_blocks;
+  b.obstacles_block = p.obstacles_block;
+  b.cut_height_m = p.cut_height_m;
+  return b;
+}
+
+/// Cells per tile of the scoring loop: the tile's distances (D x T uint16) and sums (D x T
+/// int32) stay in L1/L2.
+int tile_cells(int D) { return D <= 64 ? 512 : 128; }
+
+/// acc[o * stride + t] = sum_i |min(V[(o + i) mod D][first + t], clip) - rays[i]| for the
+/// T <= stride cells of one tile, in millimetres. The hot loop of the matcher: 16-bit lanes
+/// (|a - b| = max - min), partial sums over `block` rays (block * range < 2^16 mm: 6 rays at
+/// 10 m) widened into 32-bit sums; vectorised over cells, with an AVX2 clone where the CPU has it.
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void l1_tile(const std::uint16_t* volume, std::size_t N, std::size_t first, int T, int stride, int D,
+             const std::uint16_t* rays_mm, std::uint16_t clip_mm, bool clip, int block, std::int32_t* acc,
+             std::uint16_t* part) {
+  const int kBlock = block;
+  for (int o = 0; o < D; ++o) {
+    std::int32_t* a = acc + static_cast<std::size_t>(o) * stride;
+    for (int t = 0; t < T; ++t) a[t] = 0;
+    for (int i0 = 0; i0 < D; i0 += kBlock) {
+      for (int t = 0; t < T; ++t) part[t] = 0;
+      for (int i = i0; i < std::min(D, i0 + kBlock); ++i) {
+        const std::uint16_t* p = volume + static_cast<std::size_t>((o + i) % D) * N + first;
+        const std::uint16_t r = rays_mm[i];
+        if (clip) {
+          for (int t = 0; t < T; ++t) {
+            const std::uint16_t v = p[t] < clip_mm ? p[t] : clip_mm;
+            const std::uint16_t hi = v > r ? v : r;
+            const std::uint16_t lo = v > r ? r : v;
+            part[t] = static_cast<std::uint16_t>(part[t] + static_cast<std::uint16_t>(hi - lo));
+          }
+        } else {
+          for (int t = 0; t < T; ++t) {
+            const std::uint16_t v = p[t];
+            const std::uint16_t hi = v > r ? v : r;
+            const std::uint16_t lo = v > r ? r : v;
+            part[t] = static_cast<std::uint16_t>(part[t] + static_cast<std::uint16_t>(hi - lo));
+          }
+        }
+      }
+      for (int t = 0; t < T; ++t) a[t] += part[t];
+    }
+  }
+}
+
+/// out[t] = exp(-acc[t] * k) for k > 0, as 2^y with y = -acc * k * log2(e): y = n + f with n an
+/// integer and f in [-1/2, 1/2], 2^f by its degree-6 Taylor polynomial (relative error < 2e-7,
+/// float precision) and 2^n put into the exponent bits, so the loop vectorises. 0 below 2^-126.
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void exp_neg_scaled(const std::int32_t* acc, int T, float k, float* out) {
+  constexpr float kLog2e = 1.4426950408889634f;
+  for (int t = 0; t < T; ++t) {
+    float y = -static_cast<float>(acc[t]) * k * kLog2e;  // <= 0
+    const bool underflow = y <= -126.0f;
+    y = underflow ? -126.0f : y;
+    // Round to nearest by truncating the positive -y + 1/2 (no floor call: the loop vectorises).
+    const std::int32_t ni = -static_cast<std::int32_t>(0.5f - y);
+    const float f = y - static_cast<float>(ni);
+    // sum_j (f ln 2)^j / j!
+    float p = 1.5403530e-4f;
+    p = p * f + 1.3333558e-3f;
+    p = p * f + 9.6181291e-3f;
+    p = p * f + 5.5504109e-2f;
+    p = p * f + 2.4022651e-1f;
+    p = p * f + 6.9314718e-1f;
+    p = p * f + 1.0f;
+    const std::int32_t bits = (ni + 127) << 23;
+    float scale;
+    std::memcpy(&scale, &bits, sizeof(float));
+    out[t] = underflow ? 0.0f : p * scale;
+  }
+}
+
+
+
+}  // namespace
+
+nlohmann::ordered_json RayMatcherParams::to_json() const {
+  nlohmann::ordered_json j;
+  j["resolution_m"] = resolution_m;
+  j["grid_margin_m"] = grid_margin_m;
+  j["num_directions"] = num_directions;
+  j["max_range_m"] = max_range_m;
+  j["lambda_m"] = lambda_m;
+  j["ray_source"] = ray_source;
+  j["doors_closed"] = doors_closed;
+  j["glass_blocks"] = glass_blocks;
+  j["obstacles_block"] = obstacles_block;
+  j["cut_height_m"] = cut_height_m;
+  j["cache_dir"] = cache_dir;
+  return j;
+}
+
+void RayMatcherParams::apply_overrides(const nlohmann::json& overrides) {
+  detail::ParamReader r(overrides, "matcher ray");
+  r.read("resolution_m", resolution_m, 0.01, 1.0);
+  r.read("grid_margin_m", grid_margin_m, 0.0, 100.0);
+  r.read("num_directions", num_directions, 4, 3600);
+  r.read("max_range_m", max_range_m, 0.1, 65.0);
+  r.read("lambda_m", lambda_m, 1e-6, 1e9);
+  r.read("ray_source", ray_source);
+  if (ray_source != "auto" && ray_source != "ranges" && ray_source != "segments") {
+    r.fail("ray_source", "expected auto, ranges or segments, got \"" + ray_source + "\"");
+  }
+  r.read("doors_closed", doors_closed);
+  r.read("glass_blocks", glass_blocks);
+  r.read("obstacles_block", obstacles_block);
+  r.read("cut_height_m", cut_height_m, 0.0, 100.0);
+  r.read("cache_dir", cache_dir);
+  r.finish();
+}
+
+RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params) : params_(params) {
+  const auto t0 = Clock::now();
+  const GridSpec grid = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
+  std::string cache_path, key;
+  if (!params_.cache_dir.empty()) {
+    nlohmann::ordered_json k = params_.to_json();
+    k.erase("cache_dir");
+    k.erase("lambda_m");
+    k.erase("ray_source");
+    k["plan_hash"] = hex64(plan_hash(plan));
+    k["algorithm"] = "zbuffer-parallelogram-v1";
+    key = k.dump();
+    cache_path = (std::filesystem::path(params_.cache_dir) / ("distance_volume_" + hex64(fnv1a64(key)) + ".bin")).string();
+    if (auto v = load_distance_volume(cache_path, key); v && v->grid == grid) {
+      volume_ = std::move(*v);
+      from_cache_ = true;
+    }
+  }
+  if (!from_cache_) {
+    const std::vector<Segment2> outline = outline_segments(blocking_outline(plan, blocking_of(params_)));
+    const cv::Mat valid = matcher_valid_mask(plan, grid, blocking_of(params_));
+    volume_ = compute_distance_volume(outline, grid, valid, params_.num_directions, params_.max_range_m);
+    if (!cache_path.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(params_.cache_dir, ec);
+      if (ec) throw InputError(params_.cache_dir + ": cannot create the cache directory: " + ec.message());
+      save_distance_volume(cache_path, volume_, key);
+    }
+  }
+  // First stored cell of every grid row (cells are sorted row-major).
+  const GridSpec& vg = volume_.grid;
+  row_start_.assign(static_cast<std::size_t>(vg.height_px) + 1, 0);
+  {
+    std::size_t i = 0;
+    for (int r = 0; r <= vg.height_px; ++r) {
+      const std::int64_t first_lin = static_cast<std::int64_t>(r) * vg.width_px;
+      while (i < volume_.cells.size() && volume_.cells[i] < first_lin) ++i;
+      row_start_[static_cast<std::size_t>(r)] = static_cast<std::int64_t>(i);
+    }
+  }
+  precompute_s_ = seconds(t0, Clock::now());
+}
+
+RayMatcher::~RayMatcher() = default;
+
+std::vector<double> RayMatcher::observation_rays(const Observation2D& obs) const {
+  const int D = params_.num_directions;
+  const bool have_ranges = static_cast<int>(obs.ray_ranges_m.size()) == D;
+  std::vector<double> rays;
+  if (params_.ray_source == "ranges" || (params_.ray_source == "auto" && have_ranges)) {
+    if (!have_ranges) {
+      throw InputError("matcher ray: the observation has " + std::to_string(obs.ray_ranges_m.size()) +
+                       " ray ranges but the matcher needs " + std::to_string(D) + " (ray_source \"ranges\")");
+    }
+    rays = obs.ray_ranges_m;
+  } else {
+    rays = cast_rays_on_segments(obs.segments_m, D, params_.max_range_m);
+  }
+  for (double& r : rays) {
+    if (!std::isfinite(r) || r < 0.0) throw InputError("matcher ray: observation ray range is negative or not finite");
+  }
+  return rays;
+}
+
+MatchResult RayMatcher::match(const Observation2D& obs) const {
+  const auto t0 = Clock::now();
+  MatchResult result;
+  const int D = params_.num_directions;
+  const std::vector<double> rays = observation_rays(obs);
+  // Both sides are clipped at the smaller of the volume's and the observation's range.
+  const double clip_m = std::min(volume_.max_range_m, obs.max_range_m > 0.0 ? obs.max_range_m : volume_.max_range_m);
+  const std::uint16_t clip_mm = static_cast<std::uint16_t>(std::min<long>(std::lround(clip_m * 1000.0), 65535));
+  const bool clip = clip_mm < std::lround(volume_.max_range_m * 1000.0);
+  // Rays per 16-bit partial sum (see l1_tile).
+  const int block = std::max(1, 65535 / std::max<int>(1, clip_mm));
+  std::vector<std::uint16_t> rays_mm(static_cast<std::size_t>(D));
+  for (int i = 0; i < D; ++i) {
+    rays_mm[static_cast<std::size_t>(i)] = static_cast<std::uint16_t>(
+        std::min<long>(clip_mm, std::lround(rays[static_cast<std::size_t>(i)] * 1000.0)));
+  }
+  const auto t1 = Clock::now();
+
+  Posterior& post = result.posterior;
+  const GridSpec& g = volume_.grid;
+  post.grid = g;
+  post.yaw_rad.resize(static_cast<std::size_t>(D));
+  post.scores.resize(static_cast<std::size_t>(D));
+  std::vector<float*> slices(static_cast<std::size_t>(D));
+  for (int o = 0; o < D; ++o) {
+    post.yaw_rad[static_cast<std::size_t>(o)] = 2.0 * kPi * o / D;
+    // Not zeroed here: every row is written in full below (0 where no cell is stored).
+    post.scores[static_cast<std::size_t>(o)].create(g.height_px, g.width_px, CV_32F);
+    slices[static_cast<std::size_t>(o)] = post.scores[static_cast<std::size_t>(o)].ptr<float>();
+  }
+  const auto t2 = Clock::now();
+
+  const int T = tile_cells(D);
+  const float k = static_cast<float>(1e-3 / params_.lambda_m);
+  struct Scratch {
+    std::vector<std::int32_t> acc;
+    std::vector<std::uint16_t> part;
+    std::vector<float> score;
+    double l1_s = 0.0, exp_s = 0.0;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  const std::size_t W = static_cast<std::size_t>(g.width_px);
+  // One task per grid row: its stored cells are a contiguous index range; the row of every slice
+  // is written once, front to back.
+  tbb::parallel_for(0, g.height_px, [&](int row) {
+    Scratch& s = scratch.local();
+    s.acc.resize(static_cast<std::size_t>(D) * T);
+    s.part.resize(static_cast<std::size_t>(T));
+    s.score.resize(static_cast<std::size_t>(T));
+    const std::size_t begin = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(row)]);
+    const std::size_t end = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(row) + 1]);
+    const std::size_t row_offset = static_cast<std::size_t>(row) * W;
+    for (int o = 0; o < D; ++o) std::memset(slices[static_cast<std::size_t>(o)] + row_offset, 0, W * sizeof(float));
+    for (std::size_t first = begin; first < end; first += static_cast<std::size_t>(T)) {
+      const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(T), end - first));
+      const double a = thread_cpu_s();
+      l1_tile(volume_.mm.data(), volume_.num_cells(), first, n, T, D, rays_mm.data(), clip_mm, clip, block,
+              s.acc.data(), s.part.data());
+      const double b = thread_cpu_s();
+      const std::int32_t* cells = volume_.cells.data() + first;
+      for (int o = 0; o < D; ++o) {
+        exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * T, n, k, s.score.data());
+        float* dst = slices[static_cast<std::size_t>(o)];
+        for (int t = 0; t < n; ++t) dst[cells[t]] = s.score[static_cast<std::size_t>(t)];
+      }
+      s.l1_s += b - a;
+      s.exp_s += thread_cpu_s() - b;
+    }
+  });
+  double l1_s = 0.0, exp_s = 0.0;
+  for (const Scratch& s : scratch) {
+    l1_s += s.l1_s;
+    exp_s += s.exp_s;
+  }
+  result.stage_s["observation_rays"] = seconds(t0, t1);
+  result.stage_s["posterior_alloc"] = seconds(t1, t2);
+  // Thread CPU seconds summed over workers.
+  result.stage_s["l1_distances"] = l1_s;
+  result.stage_s["exp_scatter"] = exp_s;
+  result.match_s = seconds(t0, Clock::now());
+  return result;
+}
+
+std::vector<double> ray_scores_reference(const DistanceVolume& v, std::size_t cell, const std::vector<double>& rays,
+                                         double clip_m, double lambda_m) {
+  const int D = v.num_directions;
+  std::vector<double> out(static_cast<std::size_t>(D));
+  for (int o = 0; o < D; ++o) {
+    double l1 = 0.0;
+    for (int i = 0; i < D; ++i) {
+      const double vm = std::min(v.range_m(cell, (o + i) % D), clip_m);
+      l1 += std::abs(vm - std::min(rays[static_cast<std::size_t>(i)], clip_m));
+    }
+    out[static_cast<std::size_t>(o)] = std::exp(-l1 / lambda_m);
+  }
+  return out;
+}
+
+}  // namespace floorcast

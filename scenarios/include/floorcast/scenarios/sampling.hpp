@@ -1,0 +1,25 @@
+// Where observers stand: seeded observation poses in a plan's free space (optionally inside given
+// regions, e.g. transitional spaces), used by scenarios, benches and tests.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "floorcast/core/types.hpp"
+#include "floorcast/floorplans/floor_plan.hpp"
+
+namespace floorcast {
+
+/// True if p lies inside the closed polygon (even-odd rule; any orientation, non-convex allowed).
+bool point_in_polygon(const std::vector<Vec2>& polygon_m, const Vec2& p);
+
+/// N poses (position uniform over valid cells with at least clearance_m to the nearest blocked
+/// cell — walls, closed doors, glass, and every obstacle footprint whatever its height, since
+/// nobody stands inside furniture — and inside one of `regions` when given, jittered uniformly inside the cell; yaw uniform
+/// in [0, 2 pi)). Point i of plan p draws from its own stream seeded by (seed, plan_index, i):
+/// same seed -> same points. Throws InputError when no cell qualifies.
+std::vector<Pose2> sample_observation_poses(const FloorPlan& plan, int n, std::uint64_t seed, int plan_index,
+                                            double clearance_m, double resolution_m = 0.1,
+                                            const std::vector<std::vector<Vec2>>& regions = {});
+
+}  // namespace floorcast

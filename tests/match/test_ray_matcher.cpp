@@ -1,0 +1,248 @@
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include <unistd.h>
+
+#include "floorcast/match/distance_volume_io.hpp"
+#include "floorcast/match/plan_raster.hpp"
+#include "floorcast/match/ray_matcher.hpp"
+#include "floorcast/sim/perfect_observation.hpp"
+#include "floorcast/core/math.hpp"
+#include "match_test_plans.hpp"
+
+namespace floorcast {
+namespace {
+
+
+/// True when the ray passes within eps of a segment endpoint (a grazing ray: which side it
+/// falls on is a matter of round-off).
+bool grazes_vertex(const std::vector<Segment2>& segs, const Vec2& o, double ang, double range, double eps) {
+  const Vec2 u(std::cos(ang), std::sin(ang));
+  for (const Segment2& s : segs)
+    for (const Vec2& v : {s.a_m, s.b_m}) {
+      const Vec2 w = v - o;
+      const double t = w.dot(u);
+      if (t < -eps || t > range + eps) continue;
+      if (std::abs(u.x() * w.y() - u.y() * w.x()) < eps) return true;
+    }
+  return false;
+}
+
+TEST(DistanceVolume, EqualsBruteForceCaster) {
+  const FloorPlan plan = test::asymmetric_floor();
+  const GridSpec grid = grid_for_plan(plan, 0.1, 1.0);
+  const BlockingOptions doors_closed{true, true, true, false, 1.5};
+  const cv::Mat valid = matcher_valid_mask(plan, grid, doors_closed);
+  const std::vector<Segment2> outline = outline_segments(blocking_outline(plan, doors_closed));
+  for (int D : {36, 7}) {
+    const DistanceVolume v = compute_distance_volume(outline, grid, valid, D, 10.0);
+    ASSERT_EQ(v.num_cells(), static_cast<std::size_t>(cv::countNonZero(valid)));
+    ASSERT_EQ(v.mm.size(), v.num_cells() * D);
+    int checked = 0, grazing = 0;
+    for (std::size_t i = 0; i < v.num_cells(); i += 3) {
+      const int lin = v.cells[i];
+      const Vec2 o = grid.cell_center_m(lin / grid.width_px, lin % grid.width_px);
+      for (int d = 0; d < D; ++d) {
+        const double ang = 2.0 * kPi * d / D;
+        const double expected = brute_force_ray_distance(outline, o, ang, 10.0);
+        const double got = v.range_m(i, d);
+        ++checked;
+        if (std::abs(got - expected) > 0.0006) {
+          // Only rays through a wall corner may disagree.
+          ++grazing;
+          EXPECT_TRUE(grazes_vertex(outline, o, ang, 10.0, 1e-6))
+              << "cell " << o.transpose() << " dir " << d << ": " << got << " vs " << expected;
+        }
+      }
+    }
+    EXPECT_GT(checked, 15000);
+    EXPECT_LT(grazing, checked / 1000 + 1);
+    EXPECT_EQ(v.cell_index[static_cast<std::size_t>(v.cells[5])], 5);
+  }
+}
+
+TEST(DistanceVolume, RaysCastOnObservedSegmentsEqualPerfectRays) {
+  const FloorPlan plan = test::asymmetric_floor();
+  PerfectObservationParams op;
+  op.num_rays = 36;
+  const PerfectObserver observer(plan, op);
+  for (const Pose2& p : {Pose2{3.23, 1.61, 0.31}, Pose2{10.31, 3.07, 4.4}, Pose2{6.0, 6.5, 1.0}}) {
+    const Observation2D obs = observer.observe(p);
+    const std::vector<double> cast = cast_rays_on_segments(obs.segments_m, 36, 10.0);
+    ASSERT_EQ(cast.size(), obs.ray_ranges_m.size());
+    for (std::size_t i = 0; i < cast.size(); ++i) EXPECT_NEAR(cast[i], obs.ray_ranges_m[i], 1e-6) << i;
+  }
+}
+
+TEST(RayMatcher, ScoresEqualReference) {
+  const FloorPlan plan = test::asymmetric_floor();
+  const RayMatcher m(plan);
+  const Observation2D obs = PerfectObserver(plan).observe({3.23, 1.61, 0.31});
+  const MatchResult r = m.match(obs);
+  const DistanceVolume& v = m.volume();
+  ASSERT_EQ(r.posterior.num_slices(), 36);
+  const std::vector<double> rays = m.observation_rays(obs);
+  for (std::size_t i = 0; i < v.num_cells(); i += 97) {
+    const auto ref = ray_scores_reference(v, i, rays, 10.0, 40.0);
+    const int lin = v.cells[i];
+    for (int o = 0; o < 36; ++o) {
+      const float got = r.posterior.scores[static_cast<std::size_t>(o)].ptr<float>()[lin];
+      // Rays quantised to 1 mm (36 rays: < 18 mm of L1), exp to float precision.
+      EXPECT_NEAR(got, ref[static_cast<std::size_t>(o)], ref[static_cast<std::size_t>(o)] * 6e-4 + 1e-7);
+    }
+  }
+  // Cells outside the valid area score 0.
+  const cv::Mat valid = matcher_valid_mask(plan, v.grid, BlockingOptions{true, true, true, false, 1.5});
+  for (const cv::Mat& s : r.posterior.scores) {
+    cv::Mat outside;
+    s.copyTo(outside, valid == 0);
+    EXPECT_EQ(cv::countNonZero(outside), 0);
+  }
+}
+
+TEST(RayMatcher, PerfectObservationArgmaxIsTruePose) {
+  const FloorPlan plan = test::asymmetric_floor();
+  const PerfectObserver observer(plan);
+  const RayMatcher m36(plan);
+  RayMatcherParams p180;
+  p180.num_directions = 180;
+  const RayMatcher m180(plan, p180);
+  // Yaws on the direction grid; positions anywhere inside a cell.
+  for (const Pose2& t : {Pose2{3.23, 1.61, 40.0 * kPi / 180}, Pose2{2.18, 5.44, 130.0 * kPi / 180},
+                         Pose2{10.31, 3.07, 250.0 * kPi / 180}, Pose2{6.72, 6.83, 350.0 * kPi / 180}}) {
+    for (const RayMatcher* m : {&m36, &m180}) {
+      const PoseHypothesis h = m->match(observer.observe(t)).posterior.argmax();
+      EXPECT_LE(std::abs(h.x_m - t.x_m), 0.1 + 1e-9) << m->params().num_directions << ": " << t.x_m << "," << t.y_m;
+      EXPECT_LE(std::abs(h.y_m - t.y_m), 0.1 + 1e-9) << m->params().num_directions << ": " << t.x_m << "," << t.y_m;
+      EXPECT_LE(angle_distance_rad(h.yaw_rad, t.yaw_rad), 2.0 * kPi / m->params().num_directions + 1e-9);
+    }
+  }
+}
+
+TEST(RayMatcher, RotatedAndTranslatedPlanMovesPosterior) {
+  // 90 deg is 9 direction steps: the volume of the rotated plan is the original one with its
+  // directions shifted by 9, except for rays grazing a wall corner (a tie either way), and the
+  // posterior turns with the plan bit for bit wherever the volumes agree.
+  const FloorPlan plan = test::asymmetric_floor();
+  const FloorPlan rotated = test::transformed(plan, 0.5 * kPi, 20.0, 5.0);
+  const RayMatcher a(plan), b(rotated);
+  const DistanceVolume& va = a.volume();
+  const DistanceVolume& vb = b.volume();
+  const std::vector<Segment2> outline = outline_segments(blocking_outline(plan, BlockingOptions{true, true, true, false, 1.5}));
+  auto map = [](const Vec2& p) { return Vec2(-p.y() + 20.0, p.x() + 5.0); };
+  const Observation2D obs = PerfectObserver(plan).observe({3.23, 1.61, 0.31});
+  const MatchResult ra = a.match(obs), rb = b.match(obs);
+  int cells = 0, grazing_cells = 0, compared = 0;
+  for (std::size_t i = 0; i < va.num_cells(); ++i) {
+    const int lin = va.cells[i];
+    const int row = lin / va.grid.width_px, col = lin % va.grid.width_px;
+    const Vec2 p = va.grid.cell_center_m(row, col);
+    int rr, cc;
+    ASSERT_TRUE(vb.grid.world_to_cell(map(p), rr, cc));
+    const int j = vb.cell_index[static_cast<std::size_t>(rr * vb.grid.width_px + cc)];
+    if (j < 0) continue;  // the two valid-area masks differ here (floorplans' rasteriser)
+    ++cells;
+    bool same = true;
+    for (int d = 0; d < 36; ++d) {
+      if (va.range_m(i, d) == vb.range_m(static_cast<std::size_t>(j), (d + 9) % 36)) continue;
+      same = false;
+      EXPECT_TRUE(grazes_vertex(outline, p, 2.0 * kPi * d / 36, 10.0, 1e-6)) << p.transpose() << " dir " << d;
+    }
+    if (!same) {
+      ++grazing_cells;
+      continue;
+    }
+    for (int o = 0; o < 36; ++o) {
+      ++compared;
+      EXPECT_EQ(ra.posterior.scores[static_cast<std::size_t>(o)].at<float>(row, col),
+                rb.posterior.scores[static_cast<std::size_t>((o + 9) % 36)].at<float>(rr, cc));
+    }
+  }
+  EXPECT_GT(cells, 8000);
+  EXPECT_LT(grazing_cells, cells / 100);
+  const PoseHypothesis ha = ra.posterior.argmax(), hb = rb.posterior.argmax();
+  EXPECT_NEAR(hb.x_m, map({ha.x_m, ha.y_m}).x(), 1e-6);
+  EXPECT_NEAR(hb.y_m, map({ha.x_m, ha.y_m}).y(), 1e-6);
+  EXPECT_LE(angle_distance_rad(hb.yaw_rad, ha.yaw_rad + 0.5 * kPi), 1e-9);
+  // Translation by whole cells: the same, for every cell.
+  const RayMatcher t(test::transformed(plan, 0.0, -4.0, 7.0));
+  const DistanceVolume& vt = t.volume();
+  int equal_rows = 0;
+  for (std::size_t i = 0; i < va.num_cells(); ++i) {
+    const int lin = va.cells[i];
+    int rr, cc;
+    ASSERT_TRUE(vt.grid.world_to_cell(va.grid.cell_center_m(lin / va.grid.width_px, lin % va.grid.width_px) +
+                                          Vec2(-4.0, 7.0), rr, cc));
+    const int j = vt.cell_index[static_cast<std::size_t>(rr * vt.grid.width_px + cc)];
+    if (j < 0) continue;
+    bool same = true;
+    for (int d = 0; d < 36; ++d) same = same && va.range_m(i, d) == vt.range_m(static_cast<std::size_t>(j), d);
+    equal_rows += same;
+  }
+  EXPECT_GT(equal_rows, static_cast<int>(va.num_cells()) * 99 / 100);
+}
+
+TEST(RayMatcher, IdenticalAcrossThreadCounts) {
+  const FloorPlan plan = test::asymmetric_floor();
+  const Observation2D obs = PerfectObserver(plan).observe({10.31, 3.07, 4.4});
+  auto run = [&](int threads) {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    const RayMatcher m(plan);
+    return std::make_pair(m.volume().mm, m.match(obs));
+  };
+  const auto one = run(1), two = run(2);
+  EXPECT_EQ(one.first, two.first);
+  for (std::size_t s = 0; s < 36; ++s) {
+    const cv::Mat& x = one.second.posterior.scores[s];
+    const cv::Mat& y = two.second.posterior.scores[s];
+    EXPECT_EQ(std::memcmp(x.data, y.data, x.total() * x.elemSize()), 0) << "slice " << s;
+  }
+}
+
+TEST(RayMatcher, DiskCacheRoundTrip) {
+  const FloorPlan plan = test::asymmetric_floor();
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("floorcast_test_ray_cache_" + std::to_string(::getpid()))).string();
+  std::filesystem::remove_all(dir);
+  RayMatcherParams p;
+  p.cache_dir = dir;
+  const RayMatcher first(plan, p);
+  EXPECT_FALSE(first.loaded_from_cache());
+  const RayMatcher second(plan, p);
+  EXPECT_TRUE(second.loaded_from_cache());
+  EXPECT_EQ(first.volume().mm, second.volume().mm);
+  EXPECT_EQ(first.volume().cells, second.volume().cells);
+  EXPECT_EQ(first.volume().cell_index, second.volume().cell_index);
+  EXPECT_TRUE(first.volume().grid == second.volume().grid);
+  // Other parameters or another plan: another cache entry.
+  RayMatcherParams p2 = p;
+  p2.num_directions = 18;
+  EXPECT_FALSE(RayMatcher(plan, p2).loaded_from_cache());
+  EXPECT_FALSE(RayMatcher(test::transformed(plan, 0.0, 1.0, 0.0), p).loaded_from_cache());
+  // A wrong key is "not in the cache"; a truncated file is an error naming it.
+  std::string path;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) path = e.path().string();
+  EXPECT_FALSE(load_distance_volume(path, "another key").has_value());
+  std::filesystem::resize_file(path, 100);
+  EXPECT_THROW(load_distance_volume(path, "{}"), InputError);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(RayMatcher, ParametersAndObservationRays) {
+  const FloorPlan plan = test::asymmetric_floor();
+  EXPECT_THROW(make_matcher("ray", plan, {{"ray_source", "sonar"}}), InputError);
+  EXPECT_THROW(make_matcher("ray", plan, {{"num_directions", 2}}), InputError);
+  const auto m = make_matcher("ray", plan, {{"ray_source", "ranges"}, {"num_directions", 18}});
+  Observation2D obs = PerfectObserver(plan).observe({3.2, 1.6, 0.0});  // 36 rays
+  EXPECT_THROW(m->match(obs), InputError);
+  const auto j = m->parameters();
+  EXPECT_EQ(j["num_directions"], 18);
+  EXPECT_EQ(j["lambda_m"], 40.0);
+}
+
+}  // namespace
+}  // namespace floorcast
