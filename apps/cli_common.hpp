@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "floorcast/scenarios/scenario.hpp"
+
 namespace floorcast::cli {
 
 /// A function that adds commands to the root app. Each cmd_*.cpp registers one with
@@ -28,6 +30,11 @@ void ensure_directory(const std::string& path);
 struct CommandExit {
   int code = 1;
 };
+
+/// Runs a scenario (or shard "I/N" of it) into the run directory `out` (resuming what is there),
+/// with progress on stderr unless quiet, and writes and prints the report when every unit is
+/// done: the one experiment engine behind `run` and `compare-matchers`.
+void run_scenario(const Scenario& scenario, const std::string& out, int jobs, const std::string& shard, bool quiet);
 
 /// Writes pretty JSON (2-space indent, trailing newline) atomically.
 void write_json(const std::string& path, const nlohmann::ordered_json& json);

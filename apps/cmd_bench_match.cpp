@@ -15,7 +15,7 @@
 
 #include "cli_common.hpp"
 #include "floorcast/floorplans/io.hpp"
-#include "floorcast/scenarios/compare_matchers.hpp"
+#include "floorcast/scenarios/sampling.hpp"
 #include "floorcast/match/kernel_matcher.hpp"
 #include "floorcast/match/ray_matcher.hpp"
 #include "floorcast/core/math.hpp"

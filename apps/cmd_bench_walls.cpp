@@ -11,7 +11,7 @@
 #include "cli_common.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/io.hpp"
-#include "floorcast/scenarios/compare_matchers.hpp"
+#include "floorcast/scenarios/sampling.hpp"
 #include "floorcast/eval/observation_accuracy.hpp"
 #include "floorcast/observe/observation_module.hpp"
 #include "floorcast/sim/mesh.hpp"
@@ -121,8 +121,8 @@ void register_bench_walls(CLI::App& root) {
     PerfectObservationParams pp;
     pp.max_range_m = range_m;
     pp.num_rays = 0;
-    pp.doors_closed = false;  // the scan renders doors as the plan has them: walls seen through open doors count
-    pp.cut_height_m = preset.geometry.camera_height_m;
+    pp.blocking.open_doors_block = false;  // the scan renders doors as the plan has them: walls seen through open doors count
+    pp.blocking.cut_height_m = preset.geometry.camera_height_m;
     SegmentAccuracyParams ap;
     std::vector<double> slice_coverage;
     double truth_total_m = 0.0;

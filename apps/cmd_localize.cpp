@@ -70,15 +70,6 @@ nlohmann::ordered_json hypothesis_json(const PoseHypothesis& h) {
   return j;
 }
 
-BlockingOptions raster_blocking(const nlohmann::ordered_json& params) {
-  BlockingOptions b;
-  b.open_doors_block = params.value("doors_closed", true);
-  b.glass_blocks = params.value("glass_blocks", true);
-  b.obstacles_block = params.value("obstacles_block", false);
-  b.cut_height_m = params.value("cut_height_m", 1.5);
-  return b;
-}
-
 void register_localize(CLI::App& root) {
   struct Options {
     std::string plan, obs, matcher = "kernel", orientations, out;
@@ -167,7 +158,7 @@ void register_localize(CLI::App& root) {
       save_observation(o->out + "/observation.json", input.record);
       write_json(o->out + "/observation.diagnostics.json", *input.observation_diagnostics);
     }
-    const cv::Mat raster = rasterize_outline(blocking_outline(plan, raster_blocking(j["parameters"])), post.grid);
+    const cv::Mat raster = rasterize_outline(blocking_outline(plan, matcher->blocking()), post.grid);
     std::optional<PoseHypothesis> truth;
     if (input.record.T_world_observer) {
       PoseHypothesis t;

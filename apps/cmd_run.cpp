@@ -125,6 +125,39 @@ Scenario stored_scenario(const RunDirectory& dir) {
   return scenario_from_resolved(resolved, (fs::path(dir.root()) / "resolved_config.json").string());
 }
 
+}  // namespace
+
+void run_scenario(const Scenario& scenario, const std::string& out, int jobs, const std::string& shard_text, bool quiet) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const ShardSpec shard = parse_shard(shard_text);
+  auto log = [quiet](const std::string& line) {
+    if (!quiet) std::cerr << "prepare: " << line << "\n";
+  };
+  const ScenarioRunner runner(scenario, log);
+  RunDirectory dir(out);
+  dir.open(scenario, runner.resolved_full());
+  DirectorySink sink(dir, scenario);
+  ProgressPrinter printer(quiet);
+  RunOptions options;
+  options.jobs = jobs;
+  options.shard = shard;
+  options.on_progress = [&printer](const RunProgress& p) { printer(p); };
+  const RunOutcome outcome = runner.run(sink, options);
+  if (outcome.executed > 0) record_reference(dir, shard_text, outcome.reference_s);
+  const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!quiet)
+    std::cerr << "ran " << outcome.executed << " units, " << outcome.skipped << " already done, in "
+              << duration_text(total_s) << "\n";
+  if (report_if_complete(scenario, dir, true)) {
+    if (!quiet) std::cerr << "wrote " << out << "/summary.md, summary.json, observations.csv, plots/\n";
+  } else {
+    std::cerr << "shard " << shard_text << " finished (" << outcome.units_in_shard << " of " << outcome.units_total
+              << " units); combine the shards with `floorcast merge DIR... -o OUT` for the report\n";
+  }
+}
+
+namespace {
+
 void register_run(CLI::App& root) {
   struct RunOpts {
     std::string scenario;
@@ -141,33 +174,8 @@ void register_run(CLI::App& root) {
   run->add_option("--shard", o->shard, "Run only shard I of N (0 <= I < N); combine shards with `floorcast merge`");
   run->add_flag("--quiet", o->quiet, "No progress output");
   run->callback([o] {
-    const auto t0 = std::chrono::steady_clock::now();
     const Scenario scenario = load_scenario(o->scenario, source_dir());
-    const ShardSpec shard = parse_shard(o->shard);
-    auto log = [o](const std::string& line) {
-      if (!o->quiet) std::cerr << "prepare: " << line << "\n";
-    };
-    const ScenarioRunner runner(scenario, log);
-    RunDirectory dir(o->out);
-    dir.open(scenario, runner.resolved_full());
-    DirectorySink sink(dir, scenario);
-    ProgressPrinter printer(o->quiet);
-    RunOptions options;
-    options.jobs = o->jobs;
-    options.shard = shard;
-    options.on_progress = [&printer](const RunProgress& p) { printer(p); };
-    const RunOutcome outcome = runner.run(sink, options);
-    if (outcome.executed > 0) record_reference(dir, o->shard, outcome.reference_s);
-    const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!o->quiet)
-      std::cerr << "ran " << outcome.executed << " units, " << outcome.skipped << " already done, in "
-                << duration_text(total_s) << "\n";
-    if (report_if_complete(scenario, dir, true)) {
-      if (!o->quiet) std::cerr << "wrote " << o->out << "/summary.md, summary.json, observations.csv, plots/\n";
-    } else {
-      std::cerr << "shard " << o->shard << " finished (" << outcome.units_in_shard << " of " << outcome.units_total
-                << " units); combine the shards with `floorcast merge DIR... -o OUT` for the report\n";
-    }
+    run_scenario(scenario, o->out, o->jobs, o->shard, o->quiet);
   });
 }
 

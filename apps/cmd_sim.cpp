@@ -176,7 +176,7 @@ void register_sim(CLI::App& root) {
     PerfectObservationParams params;
     params.num_rays = po->rays;
     params.max_range_m = po->range_m;
-    params.doors_closed = !po->doors_open;
+    params.blocking.open_doors_block = !po->doors_open;
     const PerfectObserver observer(plan, params);
     ObservationRecord rec;
     rec.observation = observer.observe(pose);
@@ -185,8 +185,8 @@ void register_sim(CLI::App& root) {
     rec.source = "perfect";
     rec.T_world_observer = pose;
     rec.metadata["plan"] = po->plan;
-    rec.metadata["doors_closed"] = params.doors_closed ? "true" : "false";
-    rec.metadata["cut_height_m"] = std::to_string(params.cut_height_m);
+    rec.metadata["doors_closed"] = params.blocking.open_doors_block ? "true" : "false";
+    rec.metadata["cut_height_m"] = std::to_string(params.blocking.cut_height_m);
     ensure_directory(po->out);
     const std::string path = po->out + "/observation.json";
     save_observation(path, rec);

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <vector>
 
+#include "floorcast/core/file_io.hpp"
+#include "floorcast/core/hash.hpp"
 #include "floorcast/core/types.hpp"
 
 namespace floorcast {
@@ -98,6 +100,23 @@ std::optional<DistanceVolume> load_distance_volume(const std::string& path, cons
     v.cell_index[static_cast<std::size_t>(c)] = static_cast<std::int32_t>(i);
   }
   return v;
+}
+
+std::unique_ptr<RayMatcher> make_cached_ray_matcher(const std::string& cache_dir, const FloorPlan& plan,
+                                                    const RayMatcherParams& params, bool* from_cache) {
+  const std::string key = RayMatcher::volume_key(plan, params);
+  const std::string path =
+      (std::filesystem::path(cache_dir) / ("distance_volume_" + hex64(fnv1a64(key)) + ".bin")).string();
+  const GridSpec grid = grid_for_plan(plan, params.resolution_m, params.grid_margin_m);
+  if (std::optional<DistanceVolume> v = load_distance_volume(path, key); v && v->grid == grid) {
+    if (from_cache) *from_cache = true;
+    return std::make_unique<RayMatcher>(plan, params, std::move(*v));
+  }
+  auto matcher = std::make_unique<RayMatcher>(plan, params);
+  create_directories_or_throw(cache_dir);
+  save_distance_volume(path, matcher->volume(), key);
+  if (from_cache) *from_cache = false;
+  return matcher;
 }
 
 }  // namespace floorcast

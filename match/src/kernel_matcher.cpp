@@ -11,7 +11,6 @@
 
 #include "floorcast/match/fft_correlator.hpp"
 #include "floorcast/match/plan_raster.hpp"
-#include "param_json.hpp"
 #include "floorcast/core/timing.hpp"
 
 namespace floorcast {
@@ -23,15 +22,10 @@ double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::d
 
 Vec2 rotate_scale(const Vec2& p, double c, double s, double k) { return {k * (c * p.x() - s * p.y()), k * (s * p.x() + c * p.y())}; }
 
-BlockingOptions blocking_of(const KernelMatcherParams& p) {
-  BlockingOptions b;
-  b.closed_doors_block = true;
-  b.open_doors_block = p.doors_closed;
-  b.glass_blocks = p.glass_blocks;
-  b.obstacles_block = p.obstacles_block;
-  b.cut_height_m = p.cut_height_m;
-  return b;
-}
+const std::vector<std::pair<const char*, PlanRasterKind>> kPlanRasterNames = {
+    {"outline", PlanRasterKind::kOutline}, {"centreline", PlanRasterKind::kCentreline}, {"filled", PlanRasterKind::kFilled}};
+const std::vector<std::pair<const char*, LineRule>> kLineRuleNames = {{"closed", LineRule::kClosed},
+                                                                      {"half_open", LineRule::kHalfOpen}};
 
 }  // namespace
 
@@ -54,18 +48,15 @@ nlohmann::ordered_json KernelMatcherParams::to_json() const {
   j["dense_step_deg"] = orientation.dense_step_deg;
   j["refine_orientations"] = orientation.refine;
   j["scales"] = scales;
-  j["doors_closed"] = doors_closed;
-  j["glass_blocks"] = glass_blocks;
-  j["obstacles_block"] = obstacles_block;
-  j["cut_height_m"] = cut_height_m;
+  write_blocking(j, blocking);
   j["zero_below"] = zero_below;
-  j["plan_raster"] = plan_raster;
-  j["line_rule"] = line_rule;
+  j["plan_raster"] = enum_name(plan_raster, kPlanRasterNames);
+  j["line_rule"] = enum_name(line_rule, kLineRuleNames);
   return j;
 }
 
 void KernelMatcherParams::apply_overrides(const nlohmann::json& overrides) {
-  detail::ParamReader r(overrides, "matcher kernel");
+  ParamReader r(overrides, "matcher kernel");
   r.read("resolution_m", resolution_m, 0.01, 1.0);
   r.read("grid_margin_m", grid_margin_m, 0.0, 100.0);
   r.read("max_range_m", max_range_m, 0.5, 100.0);
@@ -77,29 +68,23 @@ void KernelMatcherParams::apply_overrides(const nlohmann::json& overrides) {
   r.read("ces_shrink", ces_shrink, 0.0, 1.0);
   r.read("ces_window_m", ces_window_m, 0.0, 100.0);
   r.read("ces_erode_px", ces_erode_px, 0, 20);
-  std::string mode = orientation_mode_name(orientation.mode);
-  r.read("orientations", mode);
-  orientation.mode = parse_orientation_mode(mode);
+  r.read_enum("orientations", orientation.mode, orientation_mode_names());
   r.read("num_orientations", orientation.num_orientations, 2, 720);
   r.read("histogram_bins", orientation.histogram_bins, 4, 3600);
   r.read("nms_radius_bins", orientation.nms_radius_bins, 0, 1800);
   r.read("dense_step_deg", orientation.dense_step_deg, 0.1, 180.0);
   r.read("refine_orientations", orientation.refine);
   r.read("scales", scales, 0.1, 10.0);
-  r.read("doors_closed", doors_closed);
-  r.read("glass_blocks", glass_blocks);
-  r.read("obstacles_block", obstacles_block);
-  r.read("cut_height_m", cut_height_m, 0.0, 100.0);
+  read_blocking(r, blocking);
   r.read("zero_below", zero_below, 0.0, 1.0);
-  r.read("plan_raster", plan_raster);
-  r.read("line_rule", line_rule);
-  if (line_rule != "closed" && line_rule != "half_open") {
-    r.fail("line_rule", "expected closed or half_open, got \"" + line_rule + "\"");
-  }
-  if (plan_raster != "outline" && plan_raster != "centreline" && plan_raster != "filled") {
-    r.fail("plan_raster", "expected outline, centreline or filled, got \"" + plan_raster + "\"");
-  }
+  r.read_enum("plan_raster", plan_raster, kPlanRasterNames);
+  r.read_enum("line_rule", line_rule, kLineRuleNames);
   r.finish();
+}
+
+void KernelMatcherParams::apply_shared(const SharedParams& shared) {
+  max_range_m = shared.range_m;
+  blocking = shared.blocking;
 }
 
 double correlation_alpha(double alpha) { return alpha >= 1.0 ? std::min(alpha, 1.5) : alpha; }
@@ -156,7 +141,7 @@ LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::
   // RW: lines, blurred, distance-weighted, within the square window of the (scaled) range.
   cv::Mat lines = cv::Mat::zeros(K, K, CV_8U);
   draw_segment_lines(lines, segs, origin, res,
-                     params.line_rule == "closed" ? LineRule::kClosed : LineRule::kHalfOpen);
+                     params.line_rule);
   const int reach_px = std::min(R, static_cast<int>(std::floor(reach_m / res + 1e-9)));
   if (reach_px < R) {
     cv::Mat window = cv::Mat::zeros(K, K, CV_8U);
@@ -212,19 +197,19 @@ KernelMatcher::KernelMatcher(const FloorPlan& plan, const KernelMatcherParams& p
   if (params_.scales.empty()) throw InputError("matcher kernel: no scale candidates");
   const auto t0 = Clock::now();
   grid_ = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
-  const std::vector<LabeledSegment> outline = blocking_outline(plan, blocking_of(params_));
+  const std::vector<LabeledSegment> outline = blocking_outline(plan, params_.blocking);
   impl_->plan_segments = outline_segments(outline);
-  const LineRule rule = params_.line_rule == "closed" ? LineRule::kClosed : LineRule::kHalfOpen;
-  if (params_.plan_raster == "outline") {
+  const LineRule rule = params_.line_rule;
+  if (params_.plan_raster == PlanRasterKind::kOutline) {
     plan_raster_ = rasterize_outline(outline, grid_, rule);
-  } else if (params_.plan_raster == "centreline") {
+  } else if (params_.plan_raster == PlanRasterKind::kCentreline) {
     plan_raster_ = cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_8U);
-    draw_segment_lines(plan_raster_, footprint_centrelines(blocking_footprints(plan, blocking_of(params_))),
+    draw_segment_lines(plan_raster_, footprint_centrelines(blocking_footprints(plan, params_.blocking)),
                        {grid_.origin_x_m, grid_.origin_y_m}, grid_.resolution_m_per_px, rule);
   } else {
-    plan_raster_ = rasterize_occupancy(plan, grid_, blocking_of(params_));
+    plan_raster_ = rasterize_occupancy(plan, grid_, params_.blocking);
   }
-  valid_ = matcher_valid_mask(plan, grid_, blocking_of(params_));
+  valid_ = matcher_valid_mask(plan, grid_, params_.blocking);
   orientation_cache_ = make_plan_orientation_cache(params_.orientation, impl_->plan_segments);
   impl_->radius_px = kernel_radius_px(params_);
   impl_->distance_weight = distance_weight_image(params_, impl_->radius_px);

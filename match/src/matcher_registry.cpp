@@ -1,5 +1,7 @@
 // The built-in matcher table. An explicit table, not static self-registration: registrars in a
-// static library's object files are dropped by the linker when nothing references them.
+// static library's object files are dropped by the linker when nothing references them. A new
+// matcher is one entry here; the contract test (tests/match/test_matcher_contract.cpp) then runs
+// it over the same known-answer cases as every other matcher.
 #include <algorithm>
 
 #include "floorcast/match/kernel_matcher.hpp"
@@ -9,39 +11,54 @@
 namespace floorcast {
 namespace {
 
-using Factory = std::unique_ptr<Matcher> (*)(const FloorPlan&, const nlohmann::json&);
+/// A matcher configuration of parameter type P building matcher type M.
+template <class P, class M>
+class Config final : public MatcherConfig {
+ public:
+  Config(const char* name, P params) : name_(name), params_(std::move(params)) {}
+  std::string name() const override { return name_; }
+  nlohmann::ordered_json parameters() const override { return params_.to_json(); }
+  std::unique_ptr<Matcher> build(const FloorPlan& plan) const override { return std::make_unique<M>(plan, params_); }
+
+ private:
+  const char* name_;
+  P params_;
+};
+
+template <class P, class M>
+std::shared_ptr<const MatcherConfig> parse(const char* name, const nlohmann::json& overrides, const SharedParams& shared) {
+  P p;
+  p.apply_shared(shared);
+  p.apply_overrides(overrides);
+  return std::make_shared<Config<P, M>>(name, std::move(p));
+}
+
+using Parser = std::shared_ptr<const MatcherConfig> (*)(const char*, const nlohmann::json&, const SharedParams&);
 
 struct Entry {
   const char* name;
-  Factory make;
+  Parser parse;
 };
 
-std::unique_ptr<Matcher> make_kernel(const FloorPlan& plan, const nlohmann::json& overrides) {
-  KernelMatcherParams p;
-  p.apply_overrides(overrides);
-  return std::make_unique<KernelMatcher>(plan, p);
-}
-
-std::unique_ptr<Matcher> make_ray(const FloorPlan& plan, const nlohmann::json& overrides) {
-  RayMatcherParams p;
-  p.apply_overrides(overrides);
-  return std::make_unique<RayMatcher>(plan, p);
-}
-
 constexpr Entry kMatchers[] = {
-    {"kernel", &make_kernel},
-    {"ray", &make_ray},
+    {"kernel", &parse<KernelMatcherParams, KernelMatcher>},
+    {"ray", &parse<RayMatcherParams, RayMatcher>},
 };
 
 }  // namespace
 
-std::unique_ptr<Matcher> make_matcher(const std::string& name, const FloorPlan& plan, const nlohmann::json& overrides) {
+std::shared_ptr<const MatcherConfig> make_matcher_config(const std::string& name, const nlohmann::json& overrides,
+                                                         const SharedParams& shared) {
   for (const Entry& e : kMatchers) {
-    if (name == e.name) return e.make(plan, overrides);
+    if (name == e.name) return e.parse(e.name, overrides, shared);
   }
   std::string known;
   for (const std::string& n : matcher_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("unknown matcher \"" + name + "\" (known: " + known + ")");
+}
+
+std::unique_ptr<Matcher> make_matcher(const std::string& name, const FloorPlan& plan, const nlohmann::json& overrides) {
+  return make_matcher_config(name, overrides)->build(plan);
 }
 
 std::vector<std::string> matcher_names() {

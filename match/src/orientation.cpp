@@ -1,5 +1,6 @@
 #include "floorcast/match/orientation.hpp"
 #include "floorcast/core/math.hpp"
+#include "floorcast/core/params.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -25,21 +26,13 @@ std::vector<double> dense_candidates(double step_deg) {
 
 }  // namespace
 
-OrientationMode parse_orientation_mode(const std::string& name) {
-  if (name == "palms") return OrientationMode::kPalms;
-  if (name == "palms+") return OrientationMode::kPalmsPlus;
-  if (name == "dense") return OrientationMode::kDense;
-  throw InputError("orientations: unknown mode \"" + name + "\" (expected palms, palms+ or dense)");
+const std::vector<std::pair<const char*, OrientationMode>>& orientation_mode_names() {
+  static const std::vector<std::pair<const char*, OrientationMode>> names = {
+      {"palms", OrientationMode::kPalms}, {"palms+", OrientationMode::kPalmsPlus}, {"dense", OrientationMode::kDense}};
+  return names;
 }
 
-std::string orientation_mode_name(OrientationMode mode) {
-  switch (mode) {
-    case OrientationMode::kPalms: return "palms";
-    case OrientationMode::kPalmsPlus: return "palms+";
-    case OrientationMode::kDense: return "dense";
-  }
-  return "?";
-}
+std::string orientation_mode_name(OrientationMode mode) { return enum_name(mode, orientation_mode_names()); }
 
 std::vector<double> direction_histogram(const std::vector<Segment2>& segments, int bins) {
   std::vector<double> h(static_cast<std::size_t>(std::max(bins, 1)), 0.0);

@@ -11,10 +11,8 @@
 #include <filesystem>
 
 #include "floorcast/core/hash.hpp"
-#include "floorcast/match/distance_volume_io.hpp"
 #include "floorcast/match/plan_raster.hpp"
 #include "floorcast/core/math.hpp"
-#include "param_json.hpp"
 #include "floorcast/core/timing.hpp"
 
 namespace floorcast {
@@ -24,15 +22,8 @@ using Clock = std::chrono::steady_clock;
 
 double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
-BlockingOptions blocking_of(const RayMatcherParams& p) {
-  BlockingOptions b;
-  b.closed_doors_block = true;
-  b.open_doors_block = p.doors_closed;
-  b.glass_blocks = p.glass_blocks;
-  b.obstacles_block = p.obstacles_block;
-  b.cut_height_m = p.cut_height_m;
-  return b;
-}
+const std::vector<std::pair<const char*, RaySource>> kRaySourceNames = {
+    {"auto", RaySource::kAuto}, {"ranges", RaySource::kRanges}, {"segments", RaySource::kSegments}};
 
 /// Cells per tile of the scoring loop: the tile's distances (D x T uint16) and sums (D x T
 /// int32) stay in L1/L2.
@@ -119,75 +110,74 @@ nlohmann::ordered_json RayMatcherParams::to_json() const {
   j["num_directions"] = num_directions;
   j["max_range_m"] = max_range_m;
   j["lambda_m"] = lambda_m;
-  j["ray_source"] = ray_source;
-  j["doors_closed"] = doors_closed;
-  j["glass_blocks"] = glass_blocks;
-  j["obstacles_block"] = obstacles_block;
-  j["cut_height_m"] = cut_height_m;
-  j["cache_dir"] = cache_dir;
+  j["ray_source"] = enum_name(ray_source, kRaySourceNames);
+  write_blocking(j, blocking);
   return j;
 }
 
 void RayMatcherParams::apply_overrides(const nlohmann::json& overrides) {
-  detail::ParamReader r(overrides, "matcher ray");
+  ParamReader r(overrides, "matcher ray");
   r.read("resolution_m", resolution_m, 0.01, 1.0);
   r.read("grid_margin_m", grid_margin_m, 0.0, 100.0);
   r.read("num_directions", num_directions, 4, 3600);
   r.read("max_range_m", max_range_m, 0.1, 65.0);
   r.read("lambda_m", lambda_m, 1e-6, 1e9);
-  r.read("ray_source", ray_source);
-  if (ray_source != "auto" && ray_source != "ranges" && ray_source != "segments") {
-    r.fail("ray_source", "expected auto, ranges or segments, got \"" + ray_source + "\"");
-  }
-  r.read("doors_closed", doors_closed);
-  r.read("glass_blocks", glass_blocks);
-  r.read("obstacles_block", obstacles_block);
-  r.read("cut_height_m", cut_height_m, 0.0, 100.0);
-  r.read("cache_dir", cache_dir);
+  r.read_enum("ray_source", ray_source, kRaySourceNames);
+  read_blocking(r, blocking);
   r.finish();
+}
+
+void RayMatcherParams::apply_shared(const SharedParams& shared) {
+  max_range_m = shared.range_m;
+  blocking = shared.blocking;
+}
+
+DistanceVolume RayMatcher::compute_volume(const FloorPlan& plan, const RayMatcherParams& params) {
+  const GridSpec grid = grid_for_plan(plan, params.resolution_m, params.grid_margin_m);
+  const std::vector<Segment2> outline = outline_segments(blocking_outline(plan, params.blocking));
+  const cv::Mat valid = matcher_valid_mask(plan, grid, params.blocking);
+  return compute_distance_volume(outline, grid, valid, params.num_directions, params.max_range_m);
+}
+
+std::string RayMatcher::volume_key(const FloorPlan& plan, const RayMatcherParams& params) {
+  nlohmann::ordered_json k = params.to_json();
+  k.erase("lambda_m");
+  k.erase("ray_source");
+  k["plan_hash"] = hex64(plan_hash(plan));
+  k["algorithm"] = "zbuffer-parallelogram-v1";
+  return k.dump();
 }
 
 RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params) : params_(params) {
   const auto t0 = Clock::now();
+  volume_ = compute_volume(plan, params_);
+  index_rows();
+  precompute_s_ = seconds(t0, Clock::now());
+}
+
+RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params, DistanceVolume volume)
+    : params_(params), volume_(std::move(volume)) {
+  const auto t0 = Clock::now();
   const GridSpec grid = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
-  std::string cache_path, key;
-  if (!params_.cache_dir.empty()) {
-    nlohmann::ordered_json k = params_.to_json();
-    k.erase("cache_dir");
-    k.erase("lambda_m");
-    k.erase("ray_source");
-    k["plan_hash"] = hex64(plan_hash(plan));
-    k["algorithm"] = "zbuffer-parallelogram-v1";
-    key = k.dump();
-    cache_path = (std::filesystem::path(params_.cache_dir) / ("distance_volume_" + hex64(fnv1a64(key)) + ".bin")).string();
-    if (auto v = load_distance_volume(cache_path, key); v && v->grid == grid) {
-      volume_ = std::move(*v);
-      from_cache_ = true;
-    }
+  if (!(volume_.grid == grid) || volume_.num_directions != params_.num_directions ||
+      volume_.max_range_m != params_.max_range_m) {
+    throw InputError("ray matcher: the given distance volume was computed for another plan grid, direction count "
+                     "or range than these parameters");
   }
-  if (!from_cache_) {
-    const std::vector<Segment2> outline = outline_segments(blocking_outline(plan, blocking_of(params_)));
-    const cv::Mat valid = matcher_valid_mask(plan, grid, blocking_of(params_));
-    volume_ = compute_distance_volume(outline, grid, valid, params_.num_directions, params_.max_range_m);
-    if (!cache_path.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(params_.cache_dir, ec);
-      if (ec) throw InputError(params_.cache_dir + ": cannot create the cache directory: " + ec.message());
-      save_distance_volume(cache_path, volume_, key);
-    }
-  }
+  index_rows();
+  precompute_s_ = seconds(t0, Clock::now());
+}
+
+void RayMatcher::index_rows() {
   // First stored cell of every grid row (cells are sorted row-major).
   const GridSpec& vg = volume_.grid;
   row_start_.assign(static_cast<std::size_t>(vg.height_px) + 1, 0);
-  {
-    std::size_t i = 0;
-    for (int r = 0; r <= vg.height_px; ++r) {
-      const std::int64_t first_lin = static_cast<std::int64_t>(r) * vg.width_px;
-      while (i < volume_.cells.size() && volume_.cells[i] < first_lin) ++i;
-      row_start_[static_cast<std::size_t>(r)] = static_cast<std::int64_t>(i);
-    }
+  std::size_t i = 0;
+  for (int r = 0; r <= vg.height_px; ++r) {
+    const std::int64_t first_lin = static_cast<std::int64_t>(r) * vg.width_px;
+    while (i < volume_.cells.size() && volume_.cells[i] < first_lin) ++i;
+    row_start_[static_cast<std::size_t>(r)] = static_cast<std::int64_t>(i);
   }
-  precompute_s_ = seconds(t0, Clock::now());
 }
 
 RayMatcher::~RayMatcher() = default;
@@ -196,7 +186,7 @@ std::vector<double> RayMatcher::observation_rays(const Observation2D& obs) const
   const int D = params_.num_directions;
   const bool have_ranges = static_cast<int>(obs.ray_ranges_m.size()) == D;
   std::vector<double> rays;
-  if (params_.ray_source == "ranges" || (params_.ray_source == "auto" && have_ranges)) {
+  if (params_.ray_source == RaySource::kRanges || (params_.ray_source == RaySource::kAuto && have_ranges)) {
     if (!have_ranges) {
       throw InputError("matcher ray: the observation has " + std::to_string(obs.ray_ranges_m.size()) +
                        " ray ranges but the matcher needs " + std::to_string(D) + " (ray_source \"ranges\")");

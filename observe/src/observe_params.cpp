@@ -2,6 +2,7 @@
 #include <functional>
 #include <variant>
 
+#include "floorcast/core/params.hpp"
 #include "floorcast/observe/observation_module.hpp"
 
 namespace floorcast {
@@ -142,7 +143,7 @@ nlohmann::ordered_json field_value(const FieldRef& ref) {
 
 void set_field(const FieldRef& ref, const nlohmann::json& v, const std::string& name) {
   auto bad = [&](const char* expected) {
-    throw InputError("observation parameters: \"" + name + "\": expected " + expected + ", got " + v.dump());
+    throw ParameterError("observation parameters: \"" + name + "\": expected " + expected + ", got " + v.dump(), name);
   };
   std::visit(
       [&](const auto& r) {
@@ -152,7 +153,7 @@ void set_field(const FieldRef& ref, const nlohmann::json& v, const std::string& 
           try {
             r.set(v.get<std::string>());
           } catch (const InputError& e) {
-            throw InputError("observation parameters: \"" + name + "\": " + e.what());
+            throw ParameterError("observation parameters: \"" + name + "\": " + e.what(), name);
           }
         } else if constexpr (std::is_same_v<T, bool*>) {
           if (!v.is_boolean()) bad("true or false");
@@ -227,13 +228,13 @@ void apply_overrides(ObservationParams& params, const nlohmann::json& overrides)
       if (f.section && key == f.section) is_section = true;
     }
     if (is_section) {
-      if (!value.is_object()) throw InputError("observation parameters: \"" + key + "\" must be an object");
+      if (!value.is_object()) throw ParameterError("observation parameters: \"" + key + "\" must be an object", key);
       for (const auto& [sub, v] : value.items()) {
         const Field* hit = nullptr;
         for (const Field& f : fs) {
           if (f.section && key == f.section && sub == f.key) hit = &f;
         }
-        if (!hit) throw InputError("observation parameters: unknown key \"" + key + "." + sub + "\"");
+        if (!hit) throw ParameterError("observation parameters: unknown key \"" + key + "." + sub + "\"", key + "." + sub);
         set_field(hit->ref, v, key + "." + sub);
       }
       continue;
@@ -242,7 +243,7 @@ void apply_overrides(ObservationParams& params, const nlohmann::json& overrides)
     for (const Field& f : fs) {
       if (!f.section && key == f.key) hit = &f;
     }
-    if (!hit) throw InputError("observation parameters: unknown key \"" + key + "\"");
+    if (!hit) throw ParameterError("observation parameters: unknown key \"" + key + "\"", key);
     set_field(hit->ref, value, key);
   }
 }

@@ -16,7 +16,7 @@
 #include "floorcast/floorplans/generate.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/floorplans/raster.hpp"
-#include "floorcast/scenarios/compare_matchers.hpp"
+#include "floorcast/scenarios/sampling.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/observe/observation_module.hpp"
 #include "floorcast/observe/observe_planes.hpp"
@@ -60,19 +60,14 @@ struct ScenarioRunner::Impl {
   // Shared per (building, configuration): matchers and perfect observers.
   std::map<std::string, std::unique_ptr<Matcher>> matchers;
   std::map<std::string, std::unique_ptr<PerfectObserver>> observers;
-  // Per cell: resolved scan and observation-module parameters (scan cells only).
-  std::vector<ScanParams> scan_params;
-  std::vector<ObservationParams> observe_params;
-  OJson resolved;
 
   explicit Impl(const Scenario& s) : scenario(s) {}
 
   static std::string matcher_key(std::size_t b, const MatcherSpec& m) {
-    return std::to_string(b) + "|" + m.name + "|" + Json(m.overrides).dump();
+    return std::to_string(b) + "|" + m.config->name() + "|" + m.config->parameters().dump();
   }
   static std::string observer_key(std::size_t b, const ObservationSpec& o) {
-    return std::to_string(b) + "|" + std::to_string(o.max_range_m) + "|" + (o.doors_closed ? "1" : "0") + "|" +
-           std::to_string(o.rays);
+    return std::to_string(b) + "|" + o.perfect.to_json().dump();
   }
 };
 
@@ -83,20 +78,36 @@ ScenarioRunner::ScenarioRunner(const Scenario& scenario, const std::function<voi
     if (log) log(s);
   };
   const bool any_scan = std::any_of(scenario.cells.begin(), scenario.cells.end(),
-                                    [](const CellSpec& c) { return c.observation.source == "scan"; });
+                                    [](const CellSpec& c) { return c.observation.source == ObservationSource::kScan; });
 
   // Buildings and their observation points (the same points for every cell).
   for (std::size_t b = 0; b < scenario.buildings.size(); ++b) {
     const BuildingSpec& spec = scenario.buildings[b];
     Impl::Building building;
     const auto t0 = Clock::now();
+    const std::vector<std::string>& kinds = scenario.sampling.region_kinds;
+    std::vector<std::vector<Vec2>> regions;
     if (!spec.file.empty()) {
       building.plan = load_floor_plan(spec.file);
+      if (!kinds.empty()) {
+        if (spec.rooms_file.empty()) {
+          throw InputError("building \"" + spec.label + "\": sampling.region_kinds needs room labels (a rooms file: "
+                           "buildings[].rooms)");
+        }
+        regions = load_room_polygons(spec.rooms_file, kinds);
+      }
     } else {
-      building.plan = generate_building(parse_archetype(spec.archetype), spec.seed).plan;
+      GeneratedBuilding generated = generate_building(parse_archetype(spec.archetype), spec.seed);
+      building.plan = std::move(generated.plan);
+      for (const GeneratedRoom& room : generated.rooms) {
+        if (std::find(kinds.begin(), kinds.end(), room.kind) != kinds.end()) regions.push_back(room.polygon_m);
+      }
+    }
+    if (!kinds.empty() && regions.empty()) {
+      throw InputError("building \"" + spec.label + "\": no room of the sampling.region_kinds");
     }
     building.poses = sample_observation_poses(building.plan, scenario.sampling.count, scenario.sampling.seed,
-                                              static_cast<int>(b), scenario.sampling.clearance_m);
+                                              static_cast<int>(b), scenario.sampling.clearance_m, 0.1, regions);
     if (static_cast<int>(building.poses.size()) != scenario.sampling.count) {
       throw InputError("building \"" + spec.label + "\": only " + std::to_string(building.poses.size()) + " of " +
                        std::to_string(scenario.sampling.count) + " observation points fit with clearance " +
@@ -111,73 +122,29 @@ ScenarioRunner::ScenarioRunner(const Scenario& scenario, const std::function<voi
   }
 
   // Matchers and observers for every (building, configuration) any cell uses.
-  d.resolved = scenario.resolved;
-  OJson cells_full = OJson::array();
   for (const CellSpec& cell : scenario.cells) {
-    OJson cell_full;
-    cell_full["id"] = cell.id;
-    OJson matcher_params = OJson::object();
     for (std::size_t b = 0; b < d.buildings.size(); ++b) {
       for (const MatcherSpec& m : cell.matchers) {
         const std::string key = Impl::matcher_key(b, m);
-        if (!d.matchers.count(key)) {
-          const auto t0 = Clock::now();
-          try {
-            d.matchers[key] = make_matcher(m.name, d.buildings[b].plan, m.overrides);
-          } catch (const InputError& e) {
-            throw InputError(scenario.source_file + ": matchers." + m.label + " (cell " + cell.id + "): " + e.what());
-          }
-          say("matcher " + m.label + " on " + scenario.buildings[b].label + ": precompute " +
-              std::to_string(seconds_since(t0)) + " s");
-        }
-        if (b == 0) matcher_params[m.label] = d.matchers[key]->parameters();
+        if (d.matchers.count(key)) continue;
+        const auto t0 = Clock::now();
+        d.matchers[key] = m.config->build(d.buildings[b].plan);
+        say("matcher " + m.label + " on " + scenario.buildings[b].label + ": precompute " +
+            std::to_string(seconds_since(t0)) + " s");
       }
-      if (cell.observation.source == "perfect") {
+      if (cell.observation.source == ObservationSource::kPerfect) {
         const std::string key = Impl::observer_key(b, cell.observation);
         if (!d.observers.count(key)) {
-          PerfectObservationParams p;
-          p.max_range_m = cell.observation.max_range_m;
-          p.doors_closed = cell.observation.doors_closed;
-          p.num_rays = cell.observation.rays;
-          d.observers[key] = std::make_unique<PerfectObserver>(d.buildings[b].plan, p);
+          d.observers[key] = std::make_unique<PerfectObserver>(d.buildings[b].plan, cell.observation.perfect);
         }
       }
     }
-    cell_full["matchers"] = matcher_params;
-
-    ScanParams scan;
-    ObservationParams observe;
-    if (cell.observation.source == "scan") {
-      const std::string where = scenario.source_file + ": observation (cell " + cell.id + ")";
-      try {
-        scan = scan_preset(cell.observation.sensor);
-        apply_scan_overrides(scan, cell.observation.sensor_params, "sensor_params");
-        ScanSetting setting;
-        parse_scan_setting(cell.observation.setting, setting);
-        scan.setting = setting;
-        validate_scan_params(scan);
-        observe.path = parse_observation_path(cell.observation.path);
-        observe.scale.mode = parse_scale_alignment(cell.observation.scale_alignment);
-        observe.back_projection.mask_glass = cell.observation.mask_glass;
-        observe.lidar.back_projection.mask_glass = cell.observation.mask_glass;
-        observe.lidar.extractor = parse_plane_extractor(cell.observation.extractor);
-        apply_overrides(observe, cell.observation.observe_params);
-      } catch (const InputError& e) {
-        throw InputError(where + ": " + e.what());
-      }
-      cell_full["scan"] = scan_params_to_json(scan);
-      cell_full["observation_module"] = to_json(observe);
-    }
-    d.scan_params.push_back(scan);
-    d.observe_params.push_back(observe);
-    cells_full.push_back(cell_full);
   }
-  d.resolved["resolved_parameters"] = cells_full;
 }
 
 ScenarioRunner::~ScenarioRunner() = default;
 
-const OJson& ScenarioRunner::resolved_full() const { return impl_->resolved; }
+const OJson& ScenarioRunner::resolved_full() const { return impl_->scenario.resolved; }
 
 UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) const {
   const Impl& d = *impl_;
@@ -190,20 +157,20 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
   r.truth = building.poses[static_cast<std::size_t>(unit.point)];
 
   Observation2D observation;
-  if (cell.observation.source == "perfect") {
+  if (cell.observation.source == ObservationSource::kPerfect) {
     const auto t0 = Clock::now();
     observation = d.observers.at(Impl::observer_key(b, cell.observation))->observe(r.truth);
     r.timings_s["observe"] = seconds_since(t0);
     r.observation["source"] = "perfect";
   } else {
-    ScanParams params = d.scan_params[static_cast<std::size_t>(unit.cell)];
+    ScanParams params = cell.observation.scan;
     // Seeded by (observation seed, building, point): every cell sees the same realisation.
     params.seed = mix64(cell.observation.seed ^ mix64((static_cast<std::uint64_t>(b) << 32) ^
                                                       static_cast<std::uint64_t>(unit.point)));
     const auto t0 = Clock::now();
     const Scan scan = simulate_scan(*building.scene, r.truth, params).scan;
     r.timings_s["simulate"] = seconds_since(t0);
-    const ObservationResult obs = observe_scan(scan, d.observe_params[static_cast<std::size_t>(unit.cell)]);
+    const ObservationResult obs = observe_scan(scan, cell.observation.observe);
     r.timings_s["observe"] = obs.total_s;
     observation = obs.observation;
     r.observation["source"] = "scan";

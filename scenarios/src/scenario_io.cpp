@@ -12,7 +12,9 @@
 
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/core/hash.hpp"
+#include "floorcast/core/params.hpp"
 #include "floorcast/core/types.hpp"
+#include "floorcast/sim/scan_io.hpp"
 #include "floorcast/scenarios/scenario.hpp"
 
 namespace floorcast {
@@ -171,6 +173,18 @@ class Checker {
 
 const std::vector<std::string> kArchetypes = {"apartment", "office", "campus", "angled"};
 
+/// Absolute path of a file named in a scenario: as is when absolute, else relative to the
+/// scenario's folder, then to the source tree root; empty when not found.
+std::string find_file(const std::string& file, const std::string& base_dir, const std::string& source_root) {
+  const fs::path p(file);
+  const std::vector<fs::path> candidates =
+      p.is_absolute() ? std::vector<fs::path>{p} : std::vector<fs::path>{fs::path(base_dir) / p, fs::path(source_root) / p};
+  for (const auto& c : candidates) {
+    if (fs::is_regular_file(c)) return fs::weakly_canonical(c).string();
+  }
+  return {};
+}
+
 std::vector<BuildingSpec> parse_buildings(const OJson& root, const Checker& chk, const std::string& base_dir,
                                           const std::string& source_root) {
   if (!root.contains("buildings")) chk.fail("buildings", "missing required key");
@@ -185,28 +199,25 @@ std::vector<BuildingSpec> parse_buildings(const OJson& root, const Checker& chk,
     if (list[i].is_string()) {
       file = list[i].get<std::string>();
     } else {
-      chk.only_keys(list[i], path, {"file", "generate", "seed", "label"});
+      chk.only_keys(list[i], path, {"file", "generate", "seed", "label", "rooms"});
       if (list[i].contains("file") == list[i].contains("generate")) chk.fail(path, "give exactly one of \"file\" or \"generate\"");
       file = chk.string_in(list[i], path, "file", "");
       b.archetype = chk.string_in(list[i], path, "generate", "", kArchetypes);
       b.seed = static_cast<std::uint64_t>(chk.integer_in(list[i], path, "seed", 1, 0, (1LL << 53)));
       b.label = chk.string_in(list[i], path, "label", "");
       if (b.archetype.empty() && list[i].contains("seed")) chk.fail(path + ".seed", "only generated buildings take a seed");
-    }
-    if (!file.empty()) {
-      fs::path p(file);
-      std::vector<fs::path> candidates;
-      if (p.is_absolute()) candidates = {p};
-      else candidates = {fs::path(base_dir) / p, fs::path(source_root) / p};
-      bool found = false;
-      for (const auto& c : candidates) {
-        if (fs::is_regular_file(c)) {
-          b.file = fs::weakly_canonical(c).string();
-          found = true;
-          break;
+      const std::string rooms = chk.string_in(list[i], path, "rooms", "");
+      if (!rooms.empty()) {
+        if (!b.archetype.empty()) chk.fail(path + ".rooms", "generated buildings carry their rooms themselves");
+        b.rooms_file = find_file(rooms, base_dir, source_root);
+        if (b.rooms_file.empty()) {
+          chk.fail(path + ".rooms", "rooms file \"" + rooms + "\" not found (looked in " + base_dir + " and " + source_root + ")");
         }
       }
-      if (!found) chk.fail(path, "plan file \"" + file + "\" not found (looked in " + base_dir + " and " + source_root + ")");
+    }
+    if (!file.empty()) {
+      b.file = find_file(file, base_dir, source_root);
+      if (b.file.empty()) chk.fail(path, "plan file \"" + file + "\" not found (looked in " + base_dir + " and " + source_root + ")");
       if (b.label.empty()) b.label = fs::path(b.file).stem().string();
     } else if (b.label.empty()) {
       b.label = b.archetype + "_" + std::to_string(b.seed);
@@ -223,50 +234,91 @@ const std::vector<std::string> kObservationKeys = {"source", "max_range_m", "doo
                                                    "sensor_params", "setting", "path", "scale_alignment",
                                                    "extractor", "mask_glass", "observe_params", "seed"};
 
-ObservationSpec parse_observation(const OJson& obj, const Checker& chk, const std::string& path) {
-  ObservationSpec o;
+/// Runs `fn`; a ParameterError (a stage refusing one of its parameters) becomes a failure at the
+/// scenario key `prefix + e.key()`, with the file, line and column where it was written.
+template <class F>
+void at_key(const Checker& chk, const std::string& prefix, F&& fn) {
+  try {
+    fn();
+  } catch (const ParameterError& e) {
+    chk.fail(e.key().empty() ? prefix : Checker::join(prefix, e.key()), e.what());
+  } catch (const InputError& e) {
+    chk.fail(prefix, e.what());
+  }
+}
+
+/// Parses an observation mapping (user form) into typed stage parameters. `resolved` receives the
+/// user form with every default filled in (written next to results; re-parsed by merges).
+ObservationSpec parse_observation(const OJson& obj, const Checker& chk, const std::string& path,
+                                  const SharedParams& shared, OJson* resolved) {
   chk.only_keys(obj, path, kObservationKeys);
-  o.source = chk.string_in(obj, path, "source", o.source, {"perfect", "scan"});
-  o.max_range_m = chk.number_in(obj, path, "max_range_m", o.max_range_m, 0.5, 1000.0);
-  o.doors_closed = chk.bool_in(obj, path, "doors_closed", o.doors_closed);
-  o.rays = static_cast<int>(chk.integer_in(obj, path, "rays", o.rays, 4, 3600));
-  o.sensor = chk.string_in(obj, path, "sensor", o.sensor, {"perfect", "lidar", "mono", "phone"});
-  if (obj.contains("sensor_params")) {
-    if (!obj.at("sensor_params").is_object()) chk.fail(Checker::join(path, "sensor_params"), "must be a mapping");
-    o.sensor_params = obj.at("sensor_params");
-  }
-  o.setting = chk.string_in(obj, path, "setting", o.setting, {"full", "partial", "single"});
-  o.path = chk.string_in(obj, path, "path", o.path, {"mono", "lidar"});
-  o.scale_alignment = chk.string_in(obj, path, "scale_alignment", o.scale_alignment, {"full", "ground", "none"});
-  o.extractor = chk.string_in(obj, path, "extractor", o.extractor, {"pcl", "voxelplane"});
-  o.mask_glass = chk.bool_in(obj, path, "mask_glass", o.mask_glass);
-  if (obj.contains("observe_params")) {
-    if (!obj.at("observe_params").is_object()) chk.fail(Checker::join(path, "observe_params"), "must be a mapping");
-    o.observe_params = obj.at("observe_params");
-  }
+  ObservationSpec o;
+  const std::string source = chk.string_in(obj, path, "source", "perfect", {"perfect", "scan"});
+  o.source = source == "scan" ? ObservationSource::kScan : ObservationSource::kPerfect;
+  // Perfect observer: shared range and blocking, then the explicit keys.
+  o.perfect.apply_shared(shared);
+  o.perfect.max_range_m = chk.number_in(obj, path, "max_range_m", o.perfect.max_range_m, 0.5, 1000.0);
+  o.perfect.blocking.open_doors_block = chk.bool_in(obj, path, "doors_closed", o.perfect.blocking.open_doors_block);
+  o.perfect.num_rays = static_cast<int>(chk.integer_in(obj, path, "rays", o.perfect.num_rays, 4, 3600));
+  // Scan: sensor preset, its overrides, the setting.
+  const std::string sensor = chk.string_in(obj, path, "sensor", "mono", scan_preset_names());
+  const OJson sensor_params = obj.contains("sensor_params") ? obj.at("sensor_params") : OJson::object();
+  if (!sensor_params.is_object()) chk.fail(Checker::join(path, "sensor_params"), "must be a mapping");
+  const std::string setting = chk.string_in(obj, path, "setting", "full", {"full", "partial", "single"});
+  at_key(chk, Checker::join(path, "sensor_params"), [&] {
+    o.scan = scan_preset(sensor);
+    apply_scan_overrides(o.scan, sensor_params, "sensor_params");
+    parse_scan_setting(setting, o.scan.setting);
+    validate_scan_params(o.scan);
+  });
+  // Observation module: path, scale alignment, extractor, glass masking, then its overrides.
+  const std::string obs_path = chk.string_in(obj, path, "path", "mono", {"mono", "lidar"});
+  const std::string scale = chk.string_in(obj, path, "scale_alignment", "full", {"full", "ground", "none"});
+  const std::string extractor =
+      chk.string_in(obj, path, "extractor", to_string(LidarPathParams{}.extractor), {"pcl", "voxelplane"});
+  const bool mask_glass = chk.bool_in(obj, path, "mask_glass", false);
+  const OJson observe_params = obj.contains("observe_params") ? obj.at("observe_params") : OJson::object();
+  if (!observe_params.is_object()) chk.fail(Checker::join(path, "observe_params"), "must be a mapping");
+  o.observe.path = parse_observation_path(obs_path);
+  o.observe.scale.mode = parse_scale_alignment(scale);
+  o.observe.back_projection.mask_glass = mask_glass;
+  o.observe.lidar.back_projection.mask_glass = mask_glass;
+  o.observe.lidar.extractor = parse_plane_extractor(extractor);
+  at_key(chk, Checker::join(path, "observe_params"), [&] { apply_overrides(o.observe, observe_params); });
   o.seed = static_cast<std::uint64_t>(chk.integer_in(obj, path, "seed", static_cast<long long>(o.seed), 0, (1LL << 53)));
+  if (resolved) {
+    OJson& j = *resolved;
+    j = OJson::object();
+    j["source"] = source;
+    j["max_range_m"] = o.perfect.max_range_m;
+    j["doors_closed"] = o.perfect.blocking.open_doors_block;
+    j["rays"] = o.perfect.num_rays;
+    j["sensor"] = sensor;
+    j["sensor_params"] = sensor_params;
+    j["setting"] = setting;
+    j["path"] = obs_path;
+    j["scale_alignment"] = scale;
+    j["extractor"] = extractor;
+    j["mask_glass"] = mask_glass;
+    j["observe_params"] = observe_params;
+    j["seed"] = o.seed;
+  }
   return o;
 }
 
-OJson observation_to_json(const ObservationSpec& o) {
+/// Every parameter of the stages a cell runs (written next to results).
+OJson stage_parameters(const ObservationSpec& o) {
   OJson j;
-  j["source"] = o.source;
-  j["max_range_m"] = o.max_range_m;
-  j["doors_closed"] = o.doors_closed;
-  j["rays"] = o.rays;
-  j["sensor"] = o.sensor;
-  j["sensor_params"] = o.sensor_params;
-  j["setting"] = o.setting;
-  j["path"] = o.path;
-  j["scale_alignment"] = o.scale_alignment;
-  j["extractor"] = o.extractor;
-  j["mask_glass"] = o.mask_glass;
-  j["observe_params"] = o.observe_params;
-  j["seed"] = o.seed;
+  if (o.source == ObservationSource::kPerfect) {
+    j["perfect_observer"] = o.perfect.to_json();
+  } else {
+    j["sensor"] = scan_params_to_json(o.scan);
+    j["observation_module"] = to_json(o.observe);
+  }
   return j;
 }
 
-std::vector<MatcherSpec> parse_matchers(const OJson& obj, const Checker& chk) {
+std::vector<MatcherSpec> parse_matchers(const OJson& obj, const Checker& chk, const SharedParams& shared) {
   if (!obj.is_object() || obj.empty()) chk.fail("matchers", "must be a non-empty mapping label -> {matcher: NAME, ...parameters}");
   std::vector<MatcherSpec> out;
   static const std::regex label_re("[A-Za-z0-9_.-]+");
@@ -277,12 +329,26 @@ std::vector<MatcherSpec> parse_matchers(const OJson& obj, const Checker& chk) {
     MatcherSpec m;
     m.label = it.key();
     if (!it.value().contains("matcher")) chk.fail(path, "missing required key \"matcher\"");
-    m.name = chk.string_in(it.value(), path, "matcher", "");
+    const std::string name = chk.string_in(it.value(), path, "matcher", "");
+    Json overrides = Json::object();
     for (auto p = it.value().begin(); p != it.value().end(); ++p)
-      if (p.key() != "matcher") m.overrides[p.key()] = p.value();
+      if (p.key() != "matcher") overrides[p.key()] = p.value();
+    try {
+      m.config = make_matcher_config(name, overrides, shared);
+    } catch (const ParameterError& e) {
+      chk.fail(Checker::join(path, e.key()), e.what());
+    } catch (const InputError& e) {
+      chk.fail(Checker::join(path, "matcher"), e.what());
+    }
     out.push_back(std::move(m));
   }
   return out;
+}
+
+SharedParams parse_shared(const OJson& root, const Checker& chk) {
+  SharedParams shared;
+  if (root.contains("shared")) at_key(chk, "shared", [&] { apply_overrides(shared, root.at("shared"), "shared"); });
+  return shared;
 }
 
 /// Sets a dotted key ("observation.setting", "matchers.kernel.alpha") in a JSON tree.
@@ -381,8 +447,8 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
   const Checker chk(source, loc.marks);
   const OJson& root = loc.value;
   if (!root.is_object()) chk.fail("", "top level must be a mapping");
-  chk.only_keys(root, "", {"name", "description", "buildings", "sampling", "observation", "matchers", "scoring",
-                           "output", "sweep", "paper"});
+  chk.only_keys(root, "", {"name", "description", "buildings", "sampling", "shared", "observation", "matchers",
+                           "scoring", "output", "sweep", "paper"});
 
   Scenario s;
   s.source_file = source;
@@ -392,11 +458,21 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
 
   if (root.contains("sampling")) {
     const OJson& o = root.at("sampling");
-    chk.only_keys(o, "sampling", {"count", "seed", "clearance_m", "random_yaw"});
+    chk.only_keys(o, "sampling", {"count", "seed", "clearance_m", "random_yaw", "region_kinds"});
     s.sampling.count = static_cast<int>(chk.integer_in(o, "sampling", "count", s.sampling.count, 1, 1000000));
     s.sampling.seed = static_cast<std::uint64_t>(chk.integer_in(o, "sampling", "seed", 1, 0, (1LL << 53)));
     s.sampling.clearance_m = chk.number_in(o, "sampling", "clearance_m", s.sampling.clearance_m, 0.0, 10.0);
     s.sampling.random_yaw = chk.bool_in(o, "sampling", "random_yaw", s.sampling.random_yaw);
+    if (o.contains("region_kinds")) {
+      const OJson& k = o.at("region_kinds");
+      if (!k.is_array() || k.empty()) chk.fail("sampling.region_kinds", "must be a non-empty list of room kinds");
+      for (std::size_t i = 0; i < k.size(); ++i) {
+        if (!k[i].is_string() || k[i].get<std::string>().empty()) {
+          chk.fail("sampling.region_kinds[" + std::to_string(i) + "]", "must be a room kind (a string)");
+        }
+        s.sampling.region_kinds.push_back(k[i].get<std::string>());
+      }
+    }
   }
   if (root.contains("scoring")) {
     const OJson& o = root.at("scoring");
@@ -445,11 +521,12 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
     }
   }
 
+  s.shared = parse_shared(root, chk);
   const OJson base_observation = root.contains("observation") ? root.at("observation") : OJson::object();
-  (void)parse_observation(base_observation, chk, "observation");  // validates the base
+  (void)parse_observation(base_observation, chk, "observation", s.shared, nullptr);  // validates the base
   if (!root.contains("matchers")) chk.fail("matchers", "missing required key");
   const OJson base_matchers = root.at("matchers");
-  (void)parse_matchers(base_matchers, chk);
+  (void)parse_matchers(base_matchers, chk, s.shared);
 
   std::vector<Axis> axes;
   if (root.contains("sweep")) axes = parse_sweep(root.at("sweep"), chk, base_matchers);
@@ -460,6 +537,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
   std::size_t total = 1;
   for (const auto& a : axes) total *= a.values.size();
   if (total > 100000) chk.fail("sweep", "expands to " + std::to_string(total) + " cells (limit 100000)");
+  std::vector<OJson> resolved_observations;
   for (std::size_t c = 0; c < total; ++c) {
     OJson tree;
     tree["observation"] = base_observation;
@@ -483,8 +561,10 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
       }
     const std::string where = axes.empty() ? "" : " (sweep cell " + cell.id + ")";
     try {
-      cell.observation = parse_observation(tree["observation"], chk, "observation");
-      cell.matchers = parse_matchers(tree["matchers"], chk);
+      OJson resolved_observation;
+      cell.observation = parse_observation(tree["observation"], chk, "observation", s.shared, &resolved_observation);
+      resolved_observations.push_back(std::move(resolved_observation));
+      cell.matchers = parse_matchers(tree["matchers"], chk, s.shared);
     } catch (const InputError& e) {
       throw InputError(std::string(e.what()) + where);
     }
@@ -504,10 +584,12 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
       j["generate"] = b.archetype;
       j["seed"] = b.seed;
     }
+    if (!b.rooms_file.empty()) j["rooms"] = b.rooms_file;
     r["buildings"].push_back(j);
   }
   r["sampling"] = {{"count", s.sampling.count}, {"seed", s.sampling.seed}, {"clearance_m", s.sampling.clearance_m},
                    {"random_yaw", s.sampling.random_yaw}};
+  if (!s.sampling.region_kinds.empty()) r["sampling"]["region_kinds"] = s.sampling.region_kinds;
   r["scoring"] = {{"recall_thresholds_m", s.scoring.recall_thresholds_m},
                   {"combined_threshold_m", s.scoring.combined_threshold_m},
                   {"combined_threshold_deg", s.scoring.combined_threshold_deg},
@@ -515,6 +597,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
                   {"bootstrap_resamples", s.scoring.bootstrap_resamples},
                   {"bootstrap_seed", s.scoring.bootstrap_seed}};
   r["output"] = {{"heatmaps", s.output.heatmaps}};
+  r["shared"] = to_json(s.shared);
   if (!s.paper.empty()) {
     r["paper"] = OJson::array();
     for (const auto& p : s.paper) {
@@ -528,19 +611,22 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
   }
   r["sweep_keys"] = s.sweep_keys;
   r["cells"] = OJson::array();
-  for (const auto& c : s.cells) {
+  for (std::size_t ci = 0; ci < s.cells.size(); ++ci) {
+    const CellSpec& c = s.cells[ci];
     OJson j;
     j["id"] = c.id;
     j["axes"] = c.axes;
-    j["observation"] = observation_to_json(c.observation);
+    j["observation"] = resolved_observations[ci];
     OJson m = OJson::object();
     for (const auto& spec : c.matchers) {
       OJson one;
-      one["matcher"] = spec.name;
-      for (auto it = spec.overrides.begin(); it != spec.overrides.end(); ++it) one[it.key()] = it.value();
+      one["matcher"] = spec.config->name();
+      const OJson params = spec.config->parameters();
+      for (auto it = params.begin(); it != params.end(); ++it) one[it.key()] = it.value();
       m[spec.label] = one;
     }
     j["matchers"] = m;
+    j["parameters"] = stage_parameters(c.observation);
     r["cells"].push_back(j);
   }
   s.hash = hex64(fnv1a64(Json(r).dump()));  // canonical (sorted-key) form
@@ -563,6 +649,7 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
         spec.archetype = b.at("generate").get<std::string>();
         spec.seed = b.at("seed").get<std::uint64_t>();
       }
+      if (b.contains("rooms")) spec.rooms_file = b.at("rooms").get<std::string>();
       s.buildings.push_back(spec);
     }
     const Json& sm = resolved.at("sampling");
@@ -570,6 +657,7 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
     s.sampling.seed = sm.at("seed").get<std::uint64_t>();
     s.sampling.clearance_m = sm.at("clearance_m").get<double>();
     s.sampling.random_yaw = sm.at("random_yaw").get<bool>();
+    if (sm.contains("region_kinds")) s.sampling.region_kinds = sm.at("region_kinds").get<std::vector<std::string>>();
     const Json& sc = resolved.at("scoring");
     s.scoring.recall_thresholds_m = sc.at("recall_thresholds_m").get<std::vector<double>>();
     s.scoring.combined_threshold_m = sc.at("combined_threshold_m").get<double>();
@@ -578,6 +666,7 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
     s.scoring.bootstrap_resamples = sc.at("bootstrap_resamples").get<int>();
     s.scoring.bootstrap_seed = sc.at("bootstrap_seed").get<std::uint64_t>();
     s.output.heatmaps = resolved.at("output").at("heatmaps").get<int>();
+    if (resolved.contains("shared")) apply_overrides(s.shared, resolved.at("shared"), source + ": shared");
     if (resolved.contains("paper")) {
       for (const Json& p : resolved.at("paper")) {
         PaperReference ref;
@@ -595,8 +684,8 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
       cell.index = index++;
       cell.id = c.at("id").get<std::string>();
       cell.axes = c.at("axes");
-      cell.observation = parse_observation(c.at("observation"), chk, "observation");
-      cell.matchers = parse_matchers(c.at("matchers"), chk);
+      cell.observation = parse_observation(c.at("observation"), chk, "observation", s.shared, nullptr);
+      cell.matchers = parse_matchers(c.at("matchers"), chk, s.shared);
       s.cells.push_back(std::move(cell));
     }
     if (s.cells.empty() || s.buildings.empty()) throw InputError(source + ": resolved scenario has no cells or buildings");
@@ -612,6 +701,33 @@ Scenario load_scenario(const std::string& path, const std::string& source_root) 
   const std::string text = read_text_file(path);
   const std::string base = fs::absolute(fs::path(path)).parent_path().string();
   return parse_scenario(text, path, base, source_root);
+}
+
+std::vector<std::vector<Vec2>> load_room_polygons(const std::string& path, const std::vector<std::string>& kinds) {
+  const nlohmann::json j = nlohmann::json::parse(read_text_file(path), nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("rooms") || !j["rooms"].is_array()) {
+    throw InputError(path + ": not a rooms file (expected an object with a \"rooms\" array)");
+  }
+  std::vector<std::vector<Vec2>> out;
+  std::size_t index = 0;
+  for (const auto& room : j["rooms"]) {
+    const std::string where = path + ": rooms[" + std::to_string(index++) + "]";
+    if (!room.is_object() || !room.contains("kind") || !room["kind"].is_string() || !room.contains("polygon") ||
+        !room["polygon"].is_array()) {
+      throw InputError(where + ": expected \"kind\" (string) and \"polygon\" (array of [x, y])");
+    }
+    if (std::find(kinds.begin(), kinds.end(), room["kind"].get<std::string>()) == kinds.end()) continue;
+    std::vector<Vec2> poly;
+    for (const auto& p : room["polygon"]) {
+      if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
+        throw InputError(where + ": polygon points must be [x, y] numbers");
+      }
+      poly.emplace_back(p[0].get<double>(), p[1].get<double>());
+    }
+    if (poly.size() < 3) throw InputError(where + ": polygon with fewer than 3 points");
+    out.push_back(std::move(poly));
+  }
+  return out;
 }
 
 }  // namespace floorcast

@@ -43,13 +43,7 @@ Vec2 ray_line_point(const Vec2& o, double theta, const Segment2& s) {
 
 PerfectObserver::PerfectObserver(const FloorPlan& plan, const PerfectObservationParams& params)
     : params_(params) {
-  BlockingOptions blocking;
-  blocking.closed_doors_block = true;
-  blocking.open_doors_block = params.doors_closed;
-  blocking.glass_blocks = params.glass_blocks;
-  blocking.obstacles_block = params.obstacles_block;
-  blocking.cut_height_m = params.cut_height_m;
-  outline_ = blocking_outline(plan, blocking);
+  outline_ = blocking_outline(plan, params.blocking);
 }
 
 std::vector<LabeledSegment> PerfectObserver::visible_world_segments(const Vec2& o) const {
@@ -156,6 +150,27 @@ Observation2D PerfectObserver::observe(const Pose2& T_world_observer) const {
   }
   obs.ray_ranges_m = ray_ranges(o, T_world_observer.yaw_rad, params_.num_rays);
   return obs;
+}
+
+nlohmann::ordered_json PerfectObservationParams::to_json() const {
+  nlohmann::ordered_json j;
+  j["max_range_m"] = max_range_m;
+  write_blocking(j, blocking);
+  j["num_rays"] = num_rays;
+  return j;
+}
+
+void PerfectObservationParams::apply_overrides(const nlohmann::json& overrides) {
+  ParamReader r(overrides, "perfect observer");
+  r.read("max_range_m", max_range_m, 0.1, 1000.0);
+  read_blocking(r, blocking);
+  r.read("num_rays", num_rays, 0, 3600);
+  r.finish();
+}
+
+void PerfectObservationParams::apply_shared(const SharedParams& shared) {
+  max_range_m = shared.range_m;
+  blocking = shared.blocking;
 }
 
 }  // namespace floorcast

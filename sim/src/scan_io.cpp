@@ -249,7 +249,7 @@ void check_override_keys(const nlohmann::json& base, const nlohmann::json& overr
   if (!overrides.is_object()) throw InputError(source + ": " + (path.empty() ? "overrides" : path) + ": expected an object");
   for (auto it = overrides.begin(); it != overrides.end(); ++it) {
     const std::string child = path.empty() ? it.key() : path + "." + it.key();
-    if (!base.contains(it.key())) throw InputError(source + ": " + child + ": unknown scan parameter");
+    if (!base.contains(it.key())) throw ParameterError(source + ": " + child + ": unknown scan parameter", child);
     if (base.at(it.key()).is_object()) check_override_keys(base.at(it.key()), it.value(), source, child);
   }
 }

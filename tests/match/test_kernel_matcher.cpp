@@ -99,7 +99,10 @@ TEST(KernelMatcher, PosteriorEqualsDirectCorrelation) {
   p.ces_window_m = 3.0;
   p.scales = {1.0};
   const KernelMatcher m(plan, p);
-  const PerfectObserver observer(plan, PerfectObservationParams{3.0, true, true, false, 1.5, 0});
+  PerfectObservationParams pp;
+  pp.max_range_m = 3.0;
+  pp.num_rays = 0;
+  const PerfectObserver observer(plan, pp);
   const Observation2D obs = observer.observe({1.3, 1.9, 0.2});
   const MatchResult r = m.match_yaws(obs, {0.2});
   const int R = kernel_radius_px(p);

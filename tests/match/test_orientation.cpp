@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "floorcast/match/kernel_matcher.hpp"
 #include "floorcast/match/orientation.hpp"
 #include "floorcast/match/plan_raster.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
@@ -115,10 +116,13 @@ TEST(Orientation, RefinementRecoversExactYaw) {
 }
 
 TEST(Orientation, ModeNames) {
-  EXPECT_EQ(parse_orientation_mode("palms"), OrientationMode::kPalms);
-  EXPECT_EQ(parse_orientation_mode("palms+"), OrientationMode::kPalmsPlus);
-  EXPECT_EQ(parse_orientation_mode("dense"), OrientationMode::kDense);
-  EXPECT_THROW(parse_orientation_mode("sparse"), InputError);
+  EXPECT_EQ(orientation_mode_name(OrientationMode::kPalms), "palms");
+  EXPECT_EQ(orientation_mode_name(OrientationMode::kPalmsPlus), "palms+");
+  EXPECT_EQ(orientation_mode_name(OrientationMode::kDense), "dense");
+  KernelMatcherParams kp;
+  kp.apply_overrides({{"orientations", "palms"}});
+  EXPECT_EQ(kp.orientation.mode, OrientationMode::kPalms);
+  EXPECT_THROW(kp.apply_overrides({{"orientations", "sparse"}}), InputError);
   // No segments: dense fallback.
   OrientationParams pp;
   EXPECT_EQ(orientation_candidates(pp, {{{0, 0}, {1, 0}}}, {}).size(), 36u);

@@ -209,20 +209,30 @@ TEST(RayMatcher, DiskCacheRoundTrip) {
       (std::filesystem::temp_directory_path() / ("floorcast_test_ray_cache_" + std::to_string(::getpid()))).string();
   std::filesystem::remove_all(dir);
   RayMatcherParams p;
-  p.cache_dir = dir;
-  const RayMatcher first(plan, p);
-  EXPECT_FALSE(first.loaded_from_cache());
-  const RayMatcher second(plan, p);
-  EXPECT_TRUE(second.loaded_from_cache());
-  EXPECT_EQ(first.volume().mm, second.volume().mm);
-  EXPECT_EQ(first.volume().cells, second.volume().cells);
-  EXPECT_EQ(first.volume().cell_index, second.volume().cell_index);
-  EXPECT_TRUE(first.volume().grid == second.volume().grid);
+  bool cached = true;
+  const std::unique_ptr<RayMatcher> first = make_cached_ray_matcher(dir, plan, p, &cached);
+  EXPECT_FALSE(cached);
+  const std::unique_ptr<RayMatcher> second = make_cached_ray_matcher(dir, plan, p, &cached);
+  EXPECT_TRUE(cached);
+  EXPECT_EQ(first->volume().mm, second->volume().mm);
+  EXPECT_EQ(first->volume().cells, second->volume().cells);
+  EXPECT_EQ(first->volume().cell_index, second->volume().cell_index);
+  EXPECT_TRUE(first->volume().grid == second->volume().grid);
+  // The cached matcher scores exactly like a freshly computed one.
+  const Observation2D obs = PerfectObserver(plan).observe({3.1, 2.2, 0.4});
+  const MatchResult a = second->match(obs), b = RayMatcher(plan, p).match(obs);
+  for (int s = 0; s < a.posterior.num_slices(); ++s) {
+    EXPECT_EQ(cv::countNonZero(a.posterior.scores[s] != b.posterior.scores[s]), 0) << "slice " << s;
+  }
   // Other parameters or another plan: another cache entry.
   RayMatcherParams p2 = p;
   p2.num_directions = 18;
-  EXPECT_FALSE(RayMatcher(plan, p2).loaded_from_cache());
-  EXPECT_FALSE(RayMatcher(test::transformed(plan, 0.0, 1.0, 0.0), p).loaded_from_cache());
+  (void)make_cached_ray_matcher(dir, plan, p2, &cached);
+  EXPECT_FALSE(cached);
+  (void)make_cached_ray_matcher(dir, test::transformed(plan, 0.0, 1.0, 0.0), p, &cached);
+  EXPECT_FALSE(cached);
+  // A volume for another plan grid or direction count is refused by the matcher.
+  EXPECT_THROW(RayMatcher(plan, p2, RayMatcher::compute_volume(plan, p)), InputError);
   // A wrong key is "not in the cache"; a truncated file is an error naming it.
   std::string path;
   for (const auto& e : std::filesystem::directory_iterator(dir)) path = e.path().string();

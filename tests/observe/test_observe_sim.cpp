@@ -77,8 +77,8 @@ TEST(ObserveSim, PerfectScanSegmentsLieOnVisibleWalls) {
   const ObservationResult r = observe_scan(scan, ObservationParams{});
   // Everything a horizontal cut at camera height meets: walls, glass, door leaves, the pillar.
   PerfectObservationParams pp;
-  pp.doors_closed = false;
-  pp.obstacles_block = true;
+  pp.blocking.open_doors_block = false;
+  pp.blocking.obstacles_block = true;
   pp.max_range_m = 30.0;
   const std::vector<Segment2> truth = test::join_collinear(PerfectObserver(b.plan, pp).observe(pose).segments_m);
   const test::WallMatch m = test::match_walls(r.observation.segments_m, truth, 0.05, 1.0);
@@ -161,7 +161,7 @@ LidarWallScores lidar_wall_scores(const LidarPathParams& lidar) {
   const Building& b = apartment();
   PerfectObservationParams pp;
   pp.max_range_m = 5.0;
-  pp.doors_closed = false;
+  pp.blocking.open_doors_block = false;
   pp.num_rays = 0;
   const PerfectObserver observer(b.plan, pp);
   LidarWallScores out;

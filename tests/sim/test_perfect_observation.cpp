@@ -120,7 +120,7 @@ TEST(PerfectObservation, DoorsClosedFlag) {
   PerfectObservationParams closed;
   closed.num_rays = 36;
   PerfectObservationParams open = closed;
-  open.doors_closed = false;
+  open.blocking.open_doors_block = false;
   const Observation2D c = PerfectObserver(plan, closed).observe({3.0, 2.0, 0.0});
   const Observation2D o = PerfectObserver(plan, open).observe({3.0, 2.0, 0.0});
   EXPECT_NEAR(c.ray_ranges_m[0], 2.9, 1e-9);   // the closed leaf
@@ -144,7 +144,7 @@ TEST(PerfectObservation, EqualsBruteForceInClutteredPlans) {
     }
     plan.obstacles.push_back({"p", ObstacleKind::kPillar, {u(rng), u(rng)}, {0.6, 0.6}, 0.0, 3.0});
     PerfectObservationParams params;
-    params.obstacles_block = true;
+    params.blocking.obstacles_block = true;
     params.max_range_m = trial % 2 ? 10.0 : 30.0;
     const PerfectObserver observer(plan, params);
     // A free observer position: away from every footprint.
@@ -182,8 +182,8 @@ TEST(PerfectObservation, ShippedPlanMatchesBruteForce) {
   PerfectObservationParams params;
   check_against_brute_force(plan, params, {2.5, 2.5});
   check_against_brute_force(plan, params, {6.5, 2.5});
-  params.doors_closed = false;
-  params.glass_blocks = false;
+  params.blocking.open_doors_block = false;
+  params.blocking.glass_blocks = false;
   check_against_brute_force(plan, params, {6.5, 4.2});
 }
 

@@ -8,6 +8,7 @@
 #include <set>
 #include <string>
 
+#include "floorcast/core/params.hpp"
 #include "floorcast/core/types.hpp"
 
 namespace floorcast {
@@ -20,10 +21,11 @@ class JsonReader {
   }
 
   [[noreturn]] void fail(const std::string& reason) const {
-    throw InputError(source_ + ": " + (path_.empty() ? std::string("top level") : path_) + ": " + reason);
+    throw ParameterError(source_ + ": " + (path_.empty() ? std::string("top level") : path_) + ": " + reason, path_);
   }
+  /// Throws a ParameterError carrying the element's dotted path (relative to the document).
   [[noreturn]] void fail_key(const std::string& key, const std::string& reason) const {
-    throw InputError(source_ + ": " + child_path(key) + ": " + reason);
+    throw ParameterError(source_ + ": " + child_path(key) + ": " + reason, child_path(key));
   }
 
   std::string child_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }

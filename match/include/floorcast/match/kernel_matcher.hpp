@@ -30,10 +30,15 @@
 #include <string>
 #include <vector>
 
+#include "floorcast/core/params.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/match/orientation.hpp"
+#include "floorcast/match/plan_raster.hpp"
 
 namespace floorcast {
+
+/// What the kernel matcher's plan raster draws.
+enum class PlanRasterKind { kOutline, kCentreline, kFilled };
 
 struct KernelMatcherParams {
   /// Grid resolution (PALMS+ configs: `resolution: 0.1`; PALMS+ sec. 3: 0.1 m raster).
@@ -66,22 +71,23 @@ struct KernelMatcherParams {
   OrientationParams orientation;
   /// Scale candidates, max-marginalised (PALMS+ sec. 3.3: S = {0.9, 1.0, 1.1}).
   std::vector<double> scales = {0.9, 1.0, 1.1};
-  /// Plan raster: open doors drawn closed (PALMS+ sec. 4.4: all doors "closed"); glass walls
-  /// and windows drawn; obstacles not drawn (floor plans do not show furniture).
-  bool doors_closed = true;
-  bool glass_blocks = true;
-  bool obstacles_block = false;
-  double cut_height_m = 1.5;
+  /// What blocks in the map the plan raster draws (keys doors_closed, glass_blocks,
+  /// obstacles_block, cut_height_m): open doors drawn closed (PALMS+ sec. 4.4: all doors
+  /// "closed"); glass walls and windows drawn; obstacles not drawn (floor plans do not show
+  /// furniture); cut at camera height.
+  BlockingOptions blocking = closed_door_map();
   /// FFT round-off guard: heatmap values below this are set to 0. Single-precision round-off
   /// reaches ~3e-5 on the campus (`bench match` measures it); one matched wall pixel is worth
   /// ~1e-4 and good matches score 0.2-0.3.
   double zero_below = 1e-4;
-  /// What the plan raster draws: "outline" (wall surfaces), "centreline" (wall axes, like the
-  /// line plans PALMS reads) or "filled" (wall bodies).
-  std::string plan_raster = "outline";
-  /// Line rasterisation (plan and RW): "closed" or "half_open" (see plan_raster.hpp).
-  std::string line_rule = "closed";
+  /// What the plan raster draws: outline (wall surfaces), centreline (wall axes, like the line
+  /// plans PALMS reads) or filled (wall bodies).
+  PlanRasterKind plan_raster = PlanRasterKind::kOutline;
+  /// Line rasterisation (plan and RW): closed or half_open (see plan_raster.hpp).
+  LineRule line_rule = LineRule::kClosed;
 
+  /// Takes the experiment's shared range and blocking flags (max_range_m, blocking).
+  void apply_shared(const SharedParams& shared);
   nlohmann::ordered_json to_json() const;
   /// Applies overrides (keys as in to_json); throws InputError naming the key.
   void apply_overrides(const nlohmann::json& overrides);
@@ -122,6 +128,7 @@ class KernelMatcher final : public Matcher {
   nlohmann::ordered_json parameters() const override { return params_.to_json(); }
   double precompute_s() const override { return precompute_s_; }
   std::size_t precompute_bytes() const override;
+  BlockingOptions blocking() const override { return params_.blocking; }
   MatchResult match(const Observation2D& observation) const override;
 
   /// Posterior for explicit yaws (no candidate search); used by tests and analyses.

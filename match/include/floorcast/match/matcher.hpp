@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "floorcast/core/blocking.hpp"
 #include "floorcast/core/observation.hpp"
+#include "floorcast/core/params.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 #include "floorcast/match/posterior.hpp"
 
@@ -33,26 +35,48 @@ class Matcher {
   virtual double precompute_s() const = 0;
   /// Memory held by the per-plan precomputation, bytes.
   virtual std::size_t precompute_bytes() const = 0;
+  /// What blocks in the map this matcher compares observations with (for drawing posteriors
+  /// over the plan as the matcher sees it).
+  virtual BlockingOptions blocking() const = 0;
   /// Posterior for one observation (observer frame segments and/or rays). Thread-safe; uses
   /// TBB internally.
   virtual MatchResult match(const Observation2D& observation) const = 0;
 };
 
-/// Builds a matcher for a plan. `overrides` is a JSON object of parameter overrides (keys as in
-/// parameters()); unknown keys or bad values throw InputError naming the matcher and key.
-/// Unknown names throw InputError listing the known ones.
+/// A matcher's parameters, parsed, validated and complete (every default filled in), before any
+/// plan is involved: what scenarios and commands build when they load their input, so that a
+/// misspelt or out-of-range parameter fails there, and what they write next to results.
+class MatcherConfig {
+ public:
+  virtual ~MatcherConfig() = default;
+  /// Registry name ("kernel", "ray", ...).
+  virtual std::string name() const = 0;
+  /// Every parameter with its value (keys as the overrides take them).
+  virtual nlohmann::ordered_json parameters() const = 0;
+  /// Builds the matcher for a plan (the per-plan precomputation happens here).
+  virtual std::unique_ptr<Matcher> build(const FloorPlan& plan) const = 0;
+};
+
+/// Parses a matcher configuration: the defaults, then the experiment's shared quantities (range,
+/// blocking flags), then `overrides` (a JSON object with keys of parameters(); explicit overrides
+/// win over shared values). Throws ParameterError naming the matcher and the key for unknown keys,
+/// wrong types and out-of-range values; InputError listing the known names for unknown matchers.
+std::shared_ptr<const MatcherConfig> make_matcher_config(const std::string& name,
+                                                         const nlohmann::json& overrides = nlohmann::json::object(),
+                                                         const SharedParams& shared = {});
+
+/// make_matcher_config(name, overrides)->build(plan).
 std::unique_ptr<Matcher> make_matcher(const std::string& name, const FloorPlan& plan,
                                       const nlohmann::json& overrides = nlohmann::json::object());
 
 /// Names of all registered matchers, sorted ("kernel", "ray").
 std::vector<std::string> matcher_names();
 
-/// A matcher under a label: a registered name plus overrides (e.g. "ray180" = ray with 180
-/// directions), so comparisons can run several configurations of one matcher.
+/// A matcher configuration under a label (e.g. "ray180" = ray with 180 directions), so
+/// comparisons can run several configurations of one matcher.
 struct MatcherSpec {
   std::string label;
-  std::string name;
-  nlohmann::json overrides = nlohmann::json::object();
+  std::shared_ptr<const MatcherConfig> config;
 };
 
 }  // namespace floorcast

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "floorcast/core/types.hpp"
@@ -22,8 +23,8 @@ namespace floorcast {
 
 enum class OrientationMode { kPalms, kPalmsPlus, kDense };
 
-/// "palms", "palms+", "dense"; throws InputError for anything else.
-OrientationMode parse_orientation_mode(const std::string& name);
+/// Names of the modes: "palms", "palms+", "dense".
+const std::vector<std::pair<const char*, OrientationMode>>& orientation_mode_names();
 std::string orientation_mode_name(OrientationMode mode);
 
 struct OrientationParams {

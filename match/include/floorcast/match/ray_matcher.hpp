@@ -14,10 +14,14 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "floorcast/core/params.hpp"
 #include "floorcast/match/distance_volume.hpp"
 #include "floorcast/match/matcher.hpp"
 
 namespace floorcast {
+
+/// Where the ray matcher takes the observation's rays from.
+enum class RaySource { kAuto, kRanges, kSegments };
 
 struct RayMatcherParams {
   /// Grid resolution of the volume (F3Loc: 0.1 m desdf).
@@ -30,31 +34,34 @@ struct RayMatcherParams {
   double max_range_m = 10.0;
   /// Likelihood temperature, metres of summed absolute range error (F3Loc: lambd = 40).
   double lambda_m = 40.0;
-  /// Where the observation's rays come from: "auto" (its ray_ranges_m when there are exactly
-  /// num_directions of them, else cast against its segments), "ranges" or "segments".
-  std::string ray_source = "auto";
-  /// What blocks a ray in the plan (PALMS+ sec. 4.4: all doors closed).
-  bool doors_closed = true;
-  bool glass_blocks = true;
-  bool obstacles_block = false;
-  double cut_height_m = 1.5;
-  /// Directory of the on-disk volume cache (keyed by plan hash and these parameters); empty =
-  /// no cache.
-  std::string cache_dir;
+  /// Where the observation's rays come from: auto (its ray_ranges_m when there are exactly
+  /// num_directions of them, else cast against its segments), ranges or segments.
+  RaySource ray_source = RaySource::kAuto;
+  /// What blocks a ray in the plan (keys doors_closed, glass_blocks, obstacles_block,
+  /// cut_height_m; PALMS+ sec. 4.4: all doors closed).
+  BlockingOptions blocking = closed_door_map();
 
+  /// Takes the experiment's shared range and blocking flags (max_range_m, blocking).
+  void apply_shared(const SharedParams& shared);
   nlohmann::ordered_json to_json() const;
   void apply_overrides(const nlohmann::json& overrides);
 };
 
 class RayMatcher final : public Matcher {
  public:
+  /// Computes the distance volume (the per-plan precomputation).
   RayMatcher(const FloorPlan& plan, const RayMatcherParams& params = {});
+  /// Uses a volume computed earlier for this plan and these parameters (e.g. read from a cache
+  /// by the caller: distance_volume_io.hpp); throws InputError when its grid, direction count
+  /// or range do not match the parameters.
+  RayMatcher(const FloorPlan& plan, const RayMatcherParams& params, DistanceVolume volume);
   ~RayMatcher() override;
 
   std::string name() const override { return "ray"; }
   nlohmann::ordered_json parameters() const override { return params_.to_json(); }
   double precompute_s() const override { return precompute_s_; }
   std::size_t precompute_bytes() const override { return volume_.bytes(); }
+  BlockingOptions blocking() const override { return params_.blocking; }
   MatchResult match(const Observation2D& observation) const override;
 
   /// The observation's rays (metres, ray i at 2 pi i / D), as match() uses them.
@@ -63,15 +70,18 @@ class RayMatcher final : public Matcher {
   const DistanceVolume& volume() const { return volume_; }
   const GridSpec& grid() const { return volume_.grid; }
   const RayMatcherParams& params() const { return params_; }
-  /// True when the volume came from the disk cache.
-  bool loaded_from_cache() const { return from_cache_; }
+
+  /// The volume the matcher precomputes for a plan (what the first constructor computes).
+  static DistanceVolume compute_volume(const FloorPlan& plan, const RayMatcherParams& params);
+  /// Identity of that volume (plan hash and the parameters it depends on), as a cache key.
+  static std::string volume_key(const FloorPlan& plan, const RayMatcherParams& params);
 
  private:
+  void index_rows();
   RayMatcherParams params_;
   DistanceVolume volume_;
   std::vector<std::int64_t> row_start_;  ///< first stored cell of each grid row, plus the end
   double precompute_s_ = 0.0;
-  bool from_cache_ = false;
 };
 
 /// Reference scores of one cell (slow, obvious): exp(-L1/lambda) for every slice.

@@ -15,6 +15,8 @@
 #include "floorcast/eval/metrics.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/observe/observation_module.hpp"
+#include "floorcast/sim/perfect_observation.hpp"
+#include "floorcast/sim/scan_params.hpp"
 
 namespace floorcast {
 
@@ -24,6 +26,9 @@ struct BuildingSpec {
   std::string file;       ///< absolute path of a plan file; empty for generated buildings
   std::string archetype;  ///< generator archetype when generated
   std::uint64_t seed = 0; ///< generator seed when generated
+  /// Optional rooms file (`floorcast plan generate --rooms`) labelling the plan's rooms, for
+  /// sampling.region_kinds; generated buildings carry their rooms themselves.
+  std::string rooms_file;
 };
 
 /// Where observation points are placed (the same points in every sweep cell).
@@ -32,27 +37,29 @@ struct SamplingSpec {
   std::uint64_t seed = 1;         ///< sampling seed
   double clearance_m = 0.5;       ///< minimum distance from any wall/obstacle
   bool random_yaw = true;         ///< random true heading per point (else 0)
+  /// Sample only inside rooms of these kinds (e.g. the transitional spaces hallway, corridor,
+  /// lobby, atrium, lounge, hall, vestibule, as PALMS+ sec. 4.4 did); empty = the whole valid
+  /// area. Each building then needs room labels (generated, or a rooms file).
+  std::vector<std::string> region_kinds;
 };
 
-/// How an observation is made at a point.
+enum class ObservationSource { kPerfect, kScan };
+
+/// How an observation is made at a point, with every stage's parameters parsed and complete.
+/// The scenario keys (observation.*) are documented in scenarios/README.md.
 struct ObservationSpec {
-  /// `perfect`: exact visible wall surfaces from the plan (PALMS+ sec. 4.4 proxy, no rendering);
-  /// `scan`: simulate a rotating scan with the sensor, then run the observation module.
-  std::string source = "perfect";
-  double max_range_m = 10.0;   ///< perfect observations: range limit (PALMS+ 4.4: 10 m)
-  bool doors_closed = true;    ///< perfect observations: all doors closed (PALMS+ 4.4)
-  int rays = 36;               ///< perfect observations: equiangular rays for ray matchers
-  std::string sensor = "mono"; ///< scan: sensor preset (perfect, lidar, mono, phone)
-  nlohmann::json sensor_params = nlohmann::json::object();  ///< scan: sensor parameter overrides
-  std::string setting = "full";          ///< scan: full | partial | single
-  std::string path = "mono";             ///< scan: observation path mono | lidar
-  std::string scale_alignment = "full";  ///< scan, mono path: full | ground | none
-  /// scan, lidar path: pcl | voxelplane (default: the observation module's own default)
-  std::string extractor = to_string(LidarPathParams{}.extractor);
-  bool mask_glass = false;               ///< scan: drop glass-affected pixels ("PALMS+*")
-  /// scan: observation-module parameter overrides (keys as in its to_json).
-  nlohmann::json observe_params = nlohmann::json::object();
-  std::uint64_t seed = 1;                ///< scan: simulator seed (combined with the point index)
+  /// perfect: exact visible wall surfaces from the plan (PALMS+ sec. 4.4 proxy, no rendering);
+  /// scan: simulate a rotating scan with the sensor, then run the observation module.
+  ObservationSource source = ObservationSource::kPerfect;
+  /// source perfect: the perfect observer (range and blocking from the scenario's `shared`
+  /// block unless observation.max_range_m / doors_closed override them; rays).
+  PerfectObservationParams perfect;
+  /// source scan: the sensor preset with its overrides and the setting (the seed is set per unit).
+  ScanParams scan;
+  /// source scan: the observation module (path, scale alignment, extractor, glass masking and
+  /// observe_params overrides applied).
+  ObservationParams observe;
+  std::uint64_t seed = 1;  ///< scan: simulator seed (combined with building and point index)
 };
 
 /// One configuration of the sweep.
@@ -61,8 +68,8 @@ struct CellSpec {
   std::string id;                 ///< "c000", "c001", ...
   nlohmann::ordered_json axes;    ///< sweep key -> value of this cell (empty without a sweep)
   ObservationSpec observation;
-  /// Matchers under their labels (the keys of the scenario's `matchers` map): registry name +
-  /// parameter overrides passed to make_matcher.
+  /// Matchers under their labels (the keys of the scenario's `matchers` map), configurations
+  /// parsed at load (shared quantities applied, then the cell's explicit parameters).
   std::vector<MatcherSpec> matchers;
 };
 
@@ -87,11 +94,21 @@ struct Scenario {
   ScoringParams scoring;
   OutputSpec output;
   std::vector<PaperReference> paper;
+  /// Quantities every stage shares unless it overrides them (the `shared` block).
+  SharedParams shared;
   std::vector<std::string> sweep_keys;  ///< sweep axes in file order
   std::vector<CellSpec> cells;          ///< Cartesian product of the axes (one cell without a sweep)
-  nlohmann::ordered_json resolved;      ///< the whole resolved configuration (defaults filled)
+  /// The whole resolved configuration: the scenario as written with every default filled in,
+  /// plus per cell the complete parameters of every stage (perfect observer or sensor and
+  /// observation module; matchers). Written next to every result.
+  nlohmann::ordered_json resolved;
   std::string hash;                     ///< hex digest of `resolved`, identifies the run
 };
+
+/// Room polygons of the given kinds from a generator rooms file (`floorcast plan generate
+/// --rooms FILE`: {"rooms": [{"id", "kind", "polygon": [[x, y], ...]}, ...]}). Throws InputError
+/// naming the file and element when it is not one.
+std::vector<std::vector<Vec2>> load_room_polygons(const std::string& path, const std::vector<std::string>& kinds);
 
 /// Reads, validates and resolves a scenario file. Relative building paths are resolved against
 /// the scenario's folder, then the source tree root. Throws InputError naming file:line:col and

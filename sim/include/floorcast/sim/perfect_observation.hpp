@@ -6,18 +6,27 @@
 
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "floorcast/core/observation.hpp"
+#include "floorcast/core/params.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 
 namespace floorcast {
 
 struct PerfectObservationParams {
   double max_range_m = 10.0;    ///< PALMS+ sec. 4.4: 10 m
-  bool doors_closed = true;     ///< treat open doors as closed (PALMS+ sec. 4.4: all doors closed)
-  bool glass_blocks = true;     ///< glass walls and windows are walls
-  bool obstacles_block = false; ///< clutter taller than the cut height occludes
-  double cut_height_m = 1.5;    ///< height of the horizontal cut (camera height)
+  /// What occludes (keys doors_closed, glass_blocks, obstacles_block, cut_height_m): open doors
+  /// treated as closed (PALMS+ sec. 4.4: all doors closed), glass walls and windows are walls,
+  /// clutter does not occlude, cut at camera height.
+  BlockingOptions blocking = closed_door_map();
   int num_rays = 36;            ///< equiangular rays (F3Loc: 36; 180 also used); 0 = none
+
+  nlohmann::ordered_json to_json() const;
+  /// Strict overrides (keys as in to_json); throws ParameterError naming the key.
+  void apply_overrides(const nlohmann::json& overrides);
+  /// Takes the experiment's shared range and blocking flags.
+  void apply_shared(const SharedParams& shared);
 };
 
 /// Prepares a plan's outline once, then observes from any number of poses.

@@ -5,14 +5,17 @@
 #include <string>
 
 #include "floorcast/floorplans/io.hpp"
-#include "floorcast/scenarios/compare_matchers.hpp"
+#include "floorcast/floorplans/generate.hpp"
+#include "floorcast/scenarios/runner.hpp"
+#include "floorcast/scenarios/sampling.hpp"
+#include "floorcast/scenarios/units.hpp"
 #include "floorcast/core/math.hpp"
 #include "../match/match_test_plans.hpp"
 
 namespace floorcast {
 namespace {
 
-TEST(CompareMatchers, SamplingIsSeededAndClear) {
+TEST(Sampling, SamplingIsSeededAndClear) {
   const FloorPlan plan = test::asymmetric_floor();
   const auto a = sample_observation_poses(plan, 40, 7, 0, 0.5);
   const auto b = sample_observation_poses(plan, 40, 7, 0, 0.5);
@@ -45,7 +48,7 @@ TEST(CompareMatchers, SamplingIsSeededAndClear) {
   EXPECT_THROW(sample_observation_poses(plan, 5, 1, 0, 50.0), InputError);
 }
 
-TEST(CompareMatchers, SamplingKeepsClearOfFurniture) {
+TEST(Sampling, SamplingKeepsClearOfFurniture) {
   // The shipped apartment is furnished (beds, sofas, tables: all lower than the 1.5 m cut of the
   // default rasters). No observer stands inside or within the clearance of any of them.
   const FloorPlan plan = load_floor_plan(std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/apartment.json");
@@ -73,7 +76,7 @@ TEST(CompareMatchers, SamplingKeepsClearOfFurniture) {
   }
 }
 
-TEST(CompareMatchers, SamplingRegions) {
+TEST(Sampling, SamplingRegions) {
   const std::vector<Vec2> l_shape = {{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}};
   EXPECT_TRUE(point_in_polygon(l_shape, {0.5, 2.5}));
   EXPECT_TRUE(point_in_polygon(l_shape, {3.5, 0.5}));
@@ -90,56 +93,41 @@ TEST(CompareMatchers, SamplingRegions) {
   EXPECT_THROW(sample_observation_poses(plan, 3, 4, 0, 0.3, 0.1, nowhere), InputError);
 }
 
-TEST(CompareMatchers, SummaryOnSmallPlan) {
-  std::vector<NamedPlan> plans = {{"asym", test::asymmetric_floor(), {}}};
-  ComparisonParams params;
-  params.points_per_plan = 6;
-  params.seed = 3;
-  auto specs = default_comparison_specs({36});
-  int lines = 0;
-  const ComparisonResult r = compare_matchers(plans, specs, params, [&](const std::string&) { ++lines; });
-  EXPECT_GT(lines, 0);
-  ASSERT_EQ(r.points.size(), 12u);
-  const auto j = comparison_summary_json(r);
-  ASSERT_TRUE(j.contains("kernel"));
-  ASSERT_TRUE(j.contains("ray"));
-  for (const char* key : {"recall_0.5m", "recall_1m", "recall_1m_30deg", "recall_2m", "top5_recall_1m",
-                          "median_position_error_m", "median_yaw_error_deg", "mean_time_s"}) {
-    EXPECT_TRUE(j["kernel"].contains(key)) << key;
+// sampling.region_kinds: every observation point of a generated office lies in one of its
+// hallways; a plan file without room labels is refused when region kinds are asked for.
+TEST(Sampling, RegionKindsInAScenario) {
+  const std::string yaml = R"(
+buildings: [{generate: office, seed: 3}]
+sampling: {count: 12, seed: 5, region_kinds: [hallway]}
+observation: {source: perfect}
+matchers: {kernel: {matcher: kernel}}
+)";
+  const Scenario s = parse_scenario(yaml, "regions.yaml", ".", FLOORCAST_SOURCE_DIR);
+  ASSERT_EQ(s.sampling.region_kinds, std::vector<std::string>{"hallway"});
+  const GeneratedBuilding office = generate_building(Archetype::kOffice, 3);
+  std::vector<std::vector<Vec2>> hallways;
+  for (const GeneratedRoom& r : office.rooms)
+    if (r.kind == "hallway") hallways.push_back(r.polygon_m);
+  ASSERT_FALSE(hallways.empty());
+  const ScenarioRunner runner(s);
+  for (const WorkUnit& u : enumerate_units(s)) {
+    const Pose2 p = runner.run_unit(u, nullptr).truth;
+    bool inside = false;
+    for (const auto& h : hallways) inside = inside || point_in_polygon(h, p.position_m());
+    EXPECT_TRUE(inside) << u.id << " at " << p.x_m << ", " << p.y_m;
   }
-  EXPECT_EQ(j["kernel"].size(), 8u);
-  // The kernel matcher with perfect observations on a distinctive plan: all within 1 m, 30 deg.
-  EXPECT_EQ(j["kernel"]["recall_1m_30deg"], 1.0);
-  for (const auto& [label, s] : r.summary) {
-    EXPECT_GE(s.recall_2m, s.recall_1m);
-    EXPECT_GE(s.recall_1m, s.recall_1m_30deg);
-    EXPECT_GE(s.recall_1m, s.recall_0_5m);
-    EXPECT_GE(s.top5_recall_1m, s.recall_1m);
-    EXPECT_GT(s.mean_time_s, 0.0);
+  const std::string no_rooms = R"(
+buildings: [floorplans/buildings/apartment.json]
+sampling: {count: 2, region_kinds: [hallway]}
+matchers: {kernel: {matcher: kernel}}
+)";
+  const Scenario bad = parse_scenario(no_rooms, "regions.yaml", ".", FLOORCAST_SOURCE_DIR);
+  try {
+    const ScenarioRunner r(bad);
+    FAIL() << "expected a refusal";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("needs room labels"), std::string::npos) << e.what();
   }
-  const std::string csv = comparison_points_csv(r);
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 13);
-  EXPECT_NE(comparison_markdown(r).find("| kernel |"), std::string::npos);
-  EXPECT_EQ(default_comparison_specs({36, 180})[2].label, "ray180");
-}
-
-TEST(CompareMatchers, SummariseKnownAnswer) {
-  std::vector<PointOutcome> o(4);
-  o[0].position_error_m = 0.3, o[0].yaw_error_deg = 2, o[0].time_s = 1;
-  o[1].position_error_m = 0.9, o[1].yaw_error_deg = 45, o[1].time_s = 2;
-  o[2].position_error_m = 1.5, o[2].yaw_error_deg = 1, o[2].time_s = 3, o[2].top_k_hit_1m = true;
-  o[3].position_error_m = 9.0, o[3].yaw_error_deg = 180, o[3].time_s = 6;
-  o[0].top_k_hit_1m = o[1].top_k_hit_1m = true;
-  const MatcherSummary s = summarise({&o[0], &o[1], &o[2], &o[3]}, 30.0);
-  EXPECT_EQ(s.count, 4);
-  EXPECT_DOUBLE_EQ(s.recall_0_5m, 0.25);
-  EXPECT_DOUBLE_EQ(s.recall_1m, 0.5);
-  EXPECT_DOUBLE_EQ(s.recall_1m_30deg, 0.25);
-  EXPECT_DOUBLE_EQ(s.recall_2m, 0.75);
-  EXPECT_DOUBLE_EQ(s.top5_recall_1m, 0.75);
-  EXPECT_DOUBLE_EQ(s.median_position_error_m, 1.2);
-  EXPECT_DOUBLE_EQ(s.median_yaw_error_deg, 23.5);
-  EXPECT_DOUBLE_EQ(s.mean_time_s, 3.0);
 }
 
 }  // namespace
