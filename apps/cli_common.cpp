@@ -1,6 +1,7 @@
 #include "cli_common.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <system_error>
 #include <utility>
@@ -39,15 +40,33 @@ CLI::App& group(CLI::App& parent, const std::string& name, const std::string& de
   return *sub;
 }
 
-std::string source_dir() { return FLOORCAST_SOURCE_DIR; }
-
-void ensure_directory(const std::string& path) {
-  std::error_code ec;
-  std::filesystem::create_directories(path, ec);
-  if (ec || !std::filesystem::is_directory(path)) {
-    throw InputError(path + ": cannot create directory: " + (ec ? ec.message() : "not a directory"));
-  }
+std::string source_dir() {
+  namespace fs = std::filesystem;
+  static const std::string root = [] {
+    auto is_root = [](const fs::path& p) {
+      std::error_code ec;
+      return fs::is_regular_file(p / "scenarios" / "quickstart.yaml", ec) &&
+             fs::is_directory(p / "floorplans" / "buildings", ec);
+    };
+    if (const char* env = std::getenv("FLOORCAST_DATA_DIR"); env && *env) return std::string(env);
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+      // Installed: <prefix>/bin/floorcast with the data in <prefix>/share/floorcast.
+      const fs::path installed = exe.parent_path().parent_path() / "share" / "floorcast";
+      if (is_root(installed)) return installed.string();
+      // Built inside the source tree (build/bin/floorcast, or any depth below it).
+      for (fs::path p = exe.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path()) {
+        if (is_root(p)) return p.string();
+      }
+    }
+    // Last resort: the working directory (a checkout run from its root).
+    return fs::current_path(ec).string();
+  }();
+  return root;
 }
+
+void ensure_directory(const std::string& path) { create_directories_or_throw(path); }
 
 void write_json(const std::string& path, const nlohmann::ordered_json& json) {
   write_text_file_atomic(path, json.dump(2) + "\n");

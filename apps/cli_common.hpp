@@ -19,7 +19,10 @@ void register_all(CLI::App& root);
 /// files add sub-commands to one group (`plan`, `sim`, `bench`, ...).
 CLI::App& group(CLI::App& parent, const std::string& name, const std::string& description);
 
-/// Root of the source tree (shipped buildings, scenarios, baselines).
+/// Where the shipped data lives (floorplans/buildings, scenarios, results/baselines): the
+/// FLOORCAST_DATA_DIR environment variable when set; else <prefix>/share/floorcast next to an
+/// installed binary; else the source tree the binary was built in (found by walking up from the
+/// executable); else the working directory. Nothing of the build machine is compiled in.
 std::string source_dir();
 
 /// Creates a directory (and parents); throws InputError naming it on failure.

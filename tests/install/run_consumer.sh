@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs this build into a temporary prefix, builds tests/install/consumer against it with
+# find_package(floorcast), runs it, and checks that the program carries no simulator back-end
+# (Embree, OSMesa, tinygltf) and no path of the source tree.
+set -euo pipefail
+build_dir=$1
+source_dir=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cmake --install "$build_dir" --prefix "$work/prefix" >/dev/null
+cmake -S "$source_dir/tests/install/consumer" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
+  -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$work/build" -j2 >/dev/null
+"$work/build/consumer"
+if ldd "$work/build/consumer" | grep -Ei 'embree|osmesa|tinygltf|libLLVM'; then
+  echo "FAILED: the consumer links a simulator back-end" >&2
+  exit 1
+fi
+if nm -C "$work/build/consumer" | grep -E ' (T|t) (rtc[A-Z]|OSMesa|tinygltf::)' | head -3 | grep .; then
+  echo "FAILED: simulator symbols in the consumer" >&2
+  exit 1
+fi
+# The installed CLI finds its data next to itself and carries no source path.
+if grep -q "$source_dir" "$work/prefix/bin/floorcast"; then
+  echo "FAILED: the installed floorcast binary contains the source path $source_dir" >&2
+  exit 1
+fi
+(cd "$work" && "$work/prefix/bin/floorcast" plan info "$work/prefix/share/floorcast/floorplans/buildings/two_rooms.json" >/dev/null)
+echo "installed package ok"
