@@ -113,10 +113,14 @@ void register_localize(CLI::App& root) {
     const PoseHypothesis best = post.argmax();
     const std::vector<PoseHypothesis> modes = post.top_k(o->top_k, 1.0, kPi / 6.0);
 
+    // An empty posterior (every cell scored 0: e.g. the observation collides with the map
+    // everywhere) is "no pose", never a made-up pose at the grid's first cell.
+    const bool found = best.score > 0.0;
     nlohmann::ordered_json j;
-    j["x_m"] = best.x_m;
-    j["y_m"] = best.y_m;
-    j["yaw_deg"] = best.yaw_rad * 180.0 / kPi;
+    j["status"] = found ? "ok" : "no pose: empty posterior (every cell scored 0)";
+    j["x_m"] = found ? nlohmann::ordered_json(best.x_m) : nlohmann::ordered_json(nullptr);
+    j["y_m"] = found ? nlohmann::ordered_json(best.y_m) : nlohmann::ordered_json(nullptr);
+    j["yaw_deg"] = found ? nlohmann::ordered_json(best.yaw_rad * 180.0 / kPi) : nlohmann::ordered_json(nullptr);
     j["score"] = best.score;
     nlohmann::ordered_json top = nlohmann::ordered_json::array();
     for (const PoseHypothesis& h : modes) top.push_back(hypothesis_json(h));
@@ -128,8 +132,10 @@ void register_localize(CLI::App& root) {
       g["y_m"] = t.y_m;
       g["yaw_deg"] = t.yaw_rad * 180.0 / kPi;
       j["ground_truth"] = g;
-      j["position_error_m"] = std::hypot(best.x_m - t.x_m, best.y_m - t.y_m);
-      j["yaw_error_deg"] = angle_distance_rad(best.yaw_rad, t.yaw_rad) * 180.0 / kPi;
+      if (found) {
+        j["position_error_m"] = std::hypot(best.x_m - t.x_m, best.y_m - t.y_m);
+        j["yaw_error_deg"] = angle_distance_rad(best.yaw_rad, t.yaw_rad) * 180.0 / kPi;
+      }
     }
     nlohmann::ordered_json timings;
     timings["precompute_s"] = matcher->precompute_s();
@@ -167,10 +173,15 @@ void register_localize(CLI::App& root) {
       t.yaw_rad = input.record.T_world_observer->yaw_rad;
       truth = t;
     }
-    const cv::Mat img = render_posterior_heatmap(post, raster, truth, best);
+    const cv::Mat img =
+        render_posterior_heatmap(post, raster, truth, found ? std::optional<PoseHypothesis>(best) : std::nullopt);
     const std::string png = o->out + "/posterior.png";
     if (!cv::imwrite(png, img)) throw InputError(png + ": cannot write the image");
 
+    if (!found) {
+      std::cout << matcher->name() << ": no pose (empty posterior: every cell scored 0) -> " << o->out << "\n";
+      throw CommandExit{3};
+    }
     std::cout << std::fixed << std::setprecision(2) << matcher->name() << ": x " << best.x_m << " m, y " << best.y_m
               << " m, yaw " << std::setprecision(1) << best.yaw_rad * 180.0 / kPi << " deg (score "
               << std::setprecision(4) << best.score << ")";

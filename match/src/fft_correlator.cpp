@@ -63,7 +63,7 @@ struct FftCorrelator::Impl {
   int half = 0;  ///< cols / 2 + 1
   std::size_t real_count = 0;
   std::size_t complex_count = 0;
-  ComplexBuffer map_spectrum;
+  std::vector<ComplexBuffer> map_spectra;  ///< one per map
   fftwf_plan rows_top = nullptr;     ///< r2c of kernel rows dr = 0..R into spectrum rows 0..R
   fftwf_plan rows_bottom = nullptr;  ///< r2c of kernel rows dr = -R..-1 into rows M-R..M-1
   fftwf_plan cols_forward = nullptr;
@@ -74,14 +74,24 @@ struct FftCorrelator::Impl {
 struct FftCorrelator::Workspace::Buffers {
   RealBuffer kernel;       ///< (2R+1) x cols: wrapped kernel rows dr = 0..R, then -R..-1
   ComplexBuffer spectrum;  ///< rows x (cols/2+1)
+  ComplexBuffer sum;       ///< rows x (cols/2+1), run_sum's accumulator (allocated on first use)
   RealBuffer result;       ///< H x cols
 };
 
 FftCorrelator::Workspace::Workspace() : b_(std::make_unique<Buffers>()) {}
 FftCorrelator::Workspace::~Workspace() = default;
 
-FftCorrelator::FftCorrelator(const cv::Mat& map, int kernel_radius_px) : impl_(std::make_unique<Impl>()) {
-  if (map.type() != CV_32F || map.empty()) throw std::invalid_argument("FftCorrelator: map must be non-empty CV_32F");
+FftCorrelator::FftCorrelator(const cv::Mat& map, int kernel_radius_px)
+    : FftCorrelator(std::vector<cv::Mat>{map}, kernel_radius_px) {}
+
+FftCorrelator::FftCorrelator(const std::vector<cv::Mat>& maps, int kernel_radius_px) : impl_(std::make_unique<Impl>()) {
+  if (maps.empty()) throw std::invalid_argument("FftCorrelator: no map");
+  const cv::Mat& map = maps.front();
+  for (const cv::Mat& m : maps) {
+    if (m.type() != CV_32F || m.empty() || m.size() != map.size()) {
+      throw std::invalid_argument("FftCorrelator: maps must be non-empty CV_32F of one size");
+    }
+  }
   if (kernel_radius_px < 0) throw std::invalid_argument("FftCorrelator: negative kernel radius");
   map_rows_ = map.rows;
   map_cols_ = map.cols;
@@ -99,7 +109,7 @@ FftCorrelator::FftCorrelator(const cv::Mat& map, int kernel_radius_px) : impl_(s
 
   const int R = radius_, K = 2 * radius_ + 1, H = map_rows_, M = rows_, N = cols_, C = im.half;
   RealBuffer padded = alloc_real(im.real_count);
-  im.map_spectrum = alloc_complex(im.complex_count);
+  for (std::size_t i = 0; i < maps.size(); ++i) im.map_spectra.push_back(alloc_complex(im.complex_count));
   // Planning arrays with the workspaces' layout (same offsets, so the same alignment).
   RealBuffer k_in = alloc_real(static_cast<std::size_t>(K) * N);
   ComplexBuffer spec = alloc_complex(im.complex_count);
@@ -108,7 +118,7 @@ FftCorrelator::FftCorrelator(const cv::Mat& map, int kernel_radius_px) : impl_(s
   {
     std::lock_guard<std::mutex> lock(planner_mutex());
     // FFTW_ESTIMATE: no measuring, so the same plans (and the same bits) on every run.
-    map_plan = fftwf_plan_dft_r2c_2d(M, N, padded.get(), im.map_spectrum.get(), FFTW_ESTIMATE);
+    map_plan = fftwf_plan_dft_r2c_2d(M, N, padded.get(), im.map_spectra.front().get(), FFTW_ESTIMATE);
     im.rows_top = fftwf_plan_many_dft_r2c(1, &N, R + 1, k_in.get(), nullptr, 1, N, spec.get(), nullptr, 1, C,
                                           FFTW_ESTIMATE);
     if (R > 0) {
@@ -127,11 +137,13 @@ FftCorrelator::FftCorrelator(const cv::Mat& map, int kernel_radius_px) : impl_(s
       !im.rows_inverse) {
     throw std::runtime_error("FftCorrelator: FFTW planning failed");
   }
-  std::memset(padded.get(), 0, im.real_count * sizeof(float));
-  for (int r = 0; r < map_rows_; ++r) {
-    std::memcpy(padded.get() + static_cast<std::size_t>(r) * N, map.ptr<float>(r), sizeof(float) * map_cols_);
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    std::memset(padded.get(), 0, im.real_count * sizeof(float));
+    for (int r = 0; r < map_rows_; ++r) {
+      std::memcpy(padded.get() + static_cast<std::size_t>(r) * N, maps[i].ptr<float>(r), sizeof(float) * map_cols_);
+    }
+    fftwf_execute_dft_r2c(map_plan, padded.get(), im.map_spectra[i].get());
   }
-  fftwf_execute(map_plan);
   std::lock_guard<std::mutex> lock(planner_mutex());
   fftwf_destroy_plan(map_plan);
 }
@@ -143,7 +155,11 @@ FftCorrelator::~FftCorrelator() {
   }
 }
 
-std::size_t FftCorrelator::spectrum_bytes() const { return impl_->complex_count * sizeof(fftwf_complex); }
+std::size_t FftCorrelator::spectrum_bytes() const {
+  return impl_->map_spectra.size() * impl_->complex_count * sizeof(fftwf_complex);
+}
+
+int FftCorrelator::num_maps() const { return static_cast<int>(impl_->map_spectra.size()); }
 
 std::size_t FftCorrelator::workspace_bytes() const {
   return (static_cast<std::size_t>(2 * radius_ + 1) + static_cast<std::size_t>(map_rows_)) * cols_ * sizeof(float) +
@@ -161,7 +177,7 @@ std::unique_ptr<FftCorrelator::Workspace> FftCorrelator::make_workspace() const 
   return ws;
 }
 
-void FftCorrelator::run(const cv::Mat& kernel, Workspace& workspace, StageTimes* times) const {
+void FftCorrelator::forward_kernel(const cv::Mat& kernel, Workspace& workspace) const {
   const int R = radius_, K = 2 * radius_ + 1, M = rows_, N = cols_;
   if (kernel.type() != CV_32F || kernel.rows != K || kernel.cols != K) {
     throw std::invalid_argument("FftCorrelator::correlate: kernel must be CV_32F " + std::to_string(K) + "x" +
@@ -170,7 +186,6 @@ void FftCorrelator::run(const cv::Mat& kernel, Workspace& workspace, StageTimes*
   const Impl& im = *impl_;
   Workspace::Buffers& ws = *workspace.b_;
   const std::size_t C = static_cast<std::size_t>(im.half);
-  const double t0 = cpu_s();
   // Wrap the kernel so its centre sits at (0, 0): offset (dr, dc) lands at row dr mod M, column
   // dc mod N. Compact row order: dr = 0..R, then dr = -R..-1. Only the kernel's columns are ever
   // written; the rest of each row stays zero.
@@ -187,11 +202,19 @@ void FftCorrelator::run(const cv::Mat& kernel, Workspace& workspace, StageTimes*
   if (im.rows_bottom) fftwf_execute_dft_r2c(im.rows_bottom, kb + static_cast<std::size_t>(R + 1) * N, spec + (M - R) * C);
   if (M - R > R + 1) std::memset(spec + (R + 1) * C, 0, static_cast<std::size_t>(M - 2 * R - 1) * C * sizeof(fftwf_complex));
   fftwf_execute_dft(im.cols_forward, spec, spec);
+}
+
+void FftCorrelator::run(const cv::Mat& kernel, Workspace& workspace, StageTimes* times) const {
+  const Impl& im = *impl_;
+  Workspace::Buffers& ws = *workspace.b_;
+  const double t0 = cpu_s();
+  forward_kernel(kernel, workspace);
   const double t1 = cpu_s();
   // Correlation: conj(K) * F, with the 1/N of the unnormalised inverse folded in.
+  fftwf_complex* spec = ws.spectrum.get();
   const float scale = 1.0f / static_cast<float>(im.real_count);
   auto* s = reinterpret_cast<std::complex<float>*>(spec);
-  const auto* f = reinterpret_cast<const std::complex<float>*>(im.map_spectrum.get());
+  const auto* f = reinterpret_cast<const std::complex<float>*>(im.map_spectra.front().get());
   for (std::size_t i = 0; i < im.complex_count; ++i) {
     const float kr = s[i].real(), ki = s[i].imag();
     const float fr = f[i].real(), fi = f[i].imag();
@@ -203,6 +226,42 @@ void FftCorrelator::run(const cv::Mat& kernel, Workspace& workspace, StageTimes*
   if (times) {
     times->forward_s = t1 - t0;
     times->product_s = t2 - t1;
+    times->inverse_s = cpu_s() - t2;
+  }
+}
+
+void FftCorrelator::run_sum(const std::vector<const cv::Mat*>& kernels, Workspace& workspace, StageTimes* times) const {
+  const Impl& im = *impl_;
+  if (kernels.size() != im.map_spectra.size()) {
+    throw std::invalid_argument("FftCorrelator::run_sum: " + std::to_string(kernels.size()) + " kernels for " +
+                                std::to_string(im.map_spectra.size()) + " maps");
+  }
+  Workspace::Buffers& ws = *workspace.b_;
+  if (!ws.sum) ws.sum = alloc_complex(im.complex_count);
+  auto* acc = reinterpret_cast<std::complex<float>*>(ws.sum.get());
+  const float scale = 1.0f / static_cast<float>(im.real_count);
+  double forward = 0.0, product = 0.0;
+  for (std::size_t m = 0; m < kernels.size(); ++m) {
+    const double t0 = cpu_s();
+    forward_kernel(*kernels[m], workspace);
+    const double t1 = cpu_s();
+    const auto* s = reinterpret_cast<const std::complex<float>*>(ws.spectrum.get());
+    const auto* f = reinterpret_cast<const std::complex<float>*>(im.map_spectra[m].get());
+    for (std::size_t i = 0; i < im.complex_count; ++i) {
+      const float kr = s[i].real(), ki = s[i].imag();
+      const float fr = f[i].real(), fi = f[i].imag();
+      const std::complex<float> v{(kr * fr + ki * fi) * scale, (kr * fi - ki * fr) * scale};
+      acc[i] = m == 0 ? v : acc[i] + v;
+    }
+    forward += t1 - t0;
+    product += cpu_s() - t1;
+  }
+  const double t2 = cpu_s();
+  fftwf_execute_dft(im.cols_inverse, ws.sum.get(), ws.sum.get());
+  fftwf_execute_dft_c2r(im.rows_inverse, ws.sum.get(), ws.result.get());
+  if (times) {
+    times->forward_s = forward;
+    times->product_s = product;
     times->inverse_s = cpu_s() - t2;
   }
 }

@@ -52,6 +52,7 @@ nlohmann::ordered_json KernelMatcherParams::to_json() const {
   j["zero_below"] = zero_below;
   j["plan_raster"] = enum_name(plan_raster, kPlanRasterNames);
   j["line_rule"] = enum_name(line_rule, kLineRuleNames);
+  j["ces_through_doorways"] = ces_through_doorways;
   return j;
 }
 
@@ -79,6 +80,7 @@ void KernelMatcherParams::apply_overrides(const nlohmann::json& overrides) {
   r.read("zero_below", zero_below, 0.0, 1.0);
   r.read_enum("plan_raster", plan_raster, kPlanRasterNames);
   r.read_enum("line_rule", line_rule, kLineRuleNames);
+  r.read("ces_through_doorways", ces_through_doorways);
   r.finish();
 }
 
@@ -200,14 +202,24 @@ KernelMatcher::KernelMatcher(const FloorPlan& plan, const KernelMatcherParams& p
   const std::vector<LabeledSegment> outline = blocking_outline(plan, params_.blocking);
   impl_->plan_segments = outline_segments(outline);
   const LineRule rule = params_.line_rule;
-  if (params_.plan_raster == PlanRasterKind::kOutline) {
-    plan_raster_ = rasterize_outline(outline, grid_, rule);
-  } else if (params_.plan_raster == PlanRasterKind::kCentreline) {
-    plan_raster_ = cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_8U);
-    draw_segment_lines(plan_raster_, footprint_centrelines(blocking_footprints(plan, params_.blocking)),
-                       {grid_.origin_x_m, grid_.origin_y_m}, grid_.resolution_m_per_px, rule);
-  } else {
-    plan_raster_ = rasterize_occupancy(plan, grid_, params_.blocking);
+  auto raster = [&](const BlockingOptions& blocking) {
+    if (params_.plan_raster == PlanRasterKind::kOutline) return rasterize_outline(blocking_outline(plan, blocking), grid_, rule);
+    if (params_.plan_raster == PlanRasterKind::kCentreline) {
+      cv::Mat m = cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_8U);
+      draw_segment_lines(m, footprint_centrelines(blocking_footprints(plan, blocking)), {grid_.origin_x_m, grid_.origin_y_m},
+                         grid_.resolution_m_per_px, rule);
+      return m;
+    }
+    return rasterize_occupancy(plan, grid_, blocking);
+  };
+  plan_raster_ = raster(params_.blocking);
+  ces_raster_ = plan_raster_;
+  if (params_.ces_through_doorways) {
+    BlockingOptions no_doors = params_.blocking;
+    no_doors.closed_doors_block = false;
+    no_doors.open_doors_block = false;
+    ces_raster_ = raster(no_doors);
+    if (cv::countNonZero(ces_raster_ != plan_raster_) == 0) ces_raster_ = plan_raster_;  // the map draws no door
   }
   valid_ = matcher_valid_mask(plan, grid_, params_.blocking);
   orientation_cache_ = make_plan_orientation_cache(params_.orientation, impl_->plan_segments);
@@ -215,7 +227,14 @@ KernelMatcher::KernelMatcher(const FloorPlan& plan, const KernelMatcherParams& p
   impl_->distance_weight = distance_weight_image(params_, impl_->radius_px);
   cv::Mat plan_f;
   plan_raster_.convertTo(plan_f, CV_32F, 1.0 / 255.0);
-  impl_->correlator = std::make_unique<FftCorrelator>(plan_f, impl_->radius_px);
+  if (ces_raster_.data == plan_raster_.data) {
+    impl_->correlator = std::make_unique<FftCorrelator>(plan_f, impl_->radius_px);
+  } else {
+    // Two maps: the wall score on plan_raster_, the CES collision on ces_raster_ (one sum).
+    cv::Mat ces_f;
+    ces_raster_.convertTo(ces_f, CV_32F, 1.0 / 255.0);
+    impl_->correlator = std::make_unique<FftCorrelator>(std::vector<cv::Mat>{plan_f, ces_f}, impl_->radius_px);
+  }
   precompute_s_ = seconds(t0, Clock::now());
 }
 
@@ -225,7 +244,8 @@ int KernelMatcher::fft_cols() const { return impl_->correlator->fft_cols(); }
 int KernelMatcher::fft_rows() const { return impl_->correlator->fft_rows(); }
 
 std::size_t KernelMatcher::precompute_bytes() const {
-  return impl_->correlator->spectrum_bytes() + plan_raster_.total() + valid_.total();
+  return impl_->correlator->spectrum_bytes() + plan_raster_.total() + valid_.total() +
+         (ces_raster_.data == plan_raster_.data ? 0 : ces_raster_.total());
 }
 
 MatchResult KernelMatcher::match(const Observation2D& obs) const {
@@ -262,10 +282,17 @@ MatchResult KernelMatcher::match_yaws(const Observation2D& obs, const std::vecto
     for (double scale : params_.scales) {
       const double a = thread_cpu_s();
       const LayoutKernels k = make_layout_kernels(params_, obs.segments_m, yaws[o], scale, R, impl_->distance_weight);
-      cv::Mat kernel = k.p - alpha * k.ces;
-      const double b = thread_cpu_s();
       FftCorrelator::StageTimes st;
-      impl_->correlator->run(kernel, *ws, &st);
+      double b = 0.0;
+      if (impl_->correlator->num_maps() == 1) {
+        const cv::Mat kernel = k.p - alpha * k.ces;
+        b = thread_cpu_s();
+        impl_->correlator->run(kernel, *ws, &st);
+      } else {
+        const cv::Mat ces = -alpha * k.ces;
+        b = thread_cpu_s();
+        impl_->correlator->run_sum({&k.p, &ces}, *ws, &st);
+      }
       const double c = thread_cpu_s();
       // Clip at 0, drop FFT round-off, restrict to the valid area, max over scales.
       for (int row = 0; row < grid_.height_px; ++row) {

@@ -175,6 +175,17 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
     int failed_obs = 0;
     for (const UnitResult* u : cell_units) failed_obs += u->observation_ok ? 0 : 1;
     cj["failed_observations"] = failed_obs;
+    // Methods that produced no pose from a usable observation (an empty posterior: every cell
+    // scored 0), per method: a reported state, counted as a miss, never an invented pose.
+    std::map<std::string, int> no_pose;
+    for (const std::string& label : labels) no_pose[label] = 0;
+    for (const UnitResult* u : cell_units) {
+      if (!u->observation_ok) continue;
+      for (const MatcherOutcome& o : u->outcomes) no_pose[o.label] += o.ok ? 0 : 1;
+    }
+    OJson npj = OJson::object();
+    for (const std::string& label : labels) npj[label] = no_pose[label];
+    cj["no_pose"] = npj;
     sum["cells"].push_back(cj);
 
     // Markdown: the PALMS+ Table 1 layout for this cell.
@@ -223,6 +234,13 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
       }
     }
     if (failed_obs > 0) md << "\n" << failed_obs << " observation(s) failed and count as misses.\n";
+    bool any_no_pose = false;
+    for (const auto& [label, n] : no_pose) any_no_pose = any_no_pose || n > 0;
+    if (any_no_pose) {
+      md << "\nNo pose (empty posterior, counted as a miss):";
+      for (const std::string& label : labels) md << " " << label << " " << no_pose[label] << " of " << cell_units.size() - failed_obs << ";";
+      md << "\n";
+    }
     md << "\n";
 
     overview << "| " << cell.id << " |";

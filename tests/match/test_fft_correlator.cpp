@@ -62,6 +62,30 @@ TEST(FftCorrelator, EqualsDirectCorrelation) {
   expect_equal_to_direct(23, 3, 7, 5);
 }
 
+// Sums of correlations with several maps (the kernel matcher's wall score and CES on different
+// rasters) equal the sum of the direct correlations.
+TEST(FftCorrelator, SumOfCorrelationsEqualsDirectSum) {
+  cv::RNG rng(17);
+  const int R = 4;
+  cv::Mat a(37, 29, CV_32F), b(37, 29, CV_32F), ka(2 * R + 1, 2 * R + 1, CV_32F), kb(2 * R + 1, 2 * R + 1, CV_32F);
+  for (cv::Mat* m : {&a, &b}) {
+    rng.fill(*m, cv::RNG::UNIFORM, 0.0, 1.0);
+    cv::threshold(*m, *m, 0.8, 1.0, cv::THRESH_BINARY);
+  }
+  rng.fill(ka, cv::RNG::UNIFORM, -1.0, 1.0);
+  rng.fill(kb, cv::RNG::UNIFORM, -1.0, 1.0);
+  const FftCorrelator corr(std::vector<cv::Mat>{a, b}, R);
+  EXPECT_EQ(corr.num_maps(), 2);
+  auto ws = corr.make_workspace();
+  corr.run_sum({&ka, &kb}, *ws);
+  const cv::Mat slow = direct_correlation(a, ka) + direct_correlation(b, kb);
+  double worst = 0.0;
+  for (int r = 0; r < a.rows; ++r)
+    for (int c = 0; c < a.cols; ++c) worst = std::max(worst, std::abs(corr.result_row(*ws, r)[c] - slow.at<double>(r, c)));
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_THROW(corr.run_sum({&ka}, *ws), std::invalid_argument);
+}
+
 TEST(FftCorrelator, SizesAndErrors) {
   EXPECT_EQ(next_fast_fft_size(1), 1);
   EXPECT_EQ(next_fast_fft_size(11), 12);

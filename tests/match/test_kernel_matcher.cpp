@@ -235,6 +235,30 @@ TEST(KernelMatcher, RotatedPlanRotatesPosterior) {
   expect_moved_posterior(a, ra, b, rb, [](const Vec2& p) { return Vec2(-p.y() + 20.0, p.x() + 5.0); }, slice_map);
 }
 
+// A scan that sees through an open door: the map draws every door closed (it cannot know which
+// stand open), but doorways do not collide with the certainly-empty space, so the true pose
+// survives. With one raster for both parts (ces_through_doorways false) the CES through the
+// doorway hits the drawn door and zeroes the true pose.
+TEST(KernelMatcher, OpenDoorDoesNotEraseTheTruePose) {
+  const FloorPlan plan = test::asymmetric_floor();
+  PerfectObservationParams see_through;
+  see_through.blocking.open_doors_block = false;
+  const Pose2 truth{3.6, 2.1, 0.2};  // in front of door d1 (x = 5, y = 2), looking through it
+  const Observation2D obs = PerfectObserver(plan, see_through).observe(truth);
+  const KernelMatcher m(plan);
+  ASSERT_NE(cv::countNonZero(m.ces_raster() != m.plan_raster()), 0);
+  const PoseHypothesis best = m.match(obs).posterior.argmax();
+  EXPECT_LE(std::hypot(best.x_m - truth.x_m, best.y_m - truth.y_m), 0.15);
+  EXPECT_LE(angle_distance_rad(best.yaw_rad, truth.yaw_rad), 0.02);
+  KernelMatcherParams one_raster;
+  one_raster.ces_through_doorways = false;
+  const KernelMatcher old(plan, one_raster);
+  const MatchResult r = old.match_yaws(obs, {truth.yaw_rad});
+  int row = 0, col = 0;
+  ASSERT_TRUE(old.grid().world_to_cell(truth.position_m(), row, col));
+  EXPECT_EQ(r.posterior.scores[0].at<float>(row, col), 0.0f);
+}
+
 TEST(KernelMatcher, IdenticalAcrossThreadCounts) {
   const FloorPlan plan = test::asymmetric_floor();
   const Observation2D obs = PerfectObserver(plan).observe({10.31, 3.07, 4.4});

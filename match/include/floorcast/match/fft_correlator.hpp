@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace floorcast {
 
@@ -21,6 +22,9 @@ class FftCorrelator {
  public:
   /// map: CV_32F (H x W); kernels are (2R+1) x (2R+1) with R = kernel_radius_px.
   FftCorrelator(const cv::Mat& map_f32, int kernel_radius_px);
+  /// Several maps of one size, for sums of correlations (run_sum): sum_i corr(map_i, kernel_i)
+  /// with one inverse transform.
+  FftCorrelator(const std::vector<cv::Mat>& maps_f32, int kernel_radius_px);
   ~FftCorrelator();
   FftCorrelator(const FftCorrelator&) = delete;
   FftCorrelator& operator=(const FftCorrelator&) = delete;
@@ -52,19 +56,24 @@ class FftCorrelator {
   void correlate(const cv::Mat& kernel_f32, cv::Mat& out, Workspace& ws, StageTimes* times = nullptr) const;
 
   /// The same without the copy: the result stays in the workspace, row r (W values) at
-  /// result_row(ws, r), valid until the workspace's next run.
+  /// result_row(ws, r), valid until the workspace's next run. Correlates with the first map.
   void run(const cv::Mat& kernel_f32, Workspace& ws, StageTimes* times = nullptr) const;
+  /// sum_i corr(map_i, kernels[i]) (one kernel per map, in the maps' order), result as run().
+  void run_sum(const std::vector<const cv::Mat*>& kernels_f32, Workspace& ws, StageTimes* times = nullptr) const;
+  int num_maps() const;
   const float* result_row(const Workspace& ws, int row) const;
 
   int kernel_radius_px() const { return radius_; }
   int fft_rows() const { return rows_; }
   int fft_cols() const { return cols_; }
-  /// Bytes held by the map's spectrum.
+  /// Bytes held by the maps' spectra.
   std::size_t spectrum_bytes() const;
   /// Bytes of one workspace.
   std::size_t workspace_bytes() const;
 
  private:
+  /// The kernel's spectrum into the workspace's spectrum buffer.
+  void forward_kernel(const cv::Mat& kernel_f32, Workspace& ws) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   int map_rows_ = 0, map_cols_ = 0, radius_ = 0, rows_ = 0, cols_ = 0;

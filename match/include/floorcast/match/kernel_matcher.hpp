@@ -76,6 +76,12 @@ struct KernelMatcherParams {
   /// "closed"); glass walls and windows drawn; obstacles not drawn (floor plans do not show
   /// furniture); cut at camera height.
   BlockingOptions blocking = closed_door_map();
+  /// Doorways never collide with the certainly-empty space: the CES is correlated with a plan
+  /// raster without door leaves (open or closed), whatever `blocking` draws for the wall score. A
+  /// map cannot know which doors stand open; a scan that sees through an open door must not zero
+  /// the true pose (with doors drawn for the CES it did: match/README.md, "Doors"). false = one
+  /// raster for both parts (PALMS as published; also what happens when the raster draws no door).
+  bool ces_through_doorways = true;
   /// FFT round-off guard: heatmap values below this are set to 0. Single-precision round-off
   /// reaches ~3e-5 on the campus (`bench match` measures it); one matched wall pixel is worth
   /// ~1e-4 and good matches score 0.2-0.3.
@@ -137,6 +143,9 @@ class KernelMatcher final : public Matcher {
   const GridSpec& grid() const { return grid_; }
   /// Plan raster (CV_8U, 255 = wall surface) and valid-area mask (CV_8U, 255 = valid).
   const cv::Mat& plan_raster() const { return plan_raster_; }
+  /// The raster the CES is correlated with (equals plan_raster() unless ces_through_doorways
+  /// removes door leaves from it).
+  const cv::Mat& ces_raster() const { return ces_raster_; }
   const cv::Mat& valid_mask() const { return valid_; }
   const KernelMatcherParams& params() const { return params_; }
   /// Size of the correlation transform (columns, rows): the grid padded by the kernel radius.
@@ -148,6 +157,7 @@ class KernelMatcher final : public Matcher {
   KernelMatcherParams params_;
   GridSpec grid_;
   cv::Mat plan_raster_;
+  cv::Mat ces_raster_;
   cv::Mat valid_;
   PlanOrientationCache orientation_cache_;
   std::unique_ptr<Impl> impl_;
