@@ -205,9 +205,12 @@ KernelMatcher::KernelMatcher(const FloorPlan& plan, const KernelMatcherParams& p
   auto raster = [&](const BlockingOptions& blocking) {
     if (params_.plan_raster == PlanRasterKind::kOutline) return rasterize_outline(blocking_outline(plan, blocking), grid_, rule);
     if (params_.plan_raster == PlanRasterKind::kCentreline) {
+      // Always half-open: wall axes of generated and imported plans lie on multiples of the
+      // resolution, i.e. on pixel boundaries, where the closed rule draws 2-px lines (every wall
+      // counted twice, twice as wide as in PALMS' 1-px line rasters).
       cv::Mat m = cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_8U);
       draw_segment_lines(m, footprint_centrelines(blocking_footprints(plan, blocking)), {grid_.origin_x_m, grid_.origin_y_m},
-                         grid_.resolution_m_per_px, rule);
+                         grid_.resolution_m_per_px, LineRule::kHalfOpen);
       return m;
     }
     return rasterize_occupancy(plan, grid_, blocking);

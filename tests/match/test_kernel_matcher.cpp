@@ -259,6 +259,29 @@ TEST(KernelMatcher, OpenDoorDoesNotEraseTheTruePose) {
   EXPECT_EQ(r.posterior.scores[0].at<float>(row, col), 0.0f);
 }
 
+// The centre-line raster is 1 px wide even where the wall axis runs on a pixel boundary (the grid
+// origin is a multiple of the resolution, so an axis at y = 0 is one): the closed line rule drew
+// 2 px there, doubling every wall of a generated plan.
+TEST(KernelMatcher, CentrelineRasterIsOnePixelWide) {
+  FloorPlan plan;
+  plan.walls = {test::wall("a", 0, 0, 6, 0), test::wall("b", 6, 0, 6, 4), test::wall("c", 6, 4, 0, 4),
+                test::wall("d", 0, 4, 0, 0)};
+  KernelMatcherParams p;
+  p.plan_raster = PlanRasterKind::kCentreline;
+  const KernelMatcher m(plan, p);
+  int row = 0, col = 0;
+  ASSERT_TRUE(m.grid().world_to_cell({3.0, 0.0}, row, col));
+  for (double x = 1.0; x <= 5.0; x += 0.1) {
+    ASSERT_TRUE(m.grid().world_to_cell({x, 2.0}, row, col));
+    int lit = 0;
+    for (int r = 0; r < m.plan_raster().rows; ++r) {
+      const double y = m.grid().cell_center_m(r, col).y();
+      if (std::abs(y) < 0.5) lit += m.plan_raster().at<std::uint8_t>(r, col) ? 1 : 0;  // the wall at y = 0
+    }
+    EXPECT_EQ(lit, 1) << "x " << x;
+  }
+}
+
 TEST(KernelMatcher, IdenticalAcrossThreadCounts) {
   const FloorPlan plan = test::asymmetric_floor();
   const Observation2D obs = PerfectObserver(plan).observe({10.31, 3.07, 4.4});

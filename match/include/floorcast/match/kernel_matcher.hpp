@@ -87,7 +87,8 @@ struct KernelMatcherParams {
   /// ~1e-4 and good matches score 0.2-0.3.
   double zero_below = 1e-4;
   /// What the plan raster draws: outline (wall surfaces), centreline (wall axes, like the line
-  /// plans PALMS reads) or filled (wall bodies).
+  /// plans PALMS reads; always drawn with the half-open rule, 1 px wide, whatever line_rule says)
+  /// or filled (wall bodies).
   PlanRasterKind plan_raster = PlanRasterKind::kOutline;
   /// Line rasterisation (plan and RW): closed or half_open (see plan_raster.hpp).
   LineRule line_rule = LineRule::kClosed;
