@@ -1,6 +1,10 @@
 #include "cli_common.hpp"
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <cstdlib>
 #include <filesystem>
 #include <system_error>
@@ -8,6 +12,7 @@
 #include <vector>
 
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/core/math.hpp"
 #include "floorcast/core/types.hpp"
 
 namespace floorcast::cli {
@@ -65,6 +70,37 @@ std::string source_dir() {
   }();
   return root;
 }
+
+Pose2 parse_pose(const std::string& text, const std::string& option) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    std::size_t used = 0;
+    double x = 0.0;
+    try {
+      x = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
+    if (item.empty() || used != item.size() || !std::isfinite(x)) {
+      throw InputError(option + " \"" + text + "\": \"" + item + "\" is not a finite number (expected X,Y,YAW_DEG)");
+    }
+    v.push_back(x);
+  }
+  if (v.size() != 3 || (!text.empty() && text.back() == ',')) {
+    throw InputError(option + " \"" + text + "\": expected three numbers X,Y,YAW_DEG");
+  }
+  return {v[0], v[1], v[2] * kPi / 180.0};
+}
+
+std::string format_pose(const Pose2& p) {
+  std::ostringstream s;
+  s << std::setprecision(10) << p.x_m << "," << p.y_m << "," << p.yaw_rad * 180.0 / kPi;
+  return s.str();
+}
+
 
 void ensure_directory(const std::string& path) { create_directories_or_throw(path); }
 

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "floorcast/core/types.hpp"
 #include "floorcast/scenarios/scenario.hpp"
 
 namespace floorcast::cli {
@@ -24,6 +25,11 @@ CLI::App& group(CLI::App& parent, const std::string& name, const std::string& de
 /// installed binary; else the source tree the binary was built in (found by walking up from the
 /// executable); else the working directory. Nothing of the build machine is compiled in.
 std::string source_dir();
+
+/// Parses "X,Y,YAW_DEG" (metres, metres, degrees); errors name `option`.
+Pose2 parse_pose(const std::string& text, const std::string& option = "--pose");
+/// "X,Y,YAW_DEG" with 10 significant digits.
+std::string format_pose(const Pose2& pose);
 
 /// Creates a directory (and parents); throws InputError naming it on failure.
 void ensure_directory(const std::string& path);

@@ -22,37 +22,6 @@ namespace floorcast::cli {
 namespace {
 
 
-/// Parses "X,Y,YAW_DEG" (metres, metres, degrees).
-Pose2 parse_pose(const std::string& text) {
-  std::vector<double> v;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    std::size_t used = 0;
-    double x = 0.0;
-    try {
-      x = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
-    if (item.empty() || used != item.size() || !std::isfinite(x)) {
-      throw InputError("--pose \"" + text + "\": \"" + item + "\" is not a finite number (expected X,Y,YAW_DEG)");
-    }
-    v.push_back(x);
-  }
-  if (v.size() != 3 || (!text.empty() && text.back() == ',')) {
-    throw InputError("--pose \"" + text + "\": expected three numbers X,Y,YAW_DEG");
-  }
-  return {v[0], v[1], v[2] * kPi / 180.0};
-}
-
-std::string format_pose(const Pose2& p) {
-  std::ostringstream s;
-  s << std::setprecision(10) << p.x_m << "," << p.y_m << "," << p.yaw_rad * 180.0 / kPi;
-  return s.str();
-}
-
 /// Options shared by the commands that build a 3D building.
 struct BuildingOptions {
   double wall_height_m = ExtrusionParams{}.wall_height_m;

@@ -4,10 +4,10 @@
 #include <filesystem>
 #include <iomanip>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "floorcast/core/file_io.hpp"
+#include "floorcast/core/image_io.hpp"
 #include "floorcast/core/json_reader.hpp"
 #include "floorcast/core/pose_json.hpp"
 
@@ -24,27 +24,9 @@ std::string view_file(std::size_t k, const char* what) {
   return s.str();
 }
 
-void write_png(const std::string& path, const cv::Mat& image) {
-  std::vector<unsigned char> bytes;
-  bool ok = false;
-  try {
-    ok = cv::imencode(".png", image, bytes);
-  } catch (const cv::Exception& e) {
-    throw InputError(path + ": cannot encode PNG: " + e.what());
-  }
-  if (!ok) throw InputError(path + ": cannot encode PNG");
-  write_text_file_atomic(path, std::string(bytes.begin(), bytes.end()));
-}
-
 cv::Mat read_png(const std::string& path, int expected_type, int width, int height, const std::string& what) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": " + what + " image missing");
-  cv::Mat m;
-  try {
-    m = cv::imread(path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    throw InputError(path + ": cannot decode " + what + " image: " + e.what());
-  }
-  if (m.empty()) throw InputError(path + ": cannot decode " + what + " image (not a PNG?)");
+  const cv::Mat m = read_image(path);
   if (m.type() != expected_type) {
     throw InputError(path + ": " + what + " image must be single-channel " +
                      (expected_type == CV_16U ? "16-bit" : "8-bit") + " (got type " + std::to_string(m.type()) + ")");

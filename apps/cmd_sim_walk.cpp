@@ -1,0 +1,168 @@
+// `floorcast sim walk PLAN ...`: a simulated walk with odometry and scheduled observations, written
+// as a walk folder (sim/walk_io.hpp) that `floorcast track` reads, plus a picture of it.
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+
+#include "cli_common.hpp"
+#include "floorcast/core/hash.hpp"
+#include "floorcast/core/image_io.hpp"
+#include "floorcast/core/math.hpp"
+#include "floorcast/core/observation_io.hpp"
+#include "floorcast/core/random.hpp"
+#include "floorcast/eval/plot.hpp"
+#include "floorcast/eval/trajectory_plot.hpp"
+#include "floorcast/floorplans/io.hpp"
+#include "floorcast/sim/mesh.hpp"
+#include "floorcast/sim/perfect_observation.hpp"
+#include "floorcast/sim/ray_scene.hpp"
+#include "floorcast/sim/scan_io.hpp"
+#include "floorcast/sim/scan_sim.hpp"
+#include "floorcast/sim/walk_io.hpp"
+
+namespace floorcast::cli {
+namespace {
+
+std::string step_folder(int step) {
+  std::ostringstream s;
+  s << "observations/step_" << std::setw(4) << std::setfill('0') << step;
+  return s.str();
+}
+
+void register_sim_walk(CLI::App& root) {
+  struct Options {
+    std::string plan, start = "random", odometry = "vio", sensor = "perfect", setting = "full", out;
+    int steps = WalkParams{}.steps;
+    int scan_every = 0;
+    double scan_every_m = 0.0;
+    bool no_initial = false;
+    int rays = PerfectObservationParams{}.num_rays;
+    bool doors_open = false;
+    std::uint64_t seed = 1;
+    std::string walk_params, odometry_params;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App& sim = group(root, "sim", "Simulator: rotating scans, perfect observations, 3D buildings");
+  auto* cmd = sim.add_subcommand("walk", "Simulate a walk (truth, odometry, observations along it) into a walk folder");
+  cmd->add_option("PLAN", o->plan, "Floor-plan JSON")->required();
+  cmd->add_option("--start", o->start, "Start pose X,Y,YAW_DEG or 'random' (in the largest free region)")
+      ->capture_default_str();
+  cmd->add_option("--steps", o->steps, "Samples of the walk (steps and pauses)")->capture_default_str()->check(CLI::Range(2, 1000000));
+  cmd->add_option("--odometry", o->odometry, "Odometry model: exact, vio (ARKit-like), pdr (step counting)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"exact", "vio", "pdr"}));
+  cmd->add_option("--scan-every", o->scan_every, "Also observe every N samples (0 = only the initial scan)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--scan-every-m", o->scan_every_m, "Also observe every M metres walked (0 = off)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--no-initial-scan", o->no_initial, "No observation at the start (default: scan, then walk)");
+  std::vector<std::string> sensors = scan_preset_names();
+  cmd->add_option("--sensor", o->sensor, "Observations: a sensor preset (simulated scans) or 'perfect' (exact walls)")
+      ->capture_default_str()
+      ->check(CLI::IsMember(sensors));
+  cmd->add_option("--setting", o->setting, "Scans: full rotation, partial (3 views) or single (one forward view, F3Loc)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"full", "partial", "single"}));
+  cmd->add_option("--rays", o->rays, "Perfect observations: equiangular rays")->capture_default_str()->check(CLI::Range(0, 3600));
+  cmd->add_flag("--doors-open", o->doors_open, "Perfect observations: open doors stay open (default: all closed)");
+  cmd->add_option("--walk-params", o->walk_params, "JSON object of walk parameter overrides (keys of walk.json walk_params)");
+  cmd->add_option("--odometry-params", o->odometry_params, "JSON object of odometry parameter overrides");
+  cmd->add_option("--seed", o->seed, "Random seed (walk, odometry, sensor noise)")->capture_default_str();
+  cmd->add_option("-o,--output", o->out, "Output walk folder")->required();
+  cmd->callback([o] {
+    const FloorPlan plan = load_floor_plan(o->plan);
+    WalkParams wp;
+    wp.steps = o->steps;
+    wp.seed = o->seed;
+    if (!o->walk_params.empty()) {
+      const nlohmann::json j = nlohmann::json::parse(o->walk_params, nullptr, false);
+      if (j.is_discarded()) throw InputError("--walk-params: not valid JSON");
+      wp.apply_overrides(j);
+    }
+    OdometryParams op;
+    op.seed = mix64(o->seed ^ 0x0d0e7e11ULL);
+    if (!o->odometry_params.empty()) {
+      const nlohmann::json j = nlohmann::json::parse(o->odometry_params, nullptr, false);
+      if (j.is_discarded()) throw InputError("--odometry-params: not valid JSON");
+      op.apply_overrides(j);
+    }
+    op.apply_overrides({{"model", o->odometry}});
+    const Pose2 start = o->start == "random" ? random_start_pose(plan, wp) : parse_pose(o->start, "--start");
+
+    WalkRecord rec;
+    rec.walk = simulate_walk(plan, start, wp);
+    rec.odometry_params = op;
+    rec.odometry = simulate_odometry(rec.walk, op);
+    rec.schedule = {!o->no_initial, o->scan_every, o->scan_every_m};
+    rec.plan_name = plan.name;
+    rec.plan_hash = hex64(plan_hash(plan));
+    ensure_directory(o->out);
+
+    const std::vector<int> steps = schedule_observations(rec.walk, rec.schedule);
+    if (o->sensor == "perfect") {
+      PerfectObservationParams pp;
+      pp.num_rays = o->rays;
+      pp.blocking.open_doors_block = !o->doors_open;
+      rec.observation_settings = {{"source", "perfect"}, {"perfect_observer", pp.to_json()}};
+      const PerfectObserver observer(plan, pp);
+      for (int s : steps) {
+        const Pose2& truth = rec.walk.steps[static_cast<std::size_t>(s)].T_world_body;
+        ObservationRecord obs;
+        obs.observation = observer.observe(truth);
+        obs.source = "perfect";
+        obs.T_world_observer = truth;
+        obs.metadata["step"] = std::to_string(s);
+        const std::string rel = step_folder(s);
+        ensure_directory(o->out + "/" + rel);
+        save_observation(o->out + "/" + rel + "/observation.json", obs);
+        rec.observations.push_back({s, "perfect", rel});
+      }
+    } else {
+      ScanParams sp = scan_preset(o->sensor);
+      parse_scan_setting(o->setting, sp.setting);
+      validate_scan_params(sp);
+      rec.observation_settings = {{"source", "scan"}, {"sensor", scan_params_to_json(sp)}};
+      const RayScene scene(extrude_plan(plan));
+      for (int s : steps) {
+        const Pose2& truth = rec.walk.steps[static_cast<std::size_t>(s)].T_world_body;
+        ScanParams p = sp;
+        p.seed = mix64(o->seed ^ mix64(0x5ca9ULL + static_cast<std::uint64_t>(s)));
+        const std::string rel = step_folder(s);
+        save_simulated_scan(o->out + "/" + rel, simulate_scan(scene, truth, p));
+        rec.observations.push_back({s, "scan", rel});
+      }
+    }
+    save_walk(o->out, rec);
+
+    // The picture: true path, odometry, start, observations.
+    std::vector<Vec2> truth, odom, observed;
+    for (const WalkStep& w : rec.walk.steps) truth.push_back(w.T_world_body.position_m());
+    for (const Pose2& p : rec.odometry.poses) odom.push_back(p.position_m());
+    for (int s : steps) observed.push_back(rec.walk.steps[static_cast<std::size_t>(s)].T_world_body.position_m());
+    const WalkSummary& sm = rec.walk.summary;
+    std::ostringstream title;
+    title << std::fixed << std::setprecision(1) << plan.name << ": walk of " << rec.walk.steps.size() << " steps, "
+          << sm.length_m << " m in " << sm.duration_s << " s; odometry " << o->odometry;
+    const cv::Mat img = draw_plan_with_trajectories(
+        plan, {{"true path", truth, series_colour(2), 3}, {"odometry (" + o->odometry + ")", odom, series_colour(1), 2}},
+        {{"start", {truth.front()}, cv::Scalar(0, 160, 0), 7, true},
+         {"observation", observed, series_colour(0), 5, false}},
+        title.str());
+    write_png(o->out + "/walk.png", img);
+
+    const double drift = (rec.walk.steps.back().T_world_body.position_m() - rec.odometry.poses.back().position_m()).norm();
+    std::cout << std::fixed << std::setprecision(2) << "walk: " << rec.walk.steps.size() << " samples, " << sm.length_m
+              << " m in " << sm.duration_s << " s (" << sm.speed_mps << " m/s, " << sm.cadence_hz << " steps/s, "
+              << sm.pauses << " pauses, " << std::setprecision(0) << 100.0 * sm.transitional_share
+              << "% in transitional space, longest straight " << std::setprecision(1) << sm.longest_straight_m
+              << " m) from " << format_pose(start) << "; odometry " << o->odometry << " ends " << std::setprecision(2)
+              << drift << " m off; " << steps.size() << " observations (" << o->sensor << ") -> " << o->out << "\n";
+  });
+}
+
+}  // namespace
+FLOORCAST_REGISTER_COMMANDS(register_sim_walk);
+}  // namespace floorcast::cli
