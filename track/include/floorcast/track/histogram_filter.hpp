@@ -1,0 +1,80 @@
+// The F3Loc histogram filter (facts in ../shared/reference/f3loc.md; the thesis' sequential
+// chapter): a belief over an (x, y, yaw) grid (0.1 m, 36 directions: the ray matcher's grid).
+//
+// Motion: per orientation slice, the ego-motion rotated into that slice's heading is applied as a
+// Gaussian kernel (sigma 0.1 m) centred on the motion (F3Loc's grouped 2D convolution; separable
+// here: two 1D passes), then a circular Gaussian over yaw (sigma 0.1 rad) centred on the heading
+// change. F3Loc's kernels span +-0.3 m and +-30 deg per step: larger motions are split into
+// sub-steps (the noise stays F3Loc's per odometry step: each sub-step diffuses by sigma/sqrt(n)). The belief is kept at 0 outside the building. Measurement: belief x (floor + (1 -
+// floor) x posterior / max), the posterior looked up at the nearest slice in yaw and the cell
+// (any matcher's posterior, any grid). Estimate: the belief's argmax.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "floorcast/track/tracker.hpp"
+
+namespace floorcast {
+
+enum class BeliefInit {
+  kPosterior,  ///< the initial posterior as the belief (F3Loc: uniform prior x first likelihood)
+  kUniform,    ///< uniform over the building, all headings
+};
+
+struct HistogramFilterParams {
+  double resolution_m = 0.1;          ///< F3Loc desdf grid
+  double grid_margin_m = 1.0;         ///< as the ray matcher, so its posteriors map cell to cell
+  int num_orientations = 36;          ///< F3Loc: 36 (10 deg)
+  double translation_sigma_m = 0.1;   ///< F3Loc
+  double rotation_sigma_rad = 0.1;    ///< F3Loc
+  double max_substep_m = 0.3;         ///< F3Loc kernels span +-0.3 m ...
+  double max_substep_deg = 30.0;      ///< ... and +-30 deg
+  BeliefInit init = BeliefInit::kPosterior;
+  double measurement_floor = 0.05;
+  /// Belief below this fraction of the maximum is set to 0 after every step (0 = never): keeps
+  /// the sums clean of round-off and lets converged beliefs skip empty slices.
+  double prune_below = 1e-7;
+  /// Convergence: stage 1 when the best +-1 orientation bins hold this much of the belief, stage 2
+  /// when the mass within 1 m and 30 deg of the mode reaches converged_mass.
+  double orientation_mass = 0.8;
+  double converged_mass = 0.5;
+
+  nlohmann::ordered_json to_json() const;
+  /// Strict overrides (keys as in to_json); throws ParameterError naming the key.
+  void apply_overrides(const nlohmann::json& overrides);
+};
+
+const std::vector<std::pair<const char*, BeliefInit>>& belief_init_names();
+
+class HistogramFilter final : public Tracker {
+ public:
+  HistogramFilter(const FloorPlan& plan, const HistogramFilterParams& params = {});
+  ~HistogramFilter() override;
+
+  std::string name() const override { return "hist"; }
+  nlohmann::ordered_json parameters() const override { return params_.to_json(); }
+  void initialise(const Posterior& posterior, const OdometryStep& first) override;
+  void predict(const OdometryStep& step) override;
+  void update(const Posterior& posterior) override;
+  TrackEstimate estimate() const override;
+  std::size_t state_bytes() const override;
+
+  /// The belief (a PDF: sums to 1) as a Posterior on the filter's grid.
+  Posterior belief() const;
+  const GridSpec& grid() const { return grid_; }
+  const HistogramFilterParams& params() const { return params_; }
+
+ private:
+  void move(double dx_m, double dy_m, double dyaw_rad, double noise_scale);
+  void normalise();
+  HistogramFilterParams params_;
+  GridSpec grid_;
+  cv::Mat interior_;               ///< CV_32F 1 inside the building, 0 elsewhere
+  std::vector<cv::Mat> belief_;    ///< one CV_32F slice per orientation
+  std::vector<cv::Mat> scratch_;   ///< rotation buffers
+  bool degenerate_ = false;
+};
+
+}  // namespace floorcast

@@ -1,0 +1,68 @@
+// Sequential localization: a tracker starts from a matcher posterior (the initial scan: PALMS'
+// "scan, then walk"), follows the odometry, optionally takes further posteriors as observations
+// arrive, and reports an estimate after every step.
+//
+//   auto t = make_tracker("pf", plan, overrides);   // or "hist"
+//   t->initialise(posterior_of_first_scan, odometry.steps[0]);
+//   for (k = 1 ..) { t->predict(odometry.steps[k]); if (observation at k) t->update(posterior_k);
+//                    TrackEstimate e = t->estimate(); }
+//
+// Trackers depend on the plan (walls, valid area) and on posteriors (match/), never on the
+// simulator: real odometry and real scans run through them unchanged.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "floorcast/core/odometry.hpp"
+#include "floorcast/floorplans/floor_plan.hpp"
+#include "floorcast/match/posterior.hpp"
+
+namespace floorcast {
+
+struct TrackEstimate {
+  Pose2 pose;            ///< world position and heading
+  /// Convergence stage: 0 = spread out, 1 = one orientation hypothesis dominates (particle filter
+  /// stage 1), 2 = converged (the estimate is a well-supported mode).
+  int stage = 0;
+  /// Share of the belief supporting the estimate (particle filter: the dominant cluster's share of
+  /// all particles; histogram filter: belief mass within 1 m and 30 deg of the mode).
+  double support = 0.0;
+  /// True when the last update found no support at all (every hypothesis zeroed): the tracker
+  /// kept its prior instead and says so, never inventing a pose.
+  bool degenerate = false;
+};
+
+class Tracker {
+ public:
+  virtual ~Tracker() = default;
+  /// Registry name ("pf", "hist").
+  virtual std::string name() const = 0;
+  /// Every parameter with its value.
+  virtual nlohmann::ordered_json parameters() const = 0;
+  /// Starts from a posterior over (x, y, yaw) (initialisation modes that ignore it, such as the
+  /// uniform baselines, still take its orientation slices where they need candidates). `first` is
+  /// the odometry sample at the posterior's time (its motion is ignored).
+  virtual void initialise(const Posterior& posterior, const OdometryStep& first) = 0;
+  /// Moves the belief by one odometry increment.
+  virtual void predict(const OdometryStep& step) = 0;
+  /// Weighs the belief with a posterior of an observation made at the current step.
+  virtual void update(const Posterior& posterior) = 0;
+  virtual TrackEstimate estimate() const = 0;
+  /// Memory held by the tracker's state and precomputation, bytes.
+  virtual std::size_t state_bytes() const = 0;
+};
+
+/// Builds a tracker by name ("pf": PALMS particle filter, "hist": F3Loc histogram filter) with JSON
+/// parameter overrides (keys of parameters()). Throws ParameterError naming the key for bad
+/// parameters, InputError for unknown names.
+std::unique_ptr<Tracker> make_tracker(const std::string& name, const FloorPlan& plan,
+                                      const nlohmann::json& overrides = nlohmann::json::object());
+
+/// Names of all registered trackers, sorted.
+std::vector<std::string> tracker_names();
+
+}  // namespace floorcast

@@ -1,0 +1,324 @@
+#include "floorcast/track/histogram_filter.hpp"
+
+#include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "floorcast/core/math.hpp"
+#include "floorcast/core/params.hpp"
+#include "floorcast/floorplans/raster.hpp"
+#include "wall_raster.hpp"
+
+namespace floorcast {
+namespace {
+
+/// Taps of a Gaussian of sigma (in cells) centred at `shift` cells, as a correlation kernel for
+/// OpenCV (dst(p) = sum_i k[i] src(p + i - a) with anchor a = radius): moves mass by +shift.
+cv::Mat shift_kernel(double shift, double sigma, int radius) {
+  cv::Mat k(2 * radius + 1, 1, CV_32F);
+  double sum = 0.0;
+  for (int i = 0; i <= 2 * radius; ++i) {
+    const double u = radius - i - shift;  // src offset -u carries mass to p when u ~ shift
+    const double v = std::exp(-0.5 * u * u / (sigma * sigma));
+    k.at<float>(i) = static_cast<float>(v);
+    sum += v;
+  }
+  k /= sum;
+  return k;
+}
+
+}  // namespace
+
+const std::vector<std::pair<const char*, BeliefInit>>& belief_init_names() {
+  static const std::vector<std::pair<const char*, BeliefInit>> n = {{"posterior", BeliefInit::kPosterior},
+                                                                    {"uniform", BeliefInit::kUniform}};
+  return n;
+}
+
+nlohmann::ordered_json HistogramFilterParams::to_json() const {
+  nlohmann::ordered_json j;
+  j["resolution_m"] = resolution_m;
+  j["grid_margin_m"] = grid_margin_m;
+  j["num_orientations"] = num_orientations;
+  j["translation_sigma_m"] = translation_sigma_m;
+  j["rotation_sigma_rad"] = rotation_sigma_rad;
+  j["max_substep_m"] = max_substep_m;
+  j["max_substep_deg"] = max_substep_deg;
+  j["init"] = enum_name(init, belief_init_names());
+  j["measurement_floor"] = measurement_floor;
+  j["prune_below"] = prune_below;
+  j["orientation_mass"] = orientation_mass;
+  j["converged_mass"] = converged_mass;
+  return j;
+}
+
+void HistogramFilterParams::apply_overrides(const nlohmann::json& overrides) {
+  ParamReader r(overrides, "tracker hist");
+  r.read("resolution_m", resolution_m, 0.01, 2.0);
+  r.read("grid_margin_m", grid_margin_m, 0.0, 100.0);
+  r.read("num_orientations", num_orientations, 4, 720);
+  r.read("translation_sigma_m", translation_sigma_m, 0.0, 10.0);
+  r.read("rotation_sigma_rad", rotation_sigma_rad, 0.0, 3.2);
+  r.read("max_substep_m", max_substep_m, 0.01, 100.0);
+  r.read("max_substep_deg", max_substep_deg, 0.1, 180.0);
+  r.read_enum("init", init, belief_init_names());
+  r.read("measurement_floor", measurement_floor, 0.0, 1.0);
+  r.read("prune_below", prune_below, 0.0, 1.0);
+  r.read("orientation_mass", orientation_mass, 0.0, 1.0);
+  r.read("converged_mass", converged_mass, 0.0, 1.0);
+  r.finish();
+}
+
+HistogramFilter::HistogramFilter(const FloorPlan& plan, const HistogramFilterParams& params) : params_(params) {
+  grid_ = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
+  const cv::Mat blocked = rasterize_occupancy(plan, grid_, map_walls());
+  cv::Mat inside;
+  cv::bitwise_and(valid_area_mask(plan, grid_), blocked == 0, inside);
+  inside.convertTo(interior_, CV_32F, 1.0 / 255.0);
+  const int D = params_.num_orientations;
+  for (int o = 0; o < D; ++o) {
+    belief_.push_back(cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_32F));
+    scratch_.push_back(cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_32F));
+  }
+}
+
+HistogramFilter::~HistogramFilter() = default;
+
+std::size_t HistogramFilter::state_bytes() const {
+  return (belief_.size() + scratch_.size() + 1) * static_cast<std::size_t>(grid_.width_px) * grid_.height_px * sizeof(float);
+}
+
+void HistogramFilter::normalise() {
+  double total = 0.0;
+  for (const cv::Mat& b : belief_) total += cv::sum(b)[0];
+  degenerate_ = !(total > 0.0);
+  if (degenerate_) return;
+  double peak = 0.0;
+  for (cv::Mat& b : belief_) {
+    b *= 1.0 / total;
+    double mx = 0.0;
+    cv::minMaxLoc(b, nullptr, &mx);
+    peak = std::max(peak, mx);
+  }
+  if (params_.prune_below > 0.0) {
+    const double floor = params_.prune_below * peak;
+    for (cv::Mat& b : belief_) cv::threshold(b, b, floor, 0.0, cv::THRESH_TOZERO);
+  }
+}
+
+void HistogramFilter::initialise(const Posterior& post, const OdometryStep& first) {
+  (void)first;
+  if (params_.init == BeliefInit::kUniform) {
+    for (cv::Mat& b : belief_) interior_.copyTo(b);
+    normalise();
+    return;
+  }
+  // The posterior itself (F3Loc: a uniform prior times the first likelihood), each belief slice
+  // from the posterior slice nearest in yaw (0 where no slice is within half a bin), inside the
+  // building only.
+  const int D = params_.num_orientations;
+  for (int o = 0; o < D; ++o) {
+    cv::Mat& b = belief_[static_cast<std::size_t>(o)];
+    b.setTo(0.0f);
+    const double yaw = kTwoPi * o / D;
+    int slice = -1;
+    double gap = 0.5 * kTwoPi / D + 1e-9;
+    for (int s = 0; s < post.num_slices(); ++s) {
+      const double a = angle_distance_rad(yaw, post.yaw_rad[static_cast<std::size_t>(s)]);
+      if (a <= gap) {
+        gap = a;
+        slice = s;
+      }
+    }
+    if (slice < 0) continue;
+    const cv::Mat& m = post.scores[static_cast<std::size_t>(slice)];
+    for (int r = 0; r < grid_.height_px; ++r) {
+      float* row = b.ptr<float>(r);
+      const float* in = interior_.ptr<float>(r);
+      for (int c = 0; c < grid_.width_px; ++c) {
+        if (in[c] == 0.0f) continue;
+        int pr = r, pc = c;
+        if (!(post.grid == grid_) && !post.grid.world_to_cell(grid_.cell_center_m(r, c), pr, pc)) continue;
+        row[c] = m.at<float>(pr, pc);
+      }
+    }
+  }
+  normalise();
+  if (degenerate_) throw InputError("histogram filter: the initial posterior is empty (every cell scored 0): no pose to start from");
+}
+
+void HistogramFilter::move(double dx, double dy, double dyaw, double noise_scale) {
+  const int D = params_.num_orientations;
+  const double res = grid_.resolution_m_per_px;
+  const double sigma_px = std::max(params_.translation_sigma_m * noise_scale / res, 1e-3);
+  // Translation: slice o heads at yaw 2 pi o / D; the body-frame motion rotated into it.
+  tbb::parallel_for(0, D, [&](int o) {
+    cv::Mat& b = belief_[static_cast<std::size_t>(o)];
+    double mx = 0.0;
+    cv::minMaxLoc(b, nullptr, &mx);
+    if (!(mx > 0.0)) return;
+    const double yaw = kTwoPi * o / D;
+    const double tx = (std::cos(yaw) * dx - std::sin(yaw) * dy) / res;
+    const double ty = (std::sin(yaw) * dx + std::cos(yaw) * dy) / res;
+    const int rx = static_cast<int>(std::ceil(std::abs(tx) + 3.0 * sigma_px));
+    const int ry = static_cast<int>(std::ceil(std::abs(ty) + 3.0 * sigma_px));
+    const cv::Mat kx = shift_kernel(tx, sigma_px, rx), ky = shift_kernel(ty, sigma_px, ry);
+    cv::Mat out;
+    cv::sepFilter2D(b, out, CV_32F, kx, ky, cv::Point(-1, -1), 0.0, cv::BORDER_CONSTANT);
+    cv::multiply(out, interior_, b);
+  });
+  // Rotation: circular Gaussian over the slices, centred on the heading change.
+  const double bin = kTwoPi / D;
+  const double shift = dyaw / bin;
+  const double sigma_bins = std::max(params_.rotation_sigma_rad * noise_scale / bin, 1e-3);
+  const int lo = static_cast<int>(std::floor(shift - 3.0 * sigma_bins)), hi = static_cast<int>(std::ceil(shift + 3.0 * sigma_bins));
+  std::vector<double> w;
+  double sum = 0.0;
+  for (int k = lo; k <= hi; ++k) {
+    const double u = k - shift;
+    w.push_back(std::exp(-0.5 * u * u / (sigma_bins * sigma_bins)));
+    sum += w.back();
+  }
+  for (double& v : w) v /= sum;
+  tbb::parallel_for(0, D, [&](int o) {
+    cv::Mat& out = scratch_[static_cast<std::size_t>(o)];
+    out.setTo(0.0f);
+    for (int k = lo; k <= hi; ++k) {
+      const int src = ((o - k) % D + D) % D;  // mass of heading src moves to heading src + k
+      cv::scaleAdd(belief_[static_cast<std::size_t>(src)], w[static_cast<std::size_t>(k - lo)], out, out);
+    }
+  });
+  std::swap(belief_, scratch_);
+}
+
+void HistogramFilter::predict(const OdometryStep& step) {
+  const Pose2& t = step.T_prev_curr;
+  const double len = t.position_m().norm();
+  const int n = std::max({1, static_cast<int>(std::ceil(len / params_.max_substep_m)),
+                          static_cast<int>(std::ceil(std::abs(t.yaw_rad) / deg_to_rad(params_.max_substep_deg)))});
+  // Sub-steps: the body frame turns between them, so the translation of each sub-step is
+  // expressed in the body frame at its start (an arc from the previous to the current pose). The
+  // motion noise is F3Loc's per odometry step: each of the n sub-steps diffuses by sigma / sqrt(n),
+  // so splitting does not add noise.
+  const double noise_scale = 1.0 / std::sqrt(static_cast<double>(n));
+  for (int k = 0; k < n; ++k) {
+    const double turned = t.yaw_rad * k / n;
+    const double c = std::cos(-turned), s = std::sin(-turned);
+    const double dx = (c * t.x_m - s * t.y_m) / n, dy = (s * t.x_m + c * t.y_m) / n;
+    move(dx, dy, t.yaw_rad / n, noise_scale);
+  }
+  normalise();
+}
+
+void HistogramFilter::update(const Posterior& post) {
+  double best = 0.0;
+  for (const cv::Mat& m : post.scores) {
+    double mx = 0.0;
+    cv::minMaxLoc(m, nullptr, &mx);
+    best = std::max(best, mx);
+  }
+  if (!(best > 0.0) || post.num_slices() == 0) {
+    degenerate_ = true;  // an empty posterior carries no information: the belief stays
+    return;
+  }
+  const int D = params_.num_orientations;
+  const double floor = params_.measurement_floor;
+  // The weighted belief goes into the scratch slices; it replaces the belief only when some mass
+  // survives (an update that zeroes everything is reported, and the prior kept).
+  tbb::parallel_for(0, D, [&](int o) {
+    const double yaw = kTwoPi * o / D;
+    int slice = 0;
+    double gap = 1e9;
+    for (int s = 0; s < post.num_slices(); ++s) {
+      const double a = angle_distance_rad(yaw, post.yaw_rad[static_cast<std::size_t>(s)]);
+      if (a < gap) {
+        gap = a;
+        slice = s;
+      }
+    }
+    // A posterior slice stands for headings within half a belief bin of its yaw; farther
+    // headings were not evaluated by the matcher: they get the floor.
+    const bool covered = gap <= 0.5 * kTwoPi / D + 1e-9;
+    const cv::Mat& m = post.scores[static_cast<std::size_t>(slice)];
+    const cv::Mat& b = belief_[static_cast<std::size_t>(o)];
+    cv::Mat& out = scratch_[static_cast<std::size_t>(o)];
+    for (int r = 0; r < grid_.height_px; ++r) {
+      const float* row = b.ptr<float>(r);
+      float* dst = out.ptr<float>(r);
+      for (int c = 0; c < grid_.width_px; ++c) {
+        if (row[c] == 0.0f) {
+          dst[c] = 0.0f;
+          continue;
+        }
+        double value = 0.0;
+        if (covered) {
+          int pr = r, pc = c;
+          if (!(post.grid == grid_) && !post.grid.world_to_cell(grid_.cell_center_m(r, c), pr, pc)) pr = -1;
+          if (pr >= 0) value = m.at<float>(pr, pc) / best;
+        }
+        dst[c] = static_cast<float>(row[c] * (floor + (1.0 - floor) * value));
+      }
+    }
+  });
+  double total = 0.0;
+  for (const cv::Mat& m : scratch_) total += cv::sum(m)[0];
+  if (!(total > 0.0)) {
+    degenerate_ = true;
+    return;
+  }
+  std::swap(belief_, scratch_);
+  normalise();
+}
+
+TrackEstimate HistogramFilter::estimate() const {
+  TrackEstimate e;
+  e.degenerate = degenerate_;
+  const int D = params_.num_orientations;
+  double best = -1.0;
+  int bo = 0;
+  cv::Point bp;
+  std::vector<double> mass(static_cast<std::size_t>(D), 0.0);
+  for (int o = 0; o < D; ++o) {
+    double mx = 0.0;
+    cv::Point p;
+    cv::minMaxLoc(belief_[static_cast<std::size_t>(o)], nullptr, &mx, nullptr, &p);
+    mass[static_cast<std::size_t>(o)] = cv::sum(belief_[static_cast<std::size_t>(o)])[0];
+    if (mx > best) {
+      best = mx;
+      bo = o;
+      bp = p;
+    }
+  }
+  const Vec2 c = grid_.cell_center_m(bp.y, bp.x);
+  e.pose = {c.x(), c.y(), wrap_angle_rad(kTwoPi * bo / D)};
+  // Orientation mass of the best +-1 bins; belief mass within 1 m and 30 deg of the mode.
+  const double orient = mass[static_cast<std::size_t>(bo)] + mass[static_cast<std::size_t>((bo + 1) % D)] +
+                        mass[static_cast<std::size_t>((bo + D - 1) % D)];
+  const int rad = static_cast<int>(std::ceil(1.0 / grid_.resolution_m_per_px));
+  const int span = static_cast<int>(std::floor(deg_to_rad(30.0) / (kTwoPi / D) + 1e-9));
+  double near = 0.0;
+  for (int k = -span; k <= span; ++k) {
+    const cv::Mat& b = belief_[static_cast<std::size_t>(((bo + k) % D + D) % D)];
+    for (int r = std::max(0, bp.y - rad); r <= std::min(grid_.height_px - 1, bp.y + rad); ++r)
+      for (int cc = std::max(0, bp.x - rad); cc <= std::min(grid_.width_px - 1, bp.x + rad); ++cc) {
+        if ((r - bp.y) * (r - bp.y) + (cc - bp.x) * (cc - bp.x) <= rad * rad) near += b.at<float>(r, cc);
+      }
+  }
+  e.support = near;
+  e.stage = near >= params_.converged_mass ? 2 : (orient >= params_.orientation_mass ? 1 : 0);
+  return e;
+}
+
+Posterior HistogramFilter::belief() const {
+  Posterior p;
+  p.grid = grid_;
+  for (int o = 0; o < params_.num_orientations; ++o) {
+    p.yaw_rad.push_back(wrap_angle_rad(kTwoPi * o / params_.num_orientations));
+    p.scores.push_back(belief_[static_cast<std::size_t>(o)].clone());
+  }
+  return p;
+}
+
+}  // namespace floorcast

@@ -1,0 +1,47 @@
+// The built-in tracker table (explicit, like the matcher registry: static self-registration is
+// dropped by the linker from static libraries).
+#include <algorithm>
+
+#include "floorcast/track/histogram_filter.hpp"
+#include "floorcast/track/particle_filter.hpp"
+#include "floorcast/track/tracker.hpp"
+
+namespace floorcast {
+namespace {
+
+template <class P, class T>
+std::unique_ptr<Tracker> build(const FloorPlan& plan, const nlohmann::json& overrides) {
+  P p;
+  p.apply_overrides(overrides);
+  return std::make_unique<T>(plan, p);
+}
+
+struct Entry {
+  const char* name;
+  std::unique_ptr<Tracker> (*make)(const FloorPlan&, const nlohmann::json&);
+};
+
+constexpr Entry kTrackers[] = {
+    {"hist", &build<HistogramFilterParams, HistogramFilter>},
+    {"pf", &build<ParticleFilterParams, ParticleFilter>},
+};
+
+}  // namespace
+
+std::unique_ptr<Tracker> make_tracker(const std::string& name, const FloorPlan& plan, const nlohmann::json& overrides) {
+  for (const Entry& e : kTrackers) {
+    if (name == e.name) return e.make(plan, overrides);
+  }
+  std::string known;
+  for (const std::string& n : tracker_names()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError("unknown tracker \"" + name + "\" (known: " + known + ")");
+}
+
+std::vector<std::string> tracker_names() {
+  std::vector<std::string> names;
+  for (const Entry& e : kTrackers) names.emplace_back(e.name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace floorcast

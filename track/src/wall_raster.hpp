@@ -1,0 +1,34 @@
+// The map a tracker moves particles and beliefs in (internal): walls and glass of the plan at a
+// fine resolution (doorways pass, open or closed: a map cannot know a door's state), and the
+// building's interior. Exact cell traversal (Amanatides-Woo) for wall crossings, no allocation.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "floorcast/core/blocking.hpp"
+#include "floorcast/core/grid.hpp"
+#include "floorcast/floorplans/floor_plan.hpp"
+
+namespace floorcast {
+
+struct WallRaster {
+  GridSpec grid;
+  cv::Mat blocked;  ///< CV_8U, 255 = wall or glass
+  cv::Mat interior;  ///< CV_8U, 255 = free cell inside the building
+
+  bool inside(const Vec2& p) const {
+    int r = 0, c = 0;
+    return grid.world_to_cell(p, r, c) && interior.at<std::uint8_t>(r, c) != 0;
+  }
+  /// True when the segment a-b passes through a blocked cell (or leaves the grid); `stop`
+  /// receives a point just before the first blocked cell.
+  bool crosses(const Vec2& a, const Vec2& b, Vec2* stop) const;
+  std::size_t bytes() const { return blocked.total() + interior.total(); }
+};
+
+/// What blocks a walker in a map: walls and glass; doors never (closed_doors_block false).
+BlockingOptions map_walls();
+
+WallRaster make_wall_raster(const FloorPlan& plan, double resolution_m);
+
+}  // namespace floorcast
