@@ -102,6 +102,14 @@ std::string format_pose(const Pose2& p) {
 }
 
 
+void add_override(nlohmann::json& overrides, const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError("--param \"" + text + "\": expected KEY=VALUE");
+  const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
+  const nlohmann::json parsed = nlohmann::json::parse(value, nullptr, false);
+  overrides[key] = parsed.is_discarded() ? nlohmann::json(value) : parsed;
+}
+
 void ensure_directory(const std::string& path) { create_directories_or_throw(path); }
 
 void write_json(const std::string& path, const nlohmann::ordered_json& json) {

@@ -31,6 +31,10 @@ Pose2 parse_pose(const std::string& text, const std::string& option = "--pose");
 /// "X,Y,YAW_DEG" with 10 significant digits.
 std::string format_pose(const Pose2& pose);
 
+/// Adds "KEY=VALUE" to a JSON object of parameter overrides: the value parsed as JSON when it is
+/// valid JSON, else taken as a string.
+void add_override(nlohmann::json& overrides, const std::string& text);
+
 /// Creates a directory (and parents); throws InputError naming it on failure.
 void ensure_directory(const std::string& path);
 

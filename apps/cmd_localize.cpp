@@ -52,15 +52,6 @@ LocalizationInput load_localization_input(const std::string& path, const Observe
   return {load_observation(path), "observation JSON", std::nullopt};
 }
 
-/// "key=value": value parsed as JSON when it is valid JSON, else taken as a string.
-void add_override(nlohmann::json& overrides, const std::string& text) {
-  const auto eq = text.find('=');
-  if (eq == std::string::npos || eq == 0) throw InputError("--param \"" + text + "\": expected KEY=VALUE");
-  const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
-  const nlohmann::json parsed = nlohmann::json::parse(value, nullptr, false);
-  overrides[key] = parsed.is_discarded() ? nlohmann::json(value) : parsed;
-}
-
 nlohmann::ordered_json hypothesis_json(const PoseHypothesis& h) {
   nlohmann::ordered_json j;
   j["x_m"] = h.x_m;

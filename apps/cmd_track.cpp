@@ -1,0 +1,199 @@
+// `floorcast track PLAN WALK_DIR ...`: sequential localization of a walk folder (`sim walk`, or a
+// recording in the same layout): the first observation's posterior starts a tracker (PALMS
+// particle filter or F3Loc histogram filter), the odometry moves it, later observations update it.
+// Writes estimate.tum, errors.csv, metrics.json and track.png.
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <memory>
+
+#include "cli_common.hpp"
+#include "floorcast/core/format.hpp"
+#include "floorcast/core/image_io.hpp"
+#include "floorcast/core/math.hpp"
+#include "floorcast/core/observation_io.hpp"
+#include "floorcast/core/scan_io.hpp"
+#include "floorcast/core/trajectory_io.hpp"
+#include "floorcast/eval/plot.hpp"
+#include "floorcast/eval/sequential.hpp"
+#include "floorcast/eval/trajectory_plot.hpp"
+#include "floorcast/floorplans/io.hpp"
+#include "floorcast/match/matcher.hpp"
+#include "floorcast/sim/walk_io.hpp"
+#include "floorcast/track/particle_filter.hpp"
+#include "floorcast/track/run.hpp"
+#include "observe_cli.hpp"
+
+namespace floorcast::cli {
+namespace {
+
+void register_track(CLI::App& root) {
+  struct Options {
+    std::string plan, walk, filter = "pf", init, matcher, out;
+    std::vector<std::string> params, matcher_params;
+    std::uint64_t seed = 1;
+    ObserveCliOptions observe;
+  };
+  auto o = std::make_shared<Options>();
+  auto* cmd = root.add_subcommand("track", "Sequential localization of a walk folder: estimate.tum, errors.csv, metrics.json, track.png");
+  cmd->add_option("PLAN", o->plan, "Floor-plan JSON")->required();
+  cmd->add_option("WALK_DIR", o->walk, "Walk folder (floorcast sim walk -o DIR)")->required();
+  cmd->add_option("--filter", o->filter, "Tracker: pf (PALMS particle filter) or hist (F3Loc histogram filter)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"pf", "hist"}));
+  cmd->add_option("--init", o->init, "pf: palms (default), proportional, uniform, uniform-ori; hist: posterior, uniform");
+  cmd->add_option("--matcher", o->matcher, "Matcher turning observations into posteriors (default: kernel for pf, ray for hist)")
+      ->check(CLI::IsMember(matcher_names()));
+  cmd->add_option("--param", o->params, "Tracker parameter override KEY=VALUE (repeatable)");
+  cmd->add_option("--matcher-param", o->matcher_params, "Matcher parameter override KEY=VALUE (repeatable)");
+  cmd->add_option("--seed", o->seed, "Tracker seed")->capture_default_str();
+  add_observation_options(*cmd, o->observe);
+  cmd->add_option("-o,--output", o->out, "Output folder")->required();
+  cmd->callback([o] {
+    const FloorPlan plan = load_floor_plan(o->plan);
+    const WalkRecord walk = load_walk(o->walk);
+    if (walk.observations.empty()) throw InputError(o->walk + ": the walk has no observation to start from");
+    nlohmann::json tracker_overrides = nlohmann::json::object();
+    for (const std::string& p : o->params) add_override(tracker_overrides, p);
+    if (!o->init.empty()) tracker_overrides["init"] = o->init;
+    if (o->filter == "pf" && !tracker_overrides.contains("seed")) tracker_overrides["seed"] = o->seed;
+    nlohmann::json matcher_overrides = nlohmann::json::object();
+    for (const std::string& p : o->matcher_params) add_override(matcher_overrides, p);
+    const std::string matcher_name = !o->matcher.empty() ? o->matcher : (o->filter == "hist" ? "ray" : "kernel");
+    const std::unique_ptr<Matcher> matcher = make_matcher(matcher_name, plan, matcher_overrides);
+    const std::unique_ptr<Tracker> tracker = make_tracker(o->filter, plan, tracker_overrides);
+
+    // Observations by step: perfect observation files, or scan folders through the observation module.
+    std::map<int, const WalkObservation*> by_step;
+    for (const WalkObservation& w : walk.observations) by_step[w.step] = &w;
+    auto observation_at = [&](const WalkObservation& w) {
+      const std::string path = o->walk + "/" + w.path;
+      if (w.kind == "perfect") return load_observation(path + "/observation.json").observation;
+      const Scan scan = load_scan(path);
+      return observe_scan(scan, observation_params_from_cli(o->observe, &scan)).observation;
+    };
+    const int first = by_step.begin()->first;
+    int updates = 0;
+    const TrackRun run = run_tracker(*tracker, walk.odometry.steps, first, [&](int step) -> std::optional<Posterior> {
+      auto it = by_step.find(step);
+      if (it == by_step.end()) return std::nullopt;
+      ++updates;
+      return matcher->match(observation_at(*it->second)).posterior;
+    });
+    ensure_directory(o->out);
+    if (!run.started) {
+      std::cout << tracker->name() << ": no track: " << run.failure << "\n";
+      write_json(o->out + "/metrics.json", {{"started", false}, {"failure", run.failure}});
+      throw CommandExit{3};
+    }
+
+    // Errors against the truth, the estimate trajectory, metrics.
+    SequentialRecord rec;
+    std::vector<StampedPose> estimate;
+    double walked = 0.0;
+    std::string csv = "step,t_s,distance_m,est_x_m,est_y_m,est_yaw_deg,truth_x_m,truth_y_m,truth_yaw_deg,position_error_m,"
+                      "yaw_error_deg,stage,support,updated,degenerate,time_s\n";
+    double total_time = 0.0;
+    for (const TrackRunStep& s : run.steps) {
+      const WalkStep& truth = walk.walk.steps[static_cast<std::size_t>(s.step)];
+      if (s.step > first) walked += truth.step_length_m;
+      const Pose2& e = s.estimate.pose;
+      const double err = (e.position_m() - truth.T_world_body.position_m()).norm();
+      const double yaw_err = rad_to_deg(angle_distance_rad(e.yaw_rad, truth.T_world_body.yaw_rad));
+      rec.t_s.push_back(s.t_s);
+      rec.distance_m.push_back(walked);
+      rec.position_error_m.push_back(err);
+      rec.yaw_error_deg.push_back(yaw_err);
+      rec.stage.push_back(s.estimate.stage);
+      estimate.push_back({s.t_s, e});
+      total_time += s.time_s;
+      char buf[512];
+      std::snprintf(buf, sizeof(buf), "%d,%.6f,%.4f,%.4f,%.4f,%.3f,%.4f,%.4f,%.3f,%.4f,%.3f,%d,%.4f,%d,%d,%.6f\n", s.step, s.t_s,
+                    walked, e.x_m, e.y_m, rad_to_deg(e.yaw_rad), truth.T_world_body.x_m, truth.T_world_body.y_m,
+                    rad_to_deg(truth.T_world_body.yaw_rad), err, yaw_err, s.estimate.stage, s.estimate.support,
+                    s.updated ? 1 : 0, s.estimate.degenerate ? 1 : 0, s.time_s);
+      csv += buf;
+    }
+    rec.time_per_step_s = total_time / static_cast<double>(run.steps.size());
+    const SequentialScoring scoring;
+    const SequentialOutcome out = score_track(rec, scoring);
+    save_tum(o->out + "/estimate.tum", estimate, "floorcast track: " + tracker->name() + " estimate");
+    write_text_file_atomic(o->out + "/errors.csv", csv);
+    auto num = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+    nlohmann::ordered_json m;
+    m["started"] = true;
+    m["tracker"] = tracker->name();
+    m["matcher"] = matcher->name();
+    m["steps"] = run.steps.size();
+    m["observations_used"] = updates;
+    m["rmse_m"] = num(out.rmse_m);
+    m["rmse_last_m"] = num(out.rmse_last_m);
+    m["end_error_m"] = num(out.end_error_m);
+    for (std::size_t k = 0; k < scoring.success_thresholds_m.size(); ++k) {
+      m["success_" + threshold_name(scoring.success_thresholds_m[k])] = static_cast<bool>(out.success[k]);
+    }
+    m["converged"] = out.converged;
+    m["convergence_time_s"] = num(out.convergence_time_s);
+    m["convergence_distance_m"] = num(out.convergence_distance_m);
+    m["stage1_time_s"] = num(out.stage1_time_s);
+    m["stage1_distance_m"] = num(out.stage1_distance_m);
+    m["within_1m_after_convergence"] = num(out.within_after_convergence);
+    m["time_per_step_s"] = rec.time_per_step_s;
+    m["init_s"] = run.init_s;
+    m["tracker_parameters"] = tracker->parameters();
+    m["matcher_parameters"] = matcher->parameters();
+    m["walk"] = o->walk;
+    m["plan"] = o->plan;
+    write_json(o->out + "/metrics.json", m);
+
+    // The picture: truth, odometry, estimate; final particles; where it converged.
+    std::vector<Vec2> truth_path, odom_path, est_path, conv;
+    for (std::size_t k = static_cast<std::size_t>(first); k < walk.walk.steps.size(); ++k) {
+      truth_path.push_back(walk.walk.steps[k].T_world_body.position_m());
+      odom_path.push_back(walk.odometry.poses[k].position_m());
+    }
+    for (const StampedPose& s : estimate) est_path.push_back(s.pose.position_m());
+    for (std::size_t i = 0; i < run.steps.size(); ++i) {
+      if (run.steps[i].estimate.stage >= 2) {
+        conv.push_back(est_path[i]);
+        break;
+      }
+    }
+    std::vector<MarkerLayer> markers;
+    if (const auto* pf = dynamic_cast<const ParticleFilter*>(tracker.get())) {
+      std::vector<Vec2> pts;
+      const ParticleSet set = pf->particles();
+      for (std::size_t i = 0; i < set.poses.size(); i += std::max<std::size_t>(1, set.poses.size() / 500)) {
+        pts.push_back(set.poses[i].position_m());
+      }
+      markers.push_back({"particles (end)", pts, cv::Scalar(160, 160, 160), 2, true});
+    }
+    markers.push_back({"start", {truth_path.front()}, cv::Scalar(0, 160, 0), 7, true});
+    if (!conv.empty()) markers.push_back({"converged", conv, cv::Scalar(0, 0, 220), 8, false});
+    std::ostringstream title;
+    title << std::fixed << std::setprecision(2) << plan.name << ": " << tracker->name() << " (" << matcher->name()
+          << "), RMSE " << out.rmse_m << " m, last-10 " << out.rmse_last_m << " m, "
+          << (out.converged ? "converged" : "not converged");
+    const cv::Mat img = draw_plan_with_trajectories(
+        plan,
+        {{"true path", truth_path, series_colour(2), 3},
+         {"odometry", odom_path, series_colour(1), 1},
+         {"estimate", est_path, series_colour(0), 2}},
+        markers, title.str());
+    write_png(o->out + "/track.png", img);
+
+    std::cout << std::fixed << std::setprecision(2) << tracker->name() << " (" << matcher->name() << "): "
+              << run.steps.size() << " steps, " << updates << " observations; RMSE " << out.rmse_m << " m, last-10 RMSE "
+              << out.rmse_last_m << " m, end error " << out.end_error_m << " m; success@1m "
+              << (out.success[0] ? "yes" : "no") << "; "
+              << (out.converged ? "converged after " + format_fixed(out.convergence_time_s - rec.t_s.front(), 1) + " s / " +
+                                      format_fixed(out.convergence_distance_m, 1) + " m"
+                                : std::string("not converged"))
+              << "; " << std::setprecision(1) << 1e3 * rec.time_per_step_s << " ms/step -> " << o->out << "\n";
+  });
+}
+
+}  // namespace
+FLOORCAST_REGISTER_COMMANDS(register_track);
+}  // namespace floorcast::cli
