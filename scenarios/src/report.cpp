@@ -130,6 +130,7 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
   const std::string topk = "top" + std::to_string(sp.top_k) + "_recall_" + threshold_name(sp.combined_threshold_m);
 
   std::ostringstream overview;
+  std::map<std::string, std::map<std::string, std::vector<SequentialRecord>>> seq_records;  // cell -> tracker -> walks
   for (const CellSpec& cell : scenario.cells) {
     std::vector<const UnitResult*> cell_units;
     for (const WorkUnit& w : expected)
@@ -243,6 +244,61 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
     }
     md << "\n";
 
+    // Sequential cells: every tracker over the walks (PALMS Table I layout), per building too.
+    if (cell.sequential) {
+      SequentialScoring sq = scenario.sequential_scoring;
+      sq.bootstrap_resamples = sp.bootstrap_resamples;
+      sq.bootstrap_seed = sp.bootstrap_seed;
+      OJson seq;
+      std::map<std::string, std::map<std::string, Summary>> by_group;  // group -> tracker -> summary
+      for (const std::string& g : group_names) {
+        OJson gj;
+        for (const TrackerSpec& t : cell.sequential->trackers) {
+          std::vector<SequentialRecord> recs;
+          for (const UnitResult* u : cell_units) {
+            if (g != "all" && scenario.buildings[static_cast<std::size_t>(u->unit.building)].label != g) continue;
+            for (const TrackOutcome& o : u->tracks)
+              if (o.label == t.label) recs.push_back(o.record);
+          }
+          by_group[g][t.label] = summarize_sequential(recs, sq);
+          gj[t.label] = summary_json(by_group[g][t.label]);
+          if (g == "all") seq_records[cell.id][t.label] = recs;
+        }
+        seq[g] = gj;
+      }
+      sum["cells"].back()["sequential"] = seq;
+      const std::string s1 = "success_" + threshold_name(sq.success_thresholds_m.at(0));
+      md << "Tracking " << cell_units.size() << " walks (scan, then walk; PALMS Table I metrics, medians over walks):\n\n"
+         << "| tracker | matcher | success " << threshold_name(sq.success_thresholds_m.at(0)) << " | success "
+         << threshold_name(sq.success_thresholds_m.size() > 1 ? sq.success_thresholds_m[1] : sq.success_thresholds_m[0])
+         << " | RMSE (m) | last-10 RMSE (m) | end error (m) | converged | convergence time (s) | convergence distance (m) | within 1 m after convergence | time / step (ms) |\n"
+         << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      for (const TrackerSpec& t : cell.sequential->trackers) {
+        const Summary& x = by_group["all"][t.label];
+        auto v = [&](const std::string& k) { return x.values.count(k) ? x.values.at(k) : MetricValue{}; };
+        const std::string s2 = "success_" + threshold_name(sq.success_thresholds_m.size() > 1 ? sq.success_thresholds_m[1] : sq.success_thresholds_m[0]);
+        md << "| " << t.label << " | " << t.matcher << " | " << pct(v(s1)) << " | " << pct(v(s2)) << " | "
+           << num(v("median_rmse_m").value, 2) << " | " << num(v("median_rmse_last_m").value, 2) << " | "
+           << num(v("median_end_error_m").value, 2) << " | " << pct(v("converged")) << " | "
+           << num(v("median_convergence_time_s").value, 1) << " | " << num(v("median_convergence_distance_m").value, 1) << " | "
+           << pct(v("within_" + threshold_name(sq.within_m) + "_after_convergence")) << " | "
+           << num(1e3 * v("mean_time_per_step_s").value, 1) << " |\n";
+      }
+      if (scenario.buildings.size() > 1) {
+        md << "\nPer building, tracking success " << threshold_name(sq.success_thresholds_m.at(0)) << ":\n\n| building |";
+        for (const TrackerSpec& t : cell.sequential->trackers) md << " " << t.label << " |";
+        md << "\n|---|";
+        for (std::size_t i = 0; i < cell.sequential->trackers.size(); ++i) md << "---|";
+        md << "\n";
+        for (const BuildingSpec& bs : scenario.buildings) {
+          md << "| " << bs.label << " |";
+          for (const TrackerSpec& t : cell.sequential->trackers) md << " " << pct(by_group[bs.label][t.label].values.at(s1)) << " |";
+          md << "\n";
+        }
+      }
+      md << "\n";
+    }
+
     overview << "| " << cell.id << " |";
     for (auto it = cell.axes.begin(); it != cell.axes.end(); ++it) overview << " " << axis_value_text(it.value()) << " |";
     for (const std::string& label : labels) overview << " " << pct(summaries["all"][label].values.at(combined)) << " |";
@@ -302,6 +358,45 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
   for (const CellSpec& cell : scenario.cells) {
     const LinePlot p = error_cdf_plot(cdf_by_cell[cell.id], 10.0, "Position error CDF, " + cell_title(cell), "position error [m]");
     rep.plots.emplace_back("error_cdf_" + cell.id + ".png", draw_line_plot(p));
+  }
+  // Sequential: median position error vs step, and the share of walks within 1 m vs step.
+  for (const auto& [cell_id, by_tracker] : seq_records) {
+    LinePlot err, ok;
+    err.title = "Tracking error vs step, " + cell_id + " (median over walks)";
+    err.x_label = "step";
+    err.y_label = "position error [m]";
+    err.y_min = 0.0;
+    ok.title = "Walks within 1 m vs step, " + cell_id;
+    ok.x_label = "step";
+    ok.y_label = "share of walks";
+    ok.y_min = 0.0;
+    ok.y_max = 1.0;
+    double top = 1.0;
+    for (const auto& [label, recs] : by_tracker) {
+      std::size_t steps = 0;
+      for (const SequentialRecord& r : recs) steps = std::max(steps, r.position_error_m.size());
+      PlotSeries e{label, {}, {}}, w{label, {}, {}};
+      for (std::size_t k = 0; k < steps; ++k) {
+        std::vector<double> at;
+        double within = 0.0;
+        for (const SequentialRecord& r : recs) {
+          const double x = k < r.position_error_m.size() ? r.position_error_m[k] : kInf;
+          at.push_back(x);
+          within += x <= 1.0 ? 1.0 : 0.0;
+        }
+        const double med = median(at);
+        e.x.push_back(static_cast<double>(k));
+        e.y.push_back(std::isfinite(med) ? med : NAN);
+        if (std::isfinite(med)) top = std::max(top, med);
+        w.x.push_back(static_cast<double>(k));
+        w.y.push_back(recs.empty() ? 0.0 : within / static_cast<double>(recs.size()));
+      }
+      err.series.push_back(std::move(e));
+      ok.series.push_back(std::move(w));
+    }
+    err.y_max = std::min(top * 1.05, 60.0);
+    rep.plots.emplace_back("tracking_error_" + cell_id + ".png", draw_line_plot(err));
+    rep.plots.emplace_back("tracking_success_" + cell_id + ".png", draw_line_plot(ok));
   }
   for (const auto& [key, values] : per_axis) {
     LinePlot p;

@@ -25,6 +25,9 @@
 #include "floorcast/sim/scan_io.hpp"
 #include "floorcast/sim/scan_params.hpp"
 #include "floorcast/sim/scan_sim.hpp"
+#include "floorcast/sim/odometry.hpp"
+#include "floorcast/sim/walk.hpp"
+#include "floorcast/track/run.hpp"
 #include "floorcast/core/math.hpp"
 
 namespace floorcast {
@@ -156,31 +159,47 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
   r.unit = unit;
   r.truth = building.poses[static_cast<std::size_t>(unit.point)];
 
-  Observation2D observation;
-  if (cell.observation.source == ObservationSource::kPerfect) {
-    const auto t0 = Clock::now();
-    observation = d.observers.at(Impl::observer_key(b, cell.observation))->observe(r.truth);
-    r.timings_s["observe"] = seconds_since(t0);
-    r.observation["source"] = "perfect";
-  } else {
-    ScanParams params = cell.observation.scan;
-    // Seeded by (observation seed, building, point): every cell sees the same realisation.
-    params.seed = mix64(cell.observation.seed ^ mix64((static_cast<std::uint64_t>(b) << 32) ^
-                                                      static_cast<std::uint64_t>(unit.point)));
-    const auto t0 = Clock::now();
-    const Scan scan = simulate_scan(*building.scene, r.truth, params).scan;
-    r.timings_s["simulate"] = seconds_since(t0);
-    const ObservationResult obs = observe_scan(scan, cell.observation.observe);
-    r.timings_s["observe"] = obs.total_s;
-    observation = obs.observation;
-    r.observation["source"] = "scan";
-    r.observation["diagnostics"] = to_json(obs.diagnostics);
-    if (observation.segments_m.empty()) {
-      r.observation_ok = false;
-      r.observation_failure = obs.diagnostics.warnings.empty() ? "no wall segments observed"
-                                                                : obs.diagnostics.warnings.front();
+  // An observation at a pose: perfect, or a simulated scan through the observation module.
+  // Scans are seeded by (observation seed, building, point, step): every cell sees the same
+  // realisation, and step 0 is the single-shot observation.
+  struct Observed {
+    Observation2D observation;
+    bool ok = true;
+    std::string failure;
+  };
+  auto observe_at = [&](const Pose2& pose, int step, OJson* info) {
+    Observed o;
+    if (cell.observation.source == ObservationSource::kPerfect) {
+      const auto t0 = Clock::now();
+      o.observation = d.observers.at(Impl::observer_key(b, cell.observation))->observe(pose);
+      r.timings_s["observe"] += seconds_since(t0);
+      if (info) (*info)["source"] = "perfect";
+    } else {
+      ScanParams params = cell.observation.scan;
+      std::uint64_t key = mix64((static_cast<std::uint64_t>(b) << 32) ^ static_cast<std::uint64_t>(unit.point));
+      if (step > 0) key = mix64(key ^ (0x5e9ULL + static_cast<std::uint64_t>(step)));
+      params.seed = mix64(cell.observation.seed ^ key);
+      const auto t0 = Clock::now();
+      const Scan scan = simulate_scan(*building.scene, pose, params).scan;
+      r.timings_s["simulate"] += seconds_since(t0);
+      const ObservationResult obs = observe_scan(scan, cell.observation.observe);
+      r.timings_s["observe"] += obs.total_s;
+      o.observation = obs.observation;
+      if (info) {
+        (*info)["source"] = "scan";
+        (*info)["diagnostics"] = to_json(obs.diagnostics);
+      }
+      if (o.observation.segments_m.empty()) {
+        o.ok = false;
+        o.failure = obs.diagnostics.warnings.empty() ? "no wall segments observed" : obs.diagnostics.warnings.front();
+      }
     }
-  }
+    return o;
+  };
+  const Observed first = observe_at(r.truth, 0, &r.observation);
+  const Observation2D& observation = first.observation;
+  r.observation_ok = first.ok;
+  r.observation_failure = first.failure;
   r.observation["segments"] = observation.segments_m.size();
   r.observation["rays"] = observation.ray_ranges_m.size();
 
@@ -222,7 +241,104 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
     r.outcomes.push_back(o);
   }
   r.timings_s["match"] = match_total;
+  if (cell.sequential) run_sequential(unit, r, [&](const Pose2& pose, int step) {
+    const Observed o = observe_at(pose, step, nullptr);
+    return o.ok ? std::optional<Observation2D>(o.observation) : std::nullopt;
+  });
   return r;
+}
+
+void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
+                                    const std::function<std::optional<Observation2D>(const Pose2&, int)>& observe) const {
+  const Impl& d = *impl_;
+  const CellSpec& cell = d.scenario.cells[static_cast<std::size_t>(unit.cell)];
+  const SequentialSpec& q = *cell.sequential;
+  const std::size_t b = static_cast<std::size_t>(unit.building);
+  const FloorPlan& plan = d.buildings[b].plan;
+  // Every random part of the walk is seeded by (its seed, building, point): same in every cell.
+  const std::uint64_t key = mix64((static_cast<std::uint64_t>(b) << 32) ^ static_cast<std::uint64_t>(unit.point));
+  WalkParams wp = q.walk;
+  wp.seed = mix64(q.walk.seed ^ key);
+  OdometryParams op = q.odometry;
+  op.seed = mix64(q.odometry.seed ^ mix64(key ^ 0x0d0ULL));
+  const auto t0 = Clock::now();
+  Walk walk;
+  try {
+    walk = simulate_walk(plan, r.truth, wp);
+  } catch (const InputError& e) {
+    r.walk["failure"] = e.what();
+    for (const TrackerSpec& t : q.trackers) {
+      TrackOutcome o;
+      o.label = t.label;
+      o.started = false;
+      o.failure = std::string("no walk: ") + e.what();
+      o.record.failed = true;
+      r.tracks.push_back(o);
+    }
+    return;
+  }
+  const OdometryTrack odo = simulate_odometry(walk, op);
+  r.timings_s["walk"] = seconds_since(t0);
+  const std::vector<int> scheduled = schedule_observations(walk, q.schedule);
+  const WalkSummary& sm = walk.summary;
+  r.walk = {{"steps", walk.steps.size()},        {"length_m", sm.length_m},
+            {"duration_s", sm.duration_s},       {"transitional_share", sm.transitional_share},
+            {"longest_straight_m", sm.longest_straight_m}, {"observations", scheduled.size()},
+            {"odometry_end_error_m", (walk.steps.back().T_world_body.position_m() - odo.poses.back().position_m()).norm()}};
+  // Observations on the schedule (step 0 again: the single-shot observation, same seed) and the
+  // posteriors each tracker's matcher makes of them, computed once per (matcher, step).
+  std::map<int, std::optional<Observation2D>> observations;
+  std::map<std::pair<std::string, int>, Posterior> posteriors;
+  auto posterior = [&](const std::string& matcher_label, int step) -> std::optional<Posterior> {
+    if (std::find(scheduled.begin(), scheduled.end(), step) == scheduled.end()) return std::nullopt;
+    auto oit = observations.find(step);
+    if (oit == observations.end()) {
+      oit = observations.emplace(step, observe(walk.steps[static_cast<std::size_t>(step)].T_world_body, step)).first;
+    }
+    if (!oit->second) return std::nullopt;  // a failed observation is no update
+    const auto k = std::make_pair(matcher_label, step);
+    auto pit = posteriors.find(k);
+    if (pit == posteriors.end()) {
+      const MatcherSpec* spec = nullptr;
+      for (const MatcherSpec& m : cell.matchers) spec = m.label == matcher_label ? &m : spec;
+      const auto tm = Clock::now();
+      pit = posteriors.emplace(k, d.matchers.at(Impl::matcher_key(b, *spec))->match(*oit->second).posterior).first;
+      r.timings_s["track_match"] += seconds_since(tm);
+    }
+    return pit->second;
+  };
+  for (std::size_t ti = 0; ti < q.trackers.size(); ++ti) {
+    const TrackerSpec& t = q.trackers[ti];
+    nlohmann::json params = t.parameters;
+    if (params.contains("seed")) params["seed"] = mix64(params["seed"].get<std::uint64_t>() ^ mix64(key ^ (0x7a0ULL + ti)));
+    const std::unique_ptr<Tracker> tracker = make_tracker(t.tracker, plan, params);
+    TrackOutcome o;
+    o.label = t.label;
+    int used = 0;
+    const TrackRun run = run_tracker(*tracker, odo.steps, 0, [&](int step) {
+      std::optional<Posterior> p = posterior(t.matcher, step);
+      used += p ? 1 : 0;
+      return p;
+    });
+    o.started = run.started;
+    o.failure = run.failure;
+    o.observations_used = used;
+    o.record.failed = !run.started;
+    double walked = 0.0, total = 0.0;
+    for (const TrackRunStep& s : run.steps) {
+      const WalkStep& truth = walk.steps[static_cast<std::size_t>(s.step)];
+      if (s.step > 0) walked += truth.step_length_m;
+      o.record.t_s.push_back(s.t_s);
+      o.record.distance_m.push_back(walked);
+      o.record.position_error_m.push_back((s.estimate.pose.position_m() - truth.T_world_body.position_m()).norm());
+      o.record.yaw_error_deg.push_back(rad_to_deg(angle_distance_rad(s.estimate.pose.yaw_rad, truth.T_world_body.yaw_rad)));
+      o.record.stage.push_back(s.estimate.stage);
+      total += s.time_s;
+    }
+    o.record.time_per_step_s = run.steps.empty() ? 0.0 : total / static_cast<double>(run.steps.size());
+    r.timings_s["track"] += total;
+    r.tracks.push_back(std::move(o));
+  }
 }
 
 RunOutcome ScenarioRunner::run(UnitSink& sink, const RunOptions& options) const {

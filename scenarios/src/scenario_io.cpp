@@ -15,6 +15,7 @@
 #include "floorcast/core/params.hpp"
 #include "floorcast/core/types.hpp"
 #include "floorcast/sim/scan_io.hpp"
+#include "floorcast/track/tracker.hpp"
 #include "floorcast/scenarios/scenario.hpp"
 
 namespace floorcast {
@@ -345,6 +346,73 @@ std::vector<MatcherSpec> parse_matchers(const OJson& obj, const Checker& chk, co
   return out;
 }
 
+const std::vector<std::string> kSequentialKeys = {"walk", "odometry", "schedule", "trackers"};
+
+/// Sequential blocks of a scenario or cell tree (nullopt when it has none). Trackers name a
+/// matcher label of `matchers` for their posteriors.
+std::optional<SequentialSpec> parse_sequential(const OJson& tree, const Checker& chk, const std::vector<MatcherSpec>& matchers) {
+  bool any = false;
+  for (const std::string& k : kSequentialKeys) any = any || tree.contains(k);
+  if (!any) return std::nullopt;
+  SequentialSpec q;
+  if (tree.contains("walk")) at_key(chk, "walk", [&] { q.walk.apply_overrides(tree.at("walk")); });
+  if (tree.contains("odometry")) at_key(chk, "odometry", [&] { q.odometry.apply_overrides(tree.at("odometry")); });
+  if (tree.contains("schedule")) {
+    const OJson& s = tree.at("schedule");
+    chk.only_keys(s, "schedule", {"initial", "every_steps", "every_m"});
+    q.schedule.initial = chk.bool_in(s, "schedule", "initial", q.schedule.initial);
+    q.schedule.every_steps = static_cast<int>(chk.integer_in(s, "schedule", "every_steps", q.schedule.every_steps, 0, 1000000));
+    q.schedule.every_m = chk.number_in(s, "schedule", "every_m", q.schedule.every_m, 0.0, 1e6);
+  }
+  if (!q.schedule.initial) chk.fail("schedule.initial", "sequential scenarios start from an initial observation (PALMS: scan, then walk)");
+  if (!tree.contains("trackers")) chk.fail("trackers", "a sequential scenario needs trackers: label -> {tracker: pf|hist, matcher: LABEL, ...}");
+  const OJson& ts = tree.at("trackers");
+  if (!ts.is_object() || ts.empty()) chk.fail("trackers", "must be a non-empty mapping label -> {tracker: NAME, matcher: LABEL, ...parameters}");
+  static const std::regex label_re("[A-Za-z0-9_.-]+");
+  for (auto it = ts.begin(); it != ts.end(); ++it) {
+    const std::string path = "trackers." + it.key();
+    if (!std::regex_match(it.key(), label_re)) chk.fail(path, "label may only contain letters, digits, _ . -");
+    if (!it.value().is_object()) chk.fail(path, "must be a mapping {tracker: NAME, matcher: LABEL, ...parameters}");
+    TrackerSpec t;
+    t.label = it.key();
+    if (!it.value().contains("tracker")) chk.fail(path, "missing required key \"tracker\"");
+    t.tracker = chk.string_in(it.value(), path, "tracker", "");
+    t.matcher = chk.string_in(it.value(), path, "matcher", matchers.empty() ? "" : matchers.front().label);
+    bool known = false;
+    for (const MatcherSpec& m : matchers) known = known || m.label == t.matcher;
+    if (!known) chk.fail(Checker::join(path, "matcher"), "no matcher labelled \"" + t.matcher + "\" in matchers");
+    Json overrides = Json::object();
+    for (auto p = it.value().begin(); p != it.value().end(); ++p)
+      if (p.key() != "tracker" && p.key() != "matcher") overrides[p.key()] = p.value();
+    try {
+      t.parameters = resolve_tracker_parameters(t.tracker, overrides);
+    } catch (const ParameterError& e) {
+      chk.fail(Checker::join(path, e.key()), e.what());
+    } catch (const InputError& e) {
+      chk.fail(Checker::join(path, "tracker"), e.what());
+    }
+    q.trackers.push_back(std::move(t));
+  }
+  return q;
+}
+
+OJson sequential_to_json(const SequentialSpec& q) {
+  OJson j;
+  j["walk"] = q.walk.to_json();
+  j["odometry"] = q.odometry.to_json();
+  j["schedule"] = {{"initial", q.schedule.initial}, {"every_steps", q.schedule.every_steps}, {"every_m", q.schedule.every_m}};
+  OJson ts = OJson::object();
+  for (const TrackerSpec& t : q.trackers) {
+    OJson one;
+    one["tracker"] = t.tracker;
+    one["matcher"] = t.matcher;
+    for (auto it = t.parameters.begin(); it != t.parameters.end(); ++it) one[it.key()] = it.value();
+    ts[t.label] = one;
+  }
+  j["trackers"] = ts;
+  return j;
+}
+
 SharedParams parse_shared(const OJson& root, const Checker& chk) {
   SharedParams shared;
   if (root.contains("shared")) at_key(chk, "shared", [&] { apply_overrides(shared, root.at("shared"), "shared"); });
@@ -391,7 +459,10 @@ std::vector<Axis> parse_sweep(const OJson& sweep, const Checker& chk, const OJso
       if (rest.substr(dot + 1) == "matcher") chk.fail(path, "sweep key \"" + key + "\": sweep matcher parameters, not the matcher name");
       return;
     }
-    chk.fail(path, "cannot sweep \"" + key + "\": sweep keys start with observation. or matchers.");
+    for (const std::string& k : kSequentialKeys) {
+      if (key.rfind(k + ".", 0) == 0) return;  // checked when the cells are parsed
+    }
+    chk.fail(path, "cannot sweep \"" + key + "\": sweep keys start with observation., matchers., walk., odometry., schedule. or trackers.");
   };
   auto add_axis = [&](const OJson& group, const std::string& path) {
     if (!group.is_object() || group.empty()) chk.fail(path, "a sweep axis is a mapping key -> list of values");
@@ -448,7 +519,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
   const OJson& root = loc.value;
   if (!root.is_object()) chk.fail("", "top level must be a mapping");
   chk.only_keys(root, "", {"name", "description", "buildings", "sampling", "shared", "observation", "matchers",
-                           "scoring", "output", "sweep", "paper"});
+                           "walk", "odometry", "schedule", "trackers", "scoring", "output", "sweep", "paper"});
 
   Scenario s;
   s.source_file = source;
@@ -526,7 +597,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
   (void)parse_observation(base_observation, chk, "observation", s.shared, nullptr);  // validates the base
   if (!root.contains("matchers")) chk.fail("matchers", "missing required key");
   const OJson base_matchers = root.at("matchers");
-  (void)parse_matchers(base_matchers, chk, s.shared);
+  (void)parse_sequential(root, chk, parse_matchers(base_matchers, chk, s.shared));
 
   std::vector<Axis> axes;
   if (root.contains("sweep")) axes = parse_sweep(root.at("sweep"), chk, base_matchers);
@@ -542,6 +613,8 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
     OJson tree;
     tree["observation"] = base_observation;
     tree["matchers"] = base_matchers;
+    for (const std::string& k : kSequentialKeys)
+      if (root.contains(k)) tree[k] = root.at(k);
     CellSpec cell;
     cell.index = static_cast<int>(c);
     char id[16];
@@ -565,6 +638,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
       cell.observation = parse_observation(tree["observation"], chk, "observation", s.shared, &resolved_observation);
       resolved_observations.push_back(std::move(resolved_observation));
       cell.matchers = parse_matchers(tree["matchers"], chk, s.shared);
+      cell.sequential = parse_sequential(tree, chk, cell.matchers);
     } catch (const InputError& e) {
       throw InputError(std::string(e.what()) + where);
     }
@@ -627,6 +701,10 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
     }
     j["matchers"] = m;
     j["parameters"] = stage_parameters(c.observation);
+    if (c.sequential) {
+      const OJson q = sequential_to_json(*c.sequential);
+      for (auto it = q.begin(); it != q.end(); ++it) j[it.key()] = it.value();
+    }
     r["cells"].push_back(j);
   }
   s.hash = hex64(fnv1a64(Json(r).dump()));  // canonical (sorted-key) form
@@ -686,6 +764,7 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
       cell.axes = c.at("axes");
       cell.observation = parse_observation(c.at("observation"), chk, "observation", s.shared, nullptr);
       cell.matchers = parse_matchers(c.at("matchers"), chk, s.shared);
+      cell.sequential = parse_sequential(c, chk, cell.matchers);
       s.cells.push_back(std::move(cell));
     }
     if (s.cells.empty() || s.buildings.empty()) throw InputError(source + ": resolved scenario has no cells or buildings");

@@ -108,11 +108,34 @@ OJson unit_to_json(const UnitResult& r) {
     outcomes.push_back(m);
   }
   j["outcomes"] = outcomes;
+  if (!r.tracks.empty() || !r.walk.empty()) {
+    j["walk"] = r.walk;
+    OJson tracks = OJson::array();
+    for (const TrackOutcome& t : r.tracks) {
+      OJson tj;
+      tj["label"] = t.label;
+      tj["started"] = t.started;
+      if (!t.started) tj["failure"] = t.failure;
+      tj["observations_used"] = t.observations_used;
+      tj["t_s"] = t.record.t_s;
+      tj["distance_m"] = t.record.distance_m;
+      tj["position_error_m"] = t.record.position_error_m;
+      tj["yaw_error_deg"] = t.record.yaw_error_deg;
+      tj["stage"] = t.record.stage;
+      tracks.push_back(tj);
+    }
+    j["tracks"] = tracks;
+  }
   OJson timings = OJson::object();
   for (const auto& [k, v] : r.timings_s) timings[k] = v;
   OJson per_matcher = OJson::object();
   for (const MatcherOutcome& o : r.outcomes) per_matcher[o.label] = o.match_s;
   timings["match_by_matcher"] = per_matcher;
+  if (!r.tracks.empty()) {
+    OJson per_tracker = OJson::object();
+    for (const TrackOutcome& t : r.tracks) per_tracker[t.label] = t.record.time_per_step_s;
+    timings["step_by_tracker"] = per_tracker;
+  }
   j["timings"] = timings;
   return j;
 }
@@ -146,6 +169,26 @@ UnitResult unit_from_json(const Json& j, const std::string& source) {
       const Json& per = timings.at("match_by_matcher");
       if (per.contains(o.label)) o.match_s = per.at(o.label).get<double>();
       r.outcomes.push_back(std::move(o));
+    }
+    if (j.contains("walk")) r.walk = j.at("walk");
+    if (j.contains("tracks")) {
+      for (const Json& t : j.at("tracks")) {
+        TrackOutcome o;
+        o.label = t.at("label").get<std::string>();
+        o.started = t.at("started").get<bool>();
+        if (!o.started) o.failure = t.at("failure").get<std::string>();
+        o.observations_used = t.at("observations_used").get<int>();
+        o.record.t_s = t.at("t_s").get<std::vector<double>>();
+        o.record.distance_m = t.at("distance_m").get<std::vector<double>>();
+        o.record.position_error_m = t.at("position_error_m").get<std::vector<double>>();
+        o.record.yaw_error_deg = t.at("yaw_error_deg").get<std::vector<double>>();
+        o.record.stage = t.at("stage").get<std::vector<int>>();
+        o.record.failed = !o.started;
+        if (timings.contains("step_by_tracker") && timings.at("step_by_tracker").contains(o.label)) {
+          o.record.time_per_step_s = timings.at("step_by_tracker").at(o.label).get<double>();
+        }
+        r.tracks.push_back(std::move(o));
+      }
     }
   } catch (const Json::exception& e) {
     throw InputError(source + ": not a valid unit result: " + e.what());

@@ -16,25 +16,41 @@ std::unique_ptr<Tracker> build(const FloorPlan& plan, const nlohmann::json& over
   return std::make_unique<T>(plan, p);
 }
 
+template <class P>
+nlohmann::ordered_json resolve(const nlohmann::json& overrides) {
+  P p;
+  p.apply_overrides(overrides);
+  return p.to_json();
+}
+
 struct Entry {
   const char* name;
   std::unique_ptr<Tracker> (*make)(const FloorPlan&, const nlohmann::json&);
+  nlohmann::ordered_json (*resolve)(const nlohmann::json&);
 };
 
 constexpr Entry kTrackers[] = {
-    {"hist", &build<HistogramFilterParams, HistogramFilter>},
-    {"pf", &build<ParticleFilterParams, ParticleFilter>},
+    {"hist", &build<HistogramFilterParams, HistogramFilter>, &resolve<HistogramFilterParams>},
+    {"pf", &build<ParticleFilterParams, ParticleFilter>, &resolve<ParticleFilterParams>},
 };
 
-}  // namespace
-
-std::unique_ptr<Tracker> make_tracker(const std::string& name, const FloorPlan& plan, const nlohmann::json& overrides) {
+const Entry& find(const std::string& name) {
   for (const Entry& e : kTrackers) {
-    if (name == e.name) return e.make(plan, overrides);
+    if (name == e.name) return e;
   }
   std::string known;
   for (const std::string& n : tracker_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("unknown tracker \"" + name + "\" (known: " + known + ")");
+}
+
+}  // namespace
+
+std::unique_ptr<Tracker> make_tracker(const std::string& name, const FloorPlan& plan, const nlohmann::json& overrides) {
+  return find(name).make(plan, overrides);
+}
+
+nlohmann::ordered_json resolve_tracker_parameters(const std::string& name, const nlohmann::json& overrides) {
+  return find(name).resolve(overrides);
 }
 
 std::vector<std::string> tracker_names() {

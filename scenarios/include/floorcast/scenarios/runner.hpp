@@ -8,6 +8,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -69,6 +70,11 @@ class ScenarioRunner {
   UnitResult run_unit(const WorkUnit& unit, UnitSink* images) const;
 
  private:
+  /// Sequential scenarios: the walk from the unit's start, its odometry and observations, every
+  /// tracker (results into r.walk and r.tracks). `observe` makes the observation at a step's true
+  /// pose (nullopt when it fails).
+  void run_sequential(const WorkUnit& unit, UnitResult& r,
+                      const std::function<std::optional<Observation2D>(const Pose2&, int)>& observe) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

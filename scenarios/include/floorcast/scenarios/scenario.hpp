@@ -8,15 +8,19 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "floorcast/eval/metrics.hpp"
+#include "floorcast/eval/sequential.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/observe/observation_module.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
+#include "floorcast/sim/odometry.hpp"
 #include "floorcast/sim/scan_params.hpp"
+#include "floorcast/sim/walk.hpp"
 
 namespace floorcast {
 
@@ -62,6 +66,25 @@ struct ObservationSpec {
   std::uint64_t seed = 1;  ///< scan: simulator seed (combined with building and point index)
 };
 
+/// A tracker under a label: registry name, its complete parameters (resolved at load), and the
+/// label of the matcher whose posteriors it takes.
+struct TrackerSpec {
+  std::string label;
+  std::string tracker;
+  nlohmann::ordered_json parameters = nlohmann::ordered_json::object();
+  std::string matcher;
+};
+
+/// Sequential scenarios (PALMS: scan, then walk): every work unit is a walk from the sampled
+/// start, with odometry and observations on a schedule; matchers score the initial observation
+/// as in single-shot scenarios, and every tracker follows the walk.
+struct SequentialSpec {
+  WalkParams walk;
+  OdometryParams odometry;
+  ObservationSchedule schedule;
+  std::vector<TrackerSpec> trackers;
+};
+
 /// One configuration of the sweep.
 struct CellSpec {
   int index = 0;
@@ -71,6 +94,8 @@ struct CellSpec {
   /// Matchers under their labels (the keys of the scenario's `matchers` map), configurations
   /// parsed at load (shared quantities applied, then the cell's explicit parameters).
   std::vector<MatcherSpec> matchers;
+  /// Set in sequential scenarios (a `walk`, `odometry`, `schedule` or `trackers` key).
+  std::optional<SequentialSpec> sequential;
 };
 
 struct OutputSpec {
@@ -96,6 +121,8 @@ struct Scenario {
   std::vector<PaperReference> paper;
   /// Quantities every stage shares unless it overrides them (the `shared` block).
   SharedParams shared;
+  /// Sequential scenarios: the sequential metrics' settings (scoring.sequential).
+  SequentialScoring sequential_scoring;
   std::vector<std::string> sweep_keys;  ///< sweep axes in file order
   std::vector<CellSpec> cells;          ///< Cartesian product of the axes (one cell without a sweep)
   /// The whole resolved configuration: the scenario as written with every default filled in,

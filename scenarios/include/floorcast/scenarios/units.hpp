@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "floorcast/core/types.hpp"
+#include "floorcast/eval/sequential.hpp"
 #include "floorcast/scenarios/scenario.hpp"
 
 namespace floorcast {
@@ -50,6 +51,17 @@ struct MatcherOutcome {
   double match_s = 0.0;        ///< timing (excluded from result comparisons)
 };
 
+/// One tracker's outcome on one walk (sequential scenarios).
+struct TrackOutcome {
+  std::string label;
+  bool started = true;          ///< false: no track (reason in `failure`), scored as a failure
+  std::string failure;
+  int observations_used = 0;
+  /// Per step from the initial observation to the end of the walk (record.time_per_step_s is
+  /// timing, kept under "timings" in files).
+  SequentialRecord record;
+};
+
 struct UnitResult {
   WorkUnit unit;
   Pose2 truth;
@@ -58,6 +70,9 @@ struct UnitResult {
   bool observation_ok = true;
   std::string observation_failure;
   std::vector<MatcherOutcome> outcomes;
+  /// Sequential scenarios: the walk's summary and every tracker's outcome.
+  nlohmann::ordered_json walk = nlohmann::ordered_json::object();
+  std::vector<TrackOutcome> tracks;
   /// Stage timings in seconds: simulate, observe, match (sum over matchers).
   std::map<std::string, double> timings_s;
 };

@@ -62,6 +62,11 @@ class Tracker {
 std::unique_ptr<Tracker> make_tracker(const std::string& name, const FloorPlan& plan,
                                       const nlohmann::json& overrides = nlohmann::json::object());
 
+/// Every parameter of tracker `name` after `overrides` (defaults filled in), without building
+/// it: what scenarios check when they load. Throws like make_tracker.
+nlohmann::ordered_json resolve_tracker_parameters(const std::string& name,
+                                                  const nlohmann::json& overrides = nlohmann::json::object());
+
 /// Names of all registered trackers, sorted.
 std::vector<std::string> tracker_names();
 
