@@ -123,12 +123,13 @@ std::pair<double, double> x_spread(const Posterior& b) {
   return {mean, std::sqrt(std::max(0.0, sxx / sw - mean * mean))};
 }
 
-// A motion larger than the kernels' span (0.3 m) is split into sub-steps: one 0.9 m step moves the
-// mean by 0.9 m and diffuses like one F3Loc step (sigma 0.1 m, not 0.1 x sqrt(3)).
+// A motion larger than the kernels' span (here F3Loc's 0.3 m) is split into sub-steps: one 0.9 m
+// step moves the mean by 0.9 m and diffuses like one F3Loc step (sigma 0.1 m, not 0.1 x sqrt(3)).
 TEST(HistogramFilter, LargeStepsAreSplitWithoutExtraNoise) {
   const FloorPlan plan = hall();
   HistogramFilterParams p;
   p.rotation_sigma_rad = 0.0;
+  p.max_substep_m = 0.3;
   HistogramFilter f(plan, p);
   f.initialise(delta_posterior(f.grid(), 36, {{0, {5.05, 5.05}}}), OdometryStep{});
   f.predict(motion(0.9, 0.0, 0.0));

@@ -1,6 +1,7 @@
 #include "floorcast/track/histogram_filter.hpp"
 
 #include <opencv2/imgproc.hpp>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -77,6 +78,28 @@ HistogramFilter::HistogramFilter(const FloorPlan& plan, const HistogramFilterPar
   cv::Mat inside;
   cv::bitwise_and(valid_area_mask(plan, grid_), blocked == 0, inside);
   inside.convertTo(interior_, CV_32F, 1.0 / 255.0);
+  // Interior column range of every row, and the range the horizontal pass must cover for the
+  // vertical pass of rows within reach (the largest sub-step plus three sigmas).
+  const int H = grid_.height_px, W = grid_.width_px;
+  row_lo_.assign(static_cast<std::size_t>(H), W);
+  row_hi_.assign(static_cast<std::size_t>(H), -1);
+  for (int r = 0; r < H; ++r) {
+    const std::uint8_t* in = inside.ptr<std::uint8_t>(r);
+    for (int c = 0; c < W; ++c) {
+      if (!in[c]) continue;
+      row_lo_[static_cast<std::size_t>(r)] = std::min(row_lo_[static_cast<std::size_t>(r)], c);
+      row_hi_[static_cast<std::size_t>(r)] = c;
+    }
+  }
+  reach_rows_ = static_cast<int>(std::ceil((params_.max_substep_m + 3.0 * params_.translation_sigma_m) / params_.resolution_m)) + 1;
+  reach_lo_.assign(static_cast<std::size_t>(H), W);
+  reach_hi_.assign(static_cast<std::size_t>(H), -1);
+  for (int r = 0; r < H; ++r) {
+    for (int k = std::max(0, r - reach_rows_); k <= std::min(H - 1, r + reach_rows_); ++k) {
+      reach_lo_[static_cast<std::size_t>(r)] = std::min(reach_lo_[static_cast<std::size_t>(r)], row_lo_[static_cast<std::size_t>(k)]);
+      reach_hi_[static_cast<std::size_t>(r)] = std::max(reach_hi_[static_cast<std::size_t>(r)], row_hi_[static_cast<std::size_t>(k)]);
+    }
+  }
   const int D = params_.num_orientations;
   for (int o = 0; o < D; ++o) {
     belief_.push_back(cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_32F));
@@ -91,20 +114,60 @@ std::size_t HistogramFilter::state_bytes() const {
 }
 
 void HistogramFilter::normalise() {
+  // Over the building's rows only: per-slice mass, then scale to a PDF and prune, recording each
+  // slice's mass and maximum (the estimate and the next motion use them).
+  const int D = params_.num_orientations;
+  const int H = grid_.height_px;
+  mass_.assign(static_cast<std::size_t>(D), 0.0);
+  peak_.assign(static_cast<std::size_t>(D), 0.0);
+  peak_at_.assign(static_cast<std::size_t>(D), cv::Point(0, 0));
+  tbb::parallel_for(0, D, [&](int o) {
+    const cv::Mat& b = belief_[static_cast<std::size_t>(o)];
+    double sum = 0.0;
+    for (int r = 0; r < H; ++r) {
+      const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
+      const float* row = b.ptr<float>(r);
+      double rs = 0.0;
+      for (int c = c0; c <= c1; ++c) rs += row[c];
+      sum += rs;
+    }
+    mass_[static_cast<std::size_t>(o)] = sum;
+  });
   double total = 0.0;
-  for (const cv::Mat& b : belief_) total += cv::sum(b)[0];
+  for (double m : mass_) total += m;
   degenerate_ = !(total > 0.0);
   if (degenerate_) return;
-  double peak = 0.0;
-  for (cv::Mat& b : belief_) {
-    b *= 1.0 / total;
-    double mx = 0.0;
-    cv::minMaxLoc(b, nullptr, &mx);
-    peak = std::max(peak, mx);
-  }
+  const float scale = static_cast<float>(1.0 / total);
+  tbb::parallel_for(0, D, [&](int o) {
+    cv::Mat& b = belief_[static_cast<std::size_t>(o)];
+    float mx = 0.0f;
+    cv::Point at(0, 0);
+    for (int r = 0; r < H; ++r) {
+      const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
+      float* row = b.ptr<float>(r);
+      for (int c = c0; c <= c1; ++c) {
+        row[c] *= scale;
+        if (row[c] > mx) {
+          mx = row[c];
+          at = cv::Point(c, r);
+        }
+      }
+    }
+    peak_[static_cast<std::size_t>(o)] = mx;
+    peak_at_[static_cast<std::size_t>(o)] = at;
+    mass_[static_cast<std::size_t>(o)] *= scale;
+  });
   if (params_.prune_below > 0.0) {
-    const double floor = params_.prune_below * peak;
-    for (cv::Mat& b : belief_) cv::threshold(b, b, floor, 0.0, cv::THRESH_TOZERO);
+    const float floor = static_cast<float>(params_.prune_below * *std::max_element(peak_.begin(), peak_.end()));
+    tbb::parallel_for(0, D, [&](int o) {
+      cv::Mat& b = belief_[static_cast<std::size_t>(o)];
+      for (int r = 0; r < H; ++r) {
+        float* row = b.ptr<float>(r);
+        for (int c = row_lo_[static_cast<std::size_t>(r)]; c <= row_hi_[static_cast<std::size_t>(r)]; ++c) {
+          if (row[c] < floor) row[c] = 0.0f;
+        }
+      }
+    });
   }
 }
 
@@ -151,25 +214,59 @@ void HistogramFilter::initialise(const Posterior& post, const OdometryStep& firs
 
 void HistogramFilter::move(double dx, double dy, double dyaw, double noise_scale) {
   const int D = params_.num_orientations;
+  const int H = grid_.height_px, W = grid_.width_px;
   const double res = grid_.resolution_m_per_px;
   const double sigma_px = std::max(params_.translation_sigma_m * noise_scale / res, 1e-3);
-  // Translation: slice o heads at yaw 2 pi o / D; the body-frame motion rotated into it.
+  std::vector<char> nonzero(static_cast<std::size_t>(D), 0);
+  // Translation: slice o heads at yaw 2 pi o / D; the body-frame motion rotated into it, as a
+  // separable Gaussian shift computed on the building's rows only: a horizontal pass on the rows
+  // and columns the vertical pass reads, then the vertical pass on the interior range of each
+  // row (the belief is 0 outside the building).
   tbb::parallel_for(0, D, [&](int o) {
     cv::Mat& b = belief_[static_cast<std::size_t>(o)];
-    double mx = 0.0;
-    cv::minMaxLoc(b, nullptr, &mx);
-    if (!(mx > 0.0)) return;
+    if (!(peak_[static_cast<std::size_t>(o)] > 0.0)) return;
+    nonzero[static_cast<std::size_t>(o)] = 1;
     const double yaw = kTwoPi * o / D;
     const double tx = (std::cos(yaw) * dx - std::sin(yaw) * dy) / res;
     const double ty = (std::sin(yaw) * dx + std::cos(yaw) * dy) / res;
     const int rx = static_cast<int>(std::ceil(std::abs(tx) + 3.0 * sigma_px));
-    const int ry = static_cast<int>(std::ceil(std::abs(ty) + 3.0 * sigma_px));
+    const int ry = std::min(reach_rows_, static_cast<int>(std::ceil(std::abs(ty) + 3.0 * sigma_px)));
     const cv::Mat kx = shift_kernel(tx, sigma_px, rx), ky = shift_kernel(ty, sigma_px, ry);
-    cv::Mat out;
-    cv::sepFilter2D(b, out, CV_32F, kx, ky, cv::Point(-1, -1), 0.0, cv::BORDER_CONSTANT);
-    cv::multiply(out, interior_, b);
+    cv::Mat& tmp = impl_tmp_.local();
+    if (tmp.empty()) tmp.create(H, W, CV_32F);
+    for (int r = 0; r < H; ++r) {
+      const int c0 = reach_lo_[static_cast<std::size_t>(r)], c1 = reach_hi_[static_cast<std::size_t>(r)];
+      if (c0 > c1) continue;
+      const float* in = b.ptr<float>(r);
+      float* t = tmp.ptr<float>(r);
+      std::fill(t + c0, t + c1 + 1, 0.0f);
+      for (int i = 0; i <= 2 * rx; ++i) {
+        const float w = kx.at<float>(i);
+        const int off = i - rx;
+        const int lo = std::max(c0, -off), hi = std::min(c1, W - 1 - off);
+        for (int c = lo; c <= hi; ++c) t[c] += w * in[c + off];
+      }
+    }
+    for (int r = 0; r < H; ++r) {
+      // Cells outside a row's interior range are never written: they stay 0.
+      float* out = b.ptr<float>(r);
+      const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
+      if (c0 > c1) continue;
+      float* acc = out + c0;
+      std::fill(acc, acc + (c1 - c0 + 1), 0.0f);
+      for (int j = 0; j <= 2 * ry; ++j) {
+        const int rr = r + j - ry;
+        if (rr < 0 || rr >= H) continue;
+        const float w = ky.at<float>(j);
+        const float* t = tmp.ptr<float>(rr) + c0;
+        for (int c = 0; c <= c1 - c0; ++c) acc[c] += w * t[c];
+      }
+      const float* in = interior_.ptr<float>(r) + c0;
+      for (int c = 0; c <= c1 - c0; ++c) acc[c] *= in[c];
+    }
   });
-  // Rotation: circular Gaussian over the slices, centred on the heading change.
+  // Rotation: circular Gaussian over the slices, centred on the heading change (interior rows
+  // only; zero slices skipped).
   const double bin = kTwoPi / D;
   const double shift = dyaw / bin;
   const double sigma_bins = std::max(params_.rotation_sigma_rad * noise_scale / bin, 1e-3);
@@ -184,10 +281,18 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double noise_scale
   for (double& v : w) v /= sum;
   tbb::parallel_for(0, D, [&](int o) {
     cv::Mat& out = scratch_[static_cast<std::size_t>(o)];
-    out.setTo(0.0f);
-    for (int k = lo; k <= hi; ++k) {
-      const int src = ((o - k) % D + D) % D;  // mass of heading src moves to heading src + k
-      cv::scaleAdd(belief_[static_cast<std::size_t>(src)], w[static_cast<std::size_t>(k - lo)], out, out);
+    for (int r = 0; r < H; ++r) {
+      float* dst = out.ptr<float>(r);
+      const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
+      if (c0 > c1) continue;
+      std::fill(dst + c0, dst + c1 + 1, 0.0f);
+      for (int k = lo; k <= hi; ++k) {
+        const int src = ((o - k) % D + D) % D;  // mass of heading src moves to heading src + k
+        if (!nonzero[static_cast<std::size_t>(src)]) continue;
+        const float wk = static_cast<float>(w[static_cast<std::size_t>(k - lo)]);
+        const float* in = belief_[static_cast<std::size_t>(src)].ptr<float>(r);
+        for (int c = c0; c <= c1; ++c) dst[c] += wk * in[c];
+      }
     }
   });
   std::swap(belief_, scratch_);
@@ -276,26 +381,14 @@ TrackEstimate HistogramFilter::estimate() const {
   TrackEstimate e;
   e.degenerate = degenerate_;
   const int D = params_.num_orientations;
-  double best = -1.0;
-  int bo = 0;
-  cv::Point bp;
-  std::vector<double> mass(static_cast<std::size_t>(D), 0.0);
-  for (int o = 0; o < D; ++o) {
-    double mx = 0.0;
-    cv::Point p;
-    cv::minMaxLoc(belief_[static_cast<std::size_t>(o)], nullptr, &mx, nullptr, &p);
-    mass[static_cast<std::size_t>(o)] = cv::sum(belief_[static_cast<std::size_t>(o)])[0];
-    if (mx > best) {
-      best = mx;
-      bo = o;
-      bp = p;
-    }
-  }
+  if (peak_.size() != static_cast<std::size_t>(D)) return e;
+  const int bo = static_cast<int>(std::max_element(peak_.begin(), peak_.end()) - peak_.begin());
+  const cv::Point bp = peak_at_[static_cast<std::size_t>(bo)];
   const Vec2 c = grid_.cell_center_m(bp.y, bp.x);
   e.pose = {c.x(), c.y(), wrap_angle_rad(kTwoPi * bo / D)};
   // Orientation mass of the best +-1 bins; belief mass within 1 m and 30 deg of the mode.
-  const double orient = mass[static_cast<std::size_t>(bo)] + mass[static_cast<std::size_t>((bo + 1) % D)] +
-                        mass[static_cast<std::size_t>((bo + D - 1) % D)];
+  const double orient = mass_[static_cast<std::size_t>(bo)] + mass_[static_cast<std::size_t>((bo + 1) % D)] +
+                        mass_[static_cast<std::size_t>((bo + D - 1) % D)];
   const int rad = static_cast<int>(std::ceil(1.0 / grid_.resolution_m_per_px));
   const int span = static_cast<int>(std::floor(deg_to_rad(30.0) / (kTwoPi / D) + 1e-9));
   double near = 0.0;

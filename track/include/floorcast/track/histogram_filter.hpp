@@ -4,7 +4,7 @@
 // Motion: per orientation slice, the ego-motion rotated into that slice's heading is applied as a
 // Gaussian kernel (sigma 0.1 m) centred on the motion (F3Loc's grouped 2D convolution; separable
 // here: two 1D passes), then a circular Gaussian over yaw (sigma 0.1 rad) centred on the heading
-// change. F3Loc's kernels span +-0.3 m and +-30 deg per step: larger motions are split into
+// change. Motions larger than the kernels' span (max_substep_m, max_substep_deg) are split into
 // sub-steps (the noise stays F3Loc's per odometry step: each sub-step diffuses by sigma/sqrt(n)). The belief is kept at 0 outside the building. Measurement: belief x (floor + (1 -
 // floor) x posterior / max), the posterior looked up at the nearest slice in yaw and the cell
 // (any matcher's posterior, any grid). Estimate: the belief's argmax.
@@ -13,6 +13,9 @@
 #include <cstdint>
 #include <memory>
 #include <vector>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <opencv2/core.hpp>
 
 #include "floorcast/track/tracker.hpp"
 
@@ -29,8 +32,12 @@ struct HistogramFilterParams {
   int num_orientations = 36;          ///< F3Loc: 36 (10 deg)
   double translation_sigma_m = 0.1;   ///< F3Loc
   double rotation_sigma_rad = 0.1;    ///< F3Loc
-  double max_substep_m = 0.3;         ///< F3Loc kernels span +-0.3 m ...
-  double max_substep_deg = 30.0;      ///< ... and +-30 deg
+  /// Largest motion applied in one pass; larger motions are split into sub-steps. F3Loc's fixed
+  /// 7 x 7 kernels span +-0.3 m and +-30 deg; floorcast builds each step's kernels to the size of
+  /// its motion, so only turns need splitting (the translation follows the arc): a walking step
+  /// (~0.7 m) is one pass.
+  double max_substep_m = 1.0;
+  double max_substep_deg = 30.0;
   BeliefInit init = BeliefInit::kPosterior;
   double measurement_floor = 0.05;
   /// Belief below this fraction of the maximum is set to 0 after every step (0 = never): keeps
@@ -74,6 +81,14 @@ class HistogramFilter final : public Tracker {
   cv::Mat interior_;               ///< CV_32F 1 inside the building, 0 elsewhere
   std::vector<cv::Mat> belief_;    ///< one CV_32F slice per orientation
   std::vector<cv::Mat> scratch_;   ///< rotation buffers
+  /// Per slice after the last normalisation: mass, maximum and where it is.
+  std::vector<double> mass_, peak_;
+  std::vector<cv::Point> peak_at_;
+  /// Interior column range of each row; the wider range the translation's horizontal pass covers.
+  std::vector<int> row_lo_, row_hi_, reach_lo_, reach_hi_;
+  int reach_rows_ = 0;
+  /// Per-thread buffer of the horizontal pass.
+  mutable tbb::enumerable_thread_specific<cv::Mat> impl_tmp_;
   bool degenerate_ = false;
 };
 
