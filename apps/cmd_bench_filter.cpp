@@ -1,0 +1,52 @@
+// `floorcast bench filter`: tracker throughput (bench/filter_bench.hpp) on the shipped office and
+// campus buildings, or given plans.
+#include <iomanip>
+#include <iostream>
+#include <memory>
+
+#include "cli_common.hpp"
+#include "floorcast/bench/filter_bench.hpp"
+#include "floorcast/floorplans/io.hpp"
+
+namespace floorcast::cli {
+namespace {
+
+void register_bench_filter(CLI::App& root) {
+  struct Options {
+    std::vector<std::string> plans;
+    FilterBenchParams params;
+    bool json = false;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App& bench = group(root, "bench", "Benchmarks (medians over repeats, same-run ratios)");
+  auto* cmd = bench.add_subcommand("filter", "Particle-filter steps/s (2000 particles, wall checks) and histogram-filter ms/step");
+  cmd->add_option("--plan", o->plans, "Plans (default: the shipped office and campus)");
+  cmd->add_option("--steps", o->params.steps, "Steps per repeat")->capture_default_str()->check(CLI::Range(1, 100000));
+  cmd->add_option("--repeats", o->params.repeats, "Repeats (the median is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
+  cmd->add_option("--particles", o->params.particles, "Particles")->capture_default_str()->check(CLI::Range(1, 10000000));
+  cmd->add_flag("--json", o->json, "Print JSON");
+  cmd->callback([o] {
+    std::vector<std::string> plans = o->plans;
+    if (plans.empty()) {
+      plans = {source_dir() + "/floorplans/buildings/office.json", source_dir() + "/floorplans/buildings/campus.json"};
+    }
+    nlohmann::ordered_json all = nlohmann::ordered_json::object();
+    for (const std::string& path : plans) {
+      const FloorPlan plan = load_floor_plan(path);
+      const FilterBenchResult r = bench_filter(plan, o->params);
+      all[plan.name] = to_json(r);
+      if (!o->json) {
+        std::cout << std::fixed << std::setprecision(1) << plan.name << ": particle filter " << r.pf_steps_per_s
+                  << " steps/s (" << o->params.particles << " particles, " << std::setprecision(2) << r.pf_cpu_ms_per_step
+                  << " CPU-ms/step); histogram filter " << r.hf_ms_per_step << " ms/step (" << r.hf_cpu_ms_per_step
+                  << " CPU-ms), " << std::setprecision(0) << r.hf_state_mb << " MB for " << r.grid_cells
+                  << " cells x 36 directions\n";
+      }
+    }
+    if (o->json) std::cout << all.dump(2) << "\n";
+  });
+}
+
+}  // namespace
+FLOORCAST_REGISTER_COMMANDS(register_bench_filter);
+}  // namespace floorcast::cli

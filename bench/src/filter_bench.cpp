@@ -1,0 +1,97 @@
+#include "floorcast/bench/filter_bench.hpp"
+
+#include <chrono>
+#include <vector>
+
+#include "floorcast/core/math.hpp"
+#include "floorcast/core/timing.hpp"
+#include "floorcast/floorplans/raster.hpp"
+#include "floorcast/sim/odometry.hpp"
+#include "floorcast/sim/walk.hpp"
+#include "floorcast/track/histogram_filter.hpp"
+#include "floorcast/track/particle_filter.hpp"
+
+namespace floorcast {
+namespace {
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// An empty posterior on a grid: the uniform initialisations do not read its scores.
+Posterior empty_posterior(const FloorPlan& plan, int slices) {
+  Posterior p;
+  p.grid = grid_for_plan(plan, 0.1, 1.0);
+  for (int s = 0; s < slices; ++s) {
+    p.yaw_rad.push_back(wrap_angle_rad(kTwoPi * s / slices));
+    p.scores.push_back(cv::Mat::zeros(p.grid.height_px, p.grid.width_px, CV_32F));
+  }
+  return p;
+}
+
+}  // namespace
+
+FilterBenchResult bench_filter(const FloorPlan& plan, const FilterBenchParams& bp) {
+  WalkParams wp;
+  wp.steps = bp.steps + 1;
+  wp.seed = 7;
+  const Walk walk = simulate_walk(plan, random_start_pose(plan, wp), wp);
+  OdometryParams op;
+  op.model = OdometryModel::kExact;
+  const OdometryTrack odo = simulate_odometry(walk, op);
+  FilterBenchResult out;
+  const Posterior empty = empty_posterior(plan, 36);
+  if (bp.particle_filter) {
+    std::vector<double> wall, cpu;
+    for (int r = 0; r < bp.repeats; ++r) {
+      ParticleFilterParams p;
+      p.num_particles = bp.particles;
+      p.init = ParticleInit::kUniform;
+      p.seed = static_cast<std::uint64_t>(r + 1);
+      ParticleFilter f(plan, p);
+      f.initialise(empty, odo.steps[0]);
+      const double w0 = now_s(), c0 = process_cpu_s();
+      for (std::size_t k = 1; k < odo.steps.size(); ++k) f.predict(odo.steps[k]);
+      wall.push_back((now_s() - w0) / bp.steps);
+      cpu.push_back((process_cpu_s() - c0) / bp.steps);
+      out.pf_state_mb = f.state_bytes() / 1e6;
+    }
+    out.pf_steps_per_s = 1.0 / median(wall);
+    out.pf_cpu_ms_per_step = 1e3 * median(cpu);
+  }
+  if (bp.histogram_filter) {
+    std::vector<double> wall, cpu;
+    for (int r = 0; r < bp.repeats; ++r) {
+      HistogramFilterParams p;
+      p.init = BeliefInit::kUniform;
+      HistogramFilter f(plan, p);
+      f.initialise(empty, odo.steps[0]);
+      const double w0 = now_s(), c0 = process_cpu_s();
+      for (std::size_t k = 1; k < odo.steps.size(); ++k) {
+        f.predict(odo.steps[k]);
+        (void)f.estimate();
+      }
+      wall.push_back((now_s() - w0) / bp.steps);
+      cpu.push_back((process_cpu_s() - c0) / bp.steps);
+      out.hf_state_mb = f.state_bytes() / 1e6;
+      out.grid_cells = f.grid().width_px * f.grid().height_px;
+    }
+    out.hf_ms_per_step = 1e3 * median(wall);
+    out.hf_cpu_ms_per_step = 1e3 * median(cpu);
+  }
+  return out;
+}
+
+nlohmann::ordered_json to_json(const FilterBenchResult& r) {
+  nlohmann::ordered_json j;
+  j["pf_steps_per_s"] = r.pf_steps_per_s;
+  j["pf_cpu_ms_per_step"] = r.pf_cpu_ms_per_step;
+  j["pf_state_mb"] = r.pf_state_mb;
+  j["hf_ms_per_step"] = r.hf_ms_per_step;
+  j["hf_cpu_ms_per_step"] = r.hf_cpu_ms_per_step;
+  j["hf_state_mb"] = r.hf_state_mb;
+  j["hf_grid_cells"] = r.grid_cells;
+  return j;
+}
+
+}  // namespace floorcast
