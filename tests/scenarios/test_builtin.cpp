@@ -35,7 +35,8 @@ std::vector<std::string> split_pointer(const std::string& p) {
 
 TEST(BuiltinScenarios, EveryShippedScenarioLoadsAndResolves) {
   const std::set<std::string> expected = {"quickstart", "perfect_observation", "full_system",
-                                          "scale_ablation", "sensor_sweep", "gate"};
+                                          "scale_ablation", "sensor_sweep", "gate", "gate_sequential",
+                                          "sequential"};
   std::set<std::string> found;
   for (const auto& entry : fs::directory_iterator(kRoot + "/scenarios")) {
     if (entry.path().extension() != ".yaml") continue;
@@ -50,9 +51,12 @@ TEST(BuiltinScenarios, EveryShippedScenarioLoadsAndResolves) {
   for (const std::string& name : expected) EXPECT_TRUE(found.count(name)) << name << ".yaml is missing";
 }
 
-TEST(BuiltinScenarios, GateBaselineRefersToWhatTheGateScenarioProduces) {
-  const Scenario s = load_scenario(kRoot + "/scenarios/gate.yaml", kRoot);
-  const nlohmann::json baseline = read_json(kRoot + "/results/baselines/gate.json");
+/// Every check of a gate baseline points at a cell, group and method the scenario produces, and
+/// bites: a summary right at every bound passes, one just past every bound fails every check.
+void expect_baseline_matches(const std::string& scenario, const std::string& baseline_file) {
+  SCOPED_TRACE(baseline_file);
+  const Scenario s = load_scenario(kRoot + "/scenarios/" + scenario, kRoot);
+  const nlohmann::json baseline = read_json(kRoot + "/results/baselines/" + baseline_file);
   ASSERT_TRUE(baseline.contains("checks"));
   std::set<std::string> groups = {"all"};
   for (const BuildingSpec& b : s.buildings) groups.insert(b.label);
@@ -64,14 +68,21 @@ TEST(BuiltinScenarios, GateBaselineRefersToWhatTheGateScenarioProduces) {
     EXPECT_EQ(parts[0], "cells");
     const std::size_t cell = std::stoul(parts[1]);
     ASSERT_LT(cell, s.cells.size()) << ptr;
+    EXPECT_TRUE(parts[2] == "groups" || parts[2] == "sequential") << ptr;
     EXPECT_TRUE(groups.count(parts[3])) << ptr << ": no building labelled " << parts[3];
-    bool has_matcher = false;
-    for (const MatcherSpec& m : s.cells[cell].matchers) has_matcher |= m.label == parts[4];
-    EXPECT_TRUE(has_matcher) << ptr << ": no matcher labelled " << parts[4];
-    // A summary right at each floor passes; one just below every floor fails every check.
-    const double floor = c.value("min", 0.0);
-    good[nlohmann::json::json_pointer(ptr)] = floor;
-    bad[nlohmann::json::json_pointer(ptr)] = floor - 0.01;
+    bool has_method = false;
+    if (parts[2] == "groups") {
+      for (const MatcherSpec& m : s.cells[cell].matchers) has_method |= m.label == parts[4];
+    } else {
+      ASSERT_TRUE(s.cells[cell].sequential.has_value()) << ptr;
+      for (const TrackerSpec& t : s.cells[cell].sequential->trackers) has_method |= t.label == parts[4];
+    }
+    EXPECT_TRUE(has_method) << ptr << ": no method labelled " << parts[4];
+    // A summary right at each bound passes; one just past every bound fails every check.
+    const bool is_floor = c.contains("min");
+    const double bound = is_floor ? c["min"].get<double>() : c["max"].get<double>();
+    good[nlohmann::json::json_pointer(ptr)] = bound;
+    bad[nlohmann::json::json_pointer(ptr)] = is_floor ? bound - 0.01 : bound + 0.01;
   }
   for (const auto& r : baseline["timing_ratios"]) {
     const double base = r["baseline"].get<double>();
@@ -86,6 +97,11 @@ TEST(BuiltinScenarios, GateBaselineRefersToWhatTheGateScenarioProduces) {
   const GateOutcome fail = evaluate_gate(bad, baseline, "gate.json");
   EXPECT_FALSE(fail.passed);
   EXPECT_EQ(fail.failures.size(), baseline["checks"].size() + baseline["timing_ratios"].size());
+}
+
+TEST(BuiltinScenarios, GateBaselinesReferToWhatTheGateScenariosProduce) {
+  expect_baseline_matches("gate.yaml", "gate.json");
+  expect_baseline_matches("gate_sequential.yaml", "gate_sequential.json");
 }
 
 }  // namespace
