@@ -23,10 +23,22 @@ WallRaster make_wall_raster(const FloorPlan& plan, double resolution_m) {
   w.blocked = rasterize_occupancy(plan, w.grid, map_walls());
   const cv::Mat interior = valid_area_mask(plan, w.grid);
   cv::bitwise_and(interior, w.blocked == 0, w.interior);
+  w.clearance_m = distance_to_blocked_m(w.blocked, w.grid);
+  w.inv_res = 1.0 / w.grid.resolution_m_per_px;
   return w;
 }
 
 bool WallRaster::crosses(const Vec2& a, const Vec2& b, Vec2* stop) const {
+  // Far from every wall: the segment stays within the clear disc around a.
+  {
+    int r = 0, c = 0;
+    if (cell_of(a, r, c) && cell_of(b, r, c)) {
+      int ra = 0, ca = 0;
+      cell_of(a, ra, ca);
+      const double reach = (b - a).norm() + 1.5 * grid.resolution_m_per_px;
+      if (clearance_m.at<float>(ra, ca) > reach) return false;
+    }
+  }
   const Vec2 ga = grid.world_to_grid(a), gb = grid.world_to_grid(b);  // (col, row) continuous
   int c = static_cast<int>(std::floor(ga.x())), r = static_cast<int>(std::floor(ga.y()));
   const int c_end = static_cast<int>(std::floor(gb.x())), r_end = static_cast<int>(std::floor(gb.y()));

@@ -15,10 +15,22 @@ struct WallRaster {
   GridSpec grid;
   cv::Mat blocked;  ///< CV_8U, 255 = wall or glass
   cv::Mat interior;  ///< CV_8U, 255 = free cell inside the building
+  /// CV_32F metres from each cell centre to the nearest blocked cell centre: a move shorter than
+  /// this minus a cell diagonal cannot touch a wall, so most moves skip the traversal.
+  cv::Mat clearance_m;
+  double inv_res = 0.0;
 
+  /// Cell of p (false outside the grid); no allocation, no libm.
+  bool cell_of(const Vec2& p, int& r, int& c) const {
+    const double gx = (p.x() - grid.origin_x_m) * inv_res, gy = (p.y() - grid.origin_y_m) * inv_res;
+    if (!(gx >= 0.0 && gy >= 0.0 && gx < grid.width_px && gy < grid.height_px)) return false;
+    c = static_cast<int>(gx);
+    r = static_cast<int>(gy);
+    return true;
+  }
   bool inside(const Vec2& p) const {
     int r = 0, c = 0;
-    return grid.world_to_cell(p, r, c) && interior.at<std::uint8_t>(r, c) != 0;
+    return cell_of(p, r, c) && interior.at<std::uint8_t>(r, c) != 0;
   }
   /// True when the segment a-b passes through a blocked cell (or leaves the grid); `stop`
   /// receives a point just before the first blocked cell.
