@@ -6,10 +6,10 @@
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "cli_common.hpp"
+#include "floorcast/core/image_io.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/match/plan_raster.hpp"
@@ -167,7 +167,7 @@ void register_localize(CLI::App& root) {
     const cv::Mat img =
         render_posterior_heatmap(post, raster, truth, found ? std::optional<PoseHypothesis>(best) : std::nullopt);
     const std::string png = o->out + "/posterior.png";
-    if (!cv::imwrite(png, img)) throw InputError(png + ": cannot write the image");
+    write_png(png, img);
 
     if (!found) {
       std::cout << matcher->name() << ": no pose (empty posterior: every cell scored 0) -> " << o->out << "\n";

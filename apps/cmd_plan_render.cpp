@@ -2,10 +2,10 @@
 #include <algorithm>
 #include <iostream>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 #include <vector>
 
 #include "cli_common.hpp"
+#include "floorcast/core/image_io.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/floorplans/render.hpp"
 
@@ -65,9 +65,7 @@ void register_plan_render(CLI::App& root) {
       return;
     }
     const PlanImage img = render_plan(p, ro);
-    std::vector<unsigned char> png;
-    if (!cv::imencode(".png", img.bgr, png)) throw InputError(opts->output + ": PNG encoding failed");
-    write_text_file_atomic(opts->output, std::string(png.begin(), png.end()));
+    write_png(opts->output, img.bgr);
     std::cout << "wrote " << opts->output << " (" << img.bgr.cols << " x " << img.bgr.rows << " px, " << ro.px_per_m
               << " px/m)\n";
   });

@@ -1,7 +1,10 @@
 # Every dependency comes from a Debian 12 package (see scripts/install_deps.sh).
 find_package(Threads REQUIRED)
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
-find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs ximgproc)
+# OpenCV core and imgproc only: imgcodecs (GDAL, GDCM, OpenEXR, ...) and ximgproc (dnn, calib3d,
+# ...) would be loaded by every floorcast process at start-up; PNG goes through libpng.
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc)
+find_package(PNG REQUIRED)
 find_package(embree 3 REQUIRED)
 find_package(TinyGLTF REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)

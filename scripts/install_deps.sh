@@ -8,7 +8,7 @@ PACKAGES=(
   libembree-dev libeigen3-dev libopencv-dev libopencv-contrib-dev libosmesa6-dev libtinygltf-dev libpcl-dev
   libgtest-dev libbenchmark-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libtbb-dev libfftw3-dev liblbfgspp-dev
-  libnanoflann-dev libpugixml-dev
+  libnanoflann-dev libpugixml-dev libpng-dev
 )
 
 missing=()

@@ -9,8 +9,8 @@
 #include <set>
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
 
+#include "floorcast/core/image_io.hpp"
 #include "floorcast/floorplans/import.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "import_common.hpp"
@@ -204,8 +204,7 @@ ImportResult import_floor_plan(const std::string& path, ImportFormat format, con
     }
     case ImportFormat::kPng: {
       if (!is_file(path)) throw InputError(path + ": cannot read image (no such file)");
-      const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
-      if (image.empty()) throw InputError(path + ": cannot decode image");
+      const cv::Mat image = read_image(path);
       return import_png_image(image, path, opts);
     }
     case ImportFormat::kImdf: {

@@ -1,7 +1,7 @@
 // Occupancy image (F3Loc style: 255 free, anything else occupied) -> walls.
 //
 // Vectorisation: drop tiny occupied components (noise); thin the occupied mask to a one-pixel
-// skeleton (Zhang-Suen, OpenCV ximgproc) and remove staircase pixels; build the skeleton graph
+// skeleton (Zhang-Suen, floorcast::thin_zhang_suen) and remove staircase pixels; build the skeleton graph
 // (end points, junction clusters, chains between them); prune spurs the thinning grows into
 // corners; split each chain into straight pieces (Douglas-Peucker); fit a line to each piece's
 // pixels away from its ends; refine it against the image: at every pixel along the piece, march
@@ -15,9 +15,10 @@
 #include <numeric>
 
 #include <opencv2/imgproc.hpp>
-#include <opencv2/ximgproc.hpp>
 
+#include "floorcast/core/math.hpp"
 #include "floorcast/floorplans/import.hpp"
+#include "floorcast/floorplans/raster.hpp"
 #include "import_common.hpp"
 
 namespace floorcast {
@@ -33,21 +34,11 @@ struct Px {
   bool operator==(const Px& o) const { return x == o.x && y == o.y; }
 };
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const std::size_t m = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(m), v.end());
-  double hi = v[m];
-  if (v.size() % 2 == 1) return hi;
-  const double lo = *std::max_element(v.begin(), v.begin() + static_cast<long>(m));
-  return 0.5 * (lo + hi);
-}
-
 class Vectorizer {
  public:
   Vectorizer(const cv::Mat& occ_padded, const ImportOptions& options) : occ_(occ_padded), options_(options) {
     cv::distanceTransform(occ_, dist_, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-    cv::ximgproc::thinning(occ_, skel_, cv::ximgproc::THINNING_ZHANGSUEN);
+    skel_ = thin_zhang_suen(occ_);
   }
 
   struct Piece {

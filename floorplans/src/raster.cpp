@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
 #include <opencv2/imgproc.hpp>
 
 namespace floorcast {
@@ -168,6 +171,54 @@ double free_floor_area_m2(const FloorPlan& plan, double resolution_m_per_px) {
   blocking.cut_height_m = 0.01;  // any obstacle standing on the floor takes floor area
   const cv::Mat valid = valid_mask_with(plan, grid, 0.5, blocking);
   return cv::countNonZero(valid) * resolution_m_per_px * resolution_m_per_px;
+}
+
+namespace {
+
+// One Zhang-Suen sub-iteration over the 0/1 image; returns whether a pixel was removed. Neighbours
+// p2..p9 run clockwise from north; a pixel is removed when it has 2-6 neighbours, exactly one 0->1
+// transition around it, and (sub-iteration 0) p2*p4*p6 = p4*p6*p8 = 0 or (1) p2*p4*p8 = p2*p6*p8 = 0.
+// Marks are collected first and applied after the pass, as in the original algorithm.
+bool zhang_suen_pass(cv::Mat& img, int sub_iteration, std::vector<std::size_t>& marked) {
+  marked.clear();
+  const int cols = img.cols;
+  for (int i = 1; i + 1 < img.rows; ++i) {
+    const std::uint8_t* up = img.ptr<std::uint8_t>(i - 1);
+    const std::uint8_t* row = img.ptr<std::uint8_t>(i);
+    const std::uint8_t* down = img.ptr<std::uint8_t>(i + 1);
+    for (int j = 1; j + 1 < cols; ++j) {
+      if (row[j] == 0) continue;
+      const int p2 = up[j], p3 = up[j + 1], p4 = row[j + 1], p5 = down[j + 1];
+      const int p6 = down[j], p7 = down[j - 1], p8 = row[j - 1], p9 = up[j - 1];
+      const int a = (p2 == 0 && p3 == 1) + (p3 == 0 && p4 == 1) + (p4 == 0 && p5 == 1) + (p5 == 0 && p6 == 1) +
+                    (p6 == 0 && p7 == 1) + (p7 == 0 && p8 == 1) + (p8 == 0 && p9 == 1) + (p9 == 0 && p2 == 1);
+      const int b = p2 + p3 + p4 + p5 + p6 + p7 + p8 + p9;
+      const int m1 = sub_iteration == 0 ? p2 * p4 * p6 : p2 * p4 * p8;
+      const int m2 = sub_iteration == 0 ? p4 * p6 * p8 : p2 * p6 * p8;
+      if (a == 1 && b >= 2 && b <= 6 && m1 == 0 && m2 == 0) {
+        marked.push_back(static_cast<std::size_t>(i) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(j));
+      }
+    }
+  }
+  for (const std::size_t k : marked) img.data[k] = 0;
+  return !marked.empty();
+}
+
+}  // namespace
+
+cv::Mat thin_zhang_suen(const cv::Mat& binary) {
+  if (binary.type() != CV_8UC1) throw std::invalid_argument("thin_zhang_suen: expects a CV_8UC1 image");
+  cv::Mat img;
+  cv::compare(binary, 0, img, cv::CMP_NE);  // 0/255
+  img /= 255;                               // 0/1, continuous
+  std::vector<std::size_t> marked;
+  for (;;) {
+    const bool removed0 = zhang_suen_pass(img, 0, marked);
+    const bool removed1 = zhang_suen_pass(img, 1, marked);
+    if (!removed0 && !removed1) break;
+  }
+  img *= 255;
+  return img;
 }
 
 }  // namespace floorcast

@@ -1,8 +1,8 @@
+#include "floorcast/core/image_io.hpp"
 #include "floorcast/scenarios/run_directory.hpp"
 
 #include <cstdio>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 
 #include "floorcast/core/hash.hpp"
 #include "floorcast/floorplans/io.hpp"
@@ -98,11 +98,7 @@ std::vector<UnitResult> RunDirectory::read_units(const Scenario& scenario) const
 void RunDirectory::write_image(const std::string& relative_path, const cv::Mat& image) const {
   const fs::path p = fs::path(root_) / relative_path;
   make_dirs(p.parent_path());
-  const fs::path tmp = p.string() + ".tmp.png";
-  if (!cv::imwrite(tmp.string(), image)) throw InputError(p.string() + ": cannot write image");
-  std::error_code ec;
-  fs::rename(tmp, p, ec);
-  if (ec) throw InputError(p.string() + ": cannot move the written image into place: " + ec.message());
+  write_png(p.string(), image);  // atomic
 }
 
 void RunDirectory::write_report(const Report& report) const {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/ximgproc.hpp>
 #include <random>
 
 #include "floorcast/floorplans/raster.hpp"
@@ -71,6 +72,29 @@ TEST(Raster, OccupancyEqualsBruteForceOnRandomPlans) {
     const cv::Mat slow = brute_force_occupancy(p, g, {});
     EXPECT_EQ(cv::countNonZero(fast != slow), 0) << "trial " << trial;
     EXPECT_GT(cv::countNonZero(fast), 100);
+  }
+}
+
+TEST(Raster, ZhangSuenThinningEqualsOpenCvXimgproc) {
+  // Random blobs and bars (rectangles, discs, thick lines) on 0/255 images: floorcast's thinning
+  // must give exactly OpenCV ximgproc's pixels, the reference it replaces.
+  cv::RNG rng(7);
+  for (int trial = 0; trial < 40; ++trial) {
+    cv::Mat img = cv::Mat::zeros(60 + trial, 80, CV_8UC1);
+    for (int k = 0; k < 6; ++k) {
+      const cv::Point a(rng.uniform(2, img.cols - 2), rng.uniform(2, img.rows - 2));
+      const cv::Point b(rng.uniform(2, img.cols - 2), rng.uniform(2, img.rows - 2));
+      switch (k % 3) {
+        case 0: cv::rectangle(img, a, b, 255, cv::FILLED); break;
+        case 1: cv::circle(img, a, rng.uniform(1, 12), 255, cv::FILLED); break;
+        default: cv::line(img, a, b, 255, rng.uniform(1, 9)); break;
+      }
+    }
+    if (trial % 4 == 0) img.row(0).setTo(255);  // foreground on the border stays untouched
+    cv::Mat expected;
+    cv::ximgproc::thinning(img, expected, cv::ximgproc::THINNING_ZHANGSUEN);
+    const cv::Mat ours = thin_zhang_suen(img);
+    ASSERT_EQ(cv::norm(expected, ours, cv::NORM_INF), 0.0) << "trial " << trial;
   }
 }
 

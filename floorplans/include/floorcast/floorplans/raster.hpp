@@ -49,4 +49,10 @@ PlanRasters make_plan_rasters(const FloorPlan& plan, const RasterOptions& option
 /// doors' leaves, glass and obstacles excluded).
 double free_floor_area_m2(const FloorPlan& plan, double resolution_m_per_px = 0.05);
 
+/// Zhang-Suen thinning of a binary CV_8UC1 image (non-zero = foreground) to a one-pixel skeleton,
+/// 255 on the skeleton and 0 elsewhere (border pixels are never removed). The same pixels as
+/// OpenCV ximgproc's THINNING_ZHANGSUEN for 0/255 input (tested against it), without linking
+/// ximgproc (which pulls dnn, calib3d and more into every floorcast process).
+cv::Mat thin_zhang_suen(const cv::Mat& binary);
+
 }  // namespace floorcast
