@@ -342,4 +342,25 @@ std::vector<LabeledSegment> blocking_outline(const FloorPlan& plan, const Blocki
   return footprint_outline(blocking_footprints(plan, options));
 }
 
+bool clip_segment_to_box(Vec2& a, Vec2& b, double x0, double y0, double x1, double y1) {
+  double t0 = 0.0, t1 = 1.0;
+  const double dx = b.x() - a.x(), dy = b.y() - a.y();
+  const double p[4] = {-dx, dx, -dy, dy};
+  const double q[4] = {a.x() - x0, x1 - a.x(), a.y() - y0, y1 - a.y()};
+  for (int i = 0; i < 4; ++i) {
+    if (p[i] == 0.0) {
+      if (q[i] < 0.0) return false;
+    } else {
+      const double r = q[i] / p[i];
+      if (p[i] < 0.0) t0 = std::max(t0, r);
+      else t1 = std::min(t1, r);
+      if (t0 > t1) return false;
+    }
+  }
+  const Vec2 a0 = a;
+  a = a0 + t0 * Vec2(dx, dy);
+  b = a0 + t1 * Vec2(dx, dy);
+  return true;
+}
+
 }  // namespace floorcast

@@ -1,5 +1,7 @@
 #include "floorcast/floorplans/raster.hpp"
 
+#include "floorcast/floorplans/geometry.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -10,23 +12,9 @@
 namespace floorcast {
 namespace {
 
-/// Liang-Barsky: does segment a-b meet the closed box [x0,x1]x[y0,y1]?
-bool segment_meets_box(const Vec2& a, const Vec2& b, double x0, double y0, double x1, double y1) {
-  double t0 = 0.0, t1 = 1.0;
-  const double dx = b.x() - a.x(), dy = b.y() - a.y();
-  const double p[4] = {-dx, dx, -dy, dy};
-  const double q[4] = {a.x() - x0, x1 - a.x(), a.y() - y0, y1 - a.y()};
-  for (int i = 0; i < 4; ++i) {
-    if (p[i] == 0.0) {
-      if (q[i] < 0.0) return false;
-    } else {
-      const double r = q[i] / p[i];
-      if (p[i] < 0.0) t0 = std::max(t0, r);
-      else t1 = std::min(t1, r);
-      if (t0 > t1) return false;
-    }
-  }
-  return true;
+/// Does segment a-b meet the closed box [x0,x1]x[y0,y1]?
+bool segment_meets_box(Vec2 a, Vec2 b, double x0, double y0, double x1, double y1) {
+  return clip_segment_to_box(a, b, x0, y0, x1, y1);
 }
 
 void clamp_cell_range(const GridSpec& grid, double x0, double y0, double x1, double y1, int& c0, int& r0,

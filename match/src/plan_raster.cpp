@@ -5,6 +5,8 @@
 #include <cstring>
 #include <opencv2/imgproc.hpp>
 
+#include "floorcast/floorplans/geometry.hpp"
+
 namespace floorcast {
 namespace {
 
@@ -12,28 +14,6 @@ namespace {
 /// (e.g. the faces of a 0.2 m wall on a 0.1 m grid) are recognised as such despite round-off, and
 /// the raster stays symmetric under quarter turns and reflections of the plan.
 double snap(double v) { return std::nearbyint(v * 1024.0) / 1024.0; }
-
-/// Liang-Barsky clipping of a segment to a box.
-bool clip_to_box(Vec2& a, Vec2& b, double x0, double y0, double x1, double y1) {
-  double t0 = 0.0, t1 = 1.0;
-  const double dx = b.x() - a.x(), dy = b.y() - a.y();
-  const double p[4] = {-dx, dx, -dy, dy};
-  const double q[4] = {a.x() - x0, x1 - a.x(), a.y() - y0, y1 - a.y()};
-  for (int i = 0; i < 4; ++i) {
-    if (p[i] == 0.0) {
-      if (q[i] < 0.0) return false;
-    } else {
-      const double r = q[i] / p[i];
-      if (p[i] < 0.0) t0 = std::max(t0, r);
-      else t1 = std::min(t1, r);
-      if (t0 > t1) return false;
-    }
-  }
-  const Vec2 a0 = a;
-  a = a0 + t0 * Vec2(dx, dy);
-  b = a0 + t1 * Vec2(dx, dy);
-  return true;
-}
 
 }  // namespace
 
@@ -46,7 +26,7 @@ void draw_segment_lines(cv::Mat& image, const std::vector<Segment2>& segments, c
   const double bx1 = origin.x() + (image.cols + 1) * res, by1 = origin.y() + (image.rows + 1) * res;
   for (const Segment2& s : segments) {
     Vec2 a = s.a_m, b = s.b_m;
-    if (!clip_to_box(a, b, bx0, by0, bx1, by1)) continue;
+    if (!clip_segment_to_box(a, b, bx0, by0, bx1, by1)) continue;
     Vec2 p = {snap((a.x() - origin.x()) / res - 0.5), snap((a.y() - origin.y()) / res - 0.5)};
     Vec2 q = {snap((b.x() - origin.x()) / res - 0.5), snap((b.y() - origin.y()) / res - 0.5)};
     if (p.y() > q.y()) std::swap(p, q);

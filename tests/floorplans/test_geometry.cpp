@@ -137,3 +137,41 @@ TEST(Geometry, PoseTransformsInvertEachOther) {
 
 }  // namespace
 }  // namespace floorcast
+
+namespace floorcast {
+namespace {
+
+TEST(Geometry, ClipSegmentToBoxKnownAnswers) {
+  // Crossing the box: clipped to its two sides.
+  Vec2 a(-1.0, 0.5), b(3.0, 0.5);
+  ASSERT_TRUE(clip_segment_to_box(a, b, 0.0, 0.0, 2.0, 1.0));
+  EXPECT_NEAR(a.x(), 0.0, 1e-12);
+  EXPECT_NEAR(b.x(), 2.0, 1e-12);
+  EXPECT_NEAR(a.y(), 0.5, 1e-12);
+  // Diagonal through a corner region: clipped where it enters and leaves.
+  a = Vec2(-1.0, -1.0);
+  b = Vec2(3.0, 3.0);
+  ASSERT_TRUE(clip_segment_to_box(a, b, 0.0, 0.0, 2.0, 1.0));
+  EXPECT_NEAR((a - Vec2(0.0, 0.0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((b - Vec2(1.0, 1.0)).norm(), 0.0, 1e-12);
+  // Inside: unchanged. Outside, parallel to an edge, and touching a corner (closed box).
+  a = Vec2(0.5, 0.5);
+  b = Vec2(1.5, 0.25);
+  ASSERT_TRUE(clip_segment_to_box(a, b, 0.0, 0.0, 2.0, 1.0));
+  EXPECT_EQ(a, Vec2(0.5, 0.5));
+  EXPECT_EQ(b, Vec2(1.5, 0.25));
+  a = Vec2(-1.0, 2.0);
+  b = Vec2(3.0, 2.0);
+  EXPECT_FALSE(clip_segment_to_box(a, b, 0.0, 0.0, 2.0, 1.0));
+  a = Vec2(2.0, 2.0);
+  b = Vec2(3.0, 1.0);
+  EXPECT_TRUE(clip_segment_to_box(a, b, 0.0, 0.0, 2.0, 1.0) == false);
+  a = Vec2(1.0, 2.0);
+  b = Vec2(3.0, 0.0);
+  ASSERT_TRUE(clip_segment_to_box(a, b, 0.0, 0.0, 2.0, 1.0));
+  EXPECT_NEAR((a - Vec2(2.0, 1.0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((b - Vec2(2.0, 1.0)).norm(), 0.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace floorcast

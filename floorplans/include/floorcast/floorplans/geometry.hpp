@@ -49,4 +49,8 @@ bool point_in_convex_polygon(const std::vector<Vec2>& polygon_m, const Vec2& p);
 /// (distance along a unit direction) or a negative value when there is none.
 double ray_segment_distance(const Vec2& origin, const Vec2& direction, const Segment2& segment);
 
+/// Liang-Barsky clipping of segment a-b to the closed box [x0, x1] x [y0, y1]: false when they do
+/// not meet; otherwise a and b become the ends of the clipped piece.
+bool clip_segment_to_box(Vec2& a, Vec2& b, double x0, double y0, double x1, double y1);
+
 }  // namespace floorcast
