@@ -15,18 +15,29 @@
 namespace floorcast {
 namespace {
 
-/// Taps of a Gaussian of sigma (in cells) centred at `shift` cells, as a correlation kernel for
-/// OpenCV (dst(p) = sum_i k[i] src(p + i - a) with anchor a = radius): moves mass by +shift.
-cv::Mat shift_kernel(double shift, double sigma, int radius) {
-  cv::Mat k(2 * radius + 1, 1, CV_32F);
+/// A Gaussian of sigma (in cells) centred at `shift` cells, truncated at +-ceil(3 sigma) cells
+/// around its centre and normalised: out(p) = sum_j w[j] in(p + first_offset + j) moves mass by
+/// +shift. Only the taps within the truncation are stored (a shift of 7 cells with sigma 1 has 7
+/// taps, not the 21 of a kernel centred on 0).
+struct ShiftKernel {
+  std::vector<float> w;
+  int first_offset = 0;
+};
+
+ShiftKernel shift_kernel(double shift, double sigma) {
+  const double half = std::ceil(3.0 * sigma);
+  // Source offsets off with |off + shift| <= half carry mass to p.
+  const int lo = static_cast<int>(std::ceil(-shift - half)), hi = static_cast<int>(std::floor(-shift + half));
+  ShiftKernel k;
+  k.first_offset = lo;
   double sum = 0.0;
-  for (int i = 0; i <= 2 * radius; ++i) {
-    const double u = radius - i - shift;  // src offset -u carries mass to p when u ~ shift
-    const double v = std::exp(-0.5 * u * u / (sigma * sigma));
-    k.at<float>(i) = static_cast<float>(v);
-    sum += v;
+  std::vector<double> v;
+  for (int off = lo; off <= hi; ++off) {
+    const double u = off + shift;
+    v.push_back(std::exp(-0.5 * u * u / (sigma * sigma)));
+    sum += v.back();
   }
-  k /= sum;
+  for (double x : v) k.w.push_back(static_cast<float>(x / sum));
   return k;
 }
 
@@ -114,30 +125,40 @@ std::size_t HistogramFilter::state_bytes() const {
 }
 
 void HistogramFilter::normalise() {
-  // Over the building's rows only: per-slice mass, then scale to a PDF and prune, recording each
-  // slice's mass and maximum (the estimate and the next motion use them).
+  // Over the building's rows only, two passes: per-slice mass and maximum; then scale to a PDF,
+  // prune below prune_below x the largest value, and record each slice's peak (the estimate and
+  // the next motion use them). Scaling by a positive float is monotonic, so the pruning floor and
+  // the peaks are those of the scaled belief.
   const int D = params_.num_orientations;
   const int H = grid_.height_px;
   mass_.assign(static_cast<std::size_t>(D), 0.0);
   peak_.assign(static_cast<std::size_t>(D), 0.0);
   peak_at_.assign(static_cast<std::size_t>(D), cv::Point(0, 0));
+  std::vector<float> raw_max(static_cast<std::size_t>(D), 0.0f);
   tbb::parallel_for(0, D, [&](int o) {
     const cv::Mat& b = belief_[static_cast<std::size_t>(o)];
     double sum = 0.0;
+    float mx = 0.0f;
     for (int r = 0; r < H; ++r) {
       const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
       const float* row = b.ptr<float>(r);
       double rs = 0.0;
-      for (int c = c0; c <= c1; ++c) rs += row[c];
+      for (int c = c0; c <= c1; ++c) {
+        rs += row[c];
+        mx = std::max(mx, row[c]);
+      }
       sum += rs;
     }
     mass_[static_cast<std::size_t>(o)] = sum;
+    raw_max[static_cast<std::size_t>(o)] = mx;
   });
   double total = 0.0;
   for (double m : mass_) total += m;
   degenerate_ = !(total > 0.0);
   if (degenerate_) return;
   const float scale = static_cast<float>(1.0 / total);
+  const float top = *std::max_element(raw_max.begin(), raw_max.end()) * scale;
+  const float floor = params_.prune_below > 0.0 ? static_cast<float>(params_.prune_below * top) : 0.0f;
   tbb::parallel_for(0, D, [&](int o) {
     cv::Mat& b = belief_[static_cast<std::size_t>(o)];
     float mx = 0.0f;
@@ -146,29 +167,18 @@ void HistogramFilter::normalise() {
       const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
       float* row = b.ptr<float>(r);
       for (int c = c0; c <= c1; ++c) {
-        row[c] *= scale;
-        if (row[c] > mx) {
-          mx = row[c];
+        const float v = row[c] * scale;
+        if (v > mx) {
+          mx = v;
           at = cv::Point(c, r);
         }
+        row[c] = v < floor ? 0.0f : v;
       }
     }
     peak_[static_cast<std::size_t>(o)] = mx;
     peak_at_[static_cast<std::size_t>(o)] = at;
     mass_[static_cast<std::size_t>(o)] *= scale;
   });
-  if (params_.prune_below > 0.0) {
-    const float floor = static_cast<float>(params_.prune_below * *std::max_element(peak_.begin(), peak_.end()));
-    tbb::parallel_for(0, D, [&](int o) {
-      cv::Mat& b = belief_[static_cast<std::size_t>(o)];
-      for (int r = 0; r < H; ++r) {
-        float* row = b.ptr<float>(r);
-        for (int c = row_lo_[static_cast<std::size_t>(r)]; c <= row_hi_[static_cast<std::size_t>(r)]; ++c) {
-          if (row[c] < floor) row[c] = 0.0f;
-        }
-      }
-    });
-  }
 }
 
 void HistogramFilter::initialise(const Posterior& post, const OdometryStep& first) {
@@ -229,9 +239,12 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double noise_scale
     const double yaw = kTwoPi * o / D;
     const double tx = (std::cos(yaw) * dx - std::sin(yaw) * dy) / res;
     const double ty = (std::sin(yaw) * dx + std::cos(yaw) * dy) / res;
-    const int rx = static_cast<int>(std::ceil(std::abs(tx) + 3.0 * sigma_px));
-    const int ry = std::min(reach_rows_, static_cast<int>(std::ceil(std::abs(ty) + 3.0 * sigma_px)));
-    const cv::Mat kx = shift_kernel(tx, sigma_px, rx), ky = shift_kernel(ty, sigma_px, ry);
+    const ShiftKernel kx = shift_kernel(tx, sigma_px), ky = shift_kernel(ty, sigma_px);
+    // Rows the vertical pass reads lie within reach_rows_ of the row it writes (the constructor
+    // sized the horizontal pass's column ranges for that); a larger shift cannot occur: predict()
+    // splits motions beyond max_substep_m.
+    const int y_lo = std::max(ky.first_offset, -reach_rows_);
+    const int y_hi = std::min(ky.first_offset + static_cast<int>(ky.w.size()) - 1, reach_rows_);
     cv::Mat& tmp = impl_tmp_.local();
     if (tmp.empty()) tmp.create(H, W, CV_32F);
     for (int r = 0; r < H; ++r) {
@@ -240,9 +253,9 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double noise_scale
       const float* in = b.ptr<float>(r);
       float* t = tmp.ptr<float>(r);
       std::fill(t + c0, t + c1 + 1, 0.0f);
-      for (int i = 0; i <= 2 * rx; ++i) {
-        const float w = kx.at<float>(i);
-        const int off = i - rx;
+      for (std::size_t i = 0; i < kx.w.size(); ++i) {
+        const float w = kx.w[i];
+        const int off = kx.first_offset + static_cast<int>(i);
         const int lo = std::max(c0, -off), hi = std::min(c1, W - 1 - off);
         for (int c = lo; c <= hi; ++c) t[c] += w * in[c + off];
       }
@@ -254,10 +267,10 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double noise_scale
       if (c0 > c1) continue;
       float* acc = out + c0;
       std::fill(acc, acc + (c1 - c0 + 1), 0.0f);
-      for (int j = 0; j <= 2 * ry; ++j) {
-        const int rr = r + j - ry;
+      for (int off = y_lo; off <= y_hi; ++off) {
+        const int rr = r + off;
         if (rr < 0 || rr >= H) continue;
-        const float w = ky.at<float>(j);
+        const float w = ky.w[static_cast<std::size_t>(off - ky.first_offset)];
         const float* t = tmp.ptr<float>(rr) + c0;
         for (int c = 0; c <= c1 - c0; ++c) acc[c] += w * t[c];
       }
