@@ -19,6 +19,16 @@ namespace {
 /// around its centre and normalised: out(p) = sum_j w[j] in(p + first_offset + j) moves mass by
 /// +shift. Only the taps within the truncation are stored (a shift of 7 cells with sigma 1 has 7
 /// taps, not the 21 of a kernel centred on 0).
+/// dst[i] += w * src[i] for i < n: the inner loop of every pass of the motion step. Compiled for
+/// AVX2 and for the baseline, chosen at load time (GCC function multi-versioning), so the binary
+/// runs on any x86-64 and uses 8-wide vectors where the CPU has them.
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void axpy(float* dst, const float* src, float w, int n) {
+  for (int i = 0; i < n; ++i) dst[i] += w * src[i];
+}
+
 struct ShiftKernel {
   std::vector<float> w;
   int first_offset = 0;
@@ -112,6 +122,7 @@ HistogramFilter::HistogramFilter(const FloorPlan& plan, const HistogramFilterPar
     }
   }
   const int D = params_.num_orientations;
+  slice_max_.assign(static_cast<std::size_t>(D), 0.0f);
   for (int o = 0; o < D; ++o) {
     belief_.push_back(cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_32F));
     scratch_.push_back(cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_32F));
@@ -124,17 +135,11 @@ std::size_t HistogramFilter::state_bytes() const {
   return (belief_.size() + scratch_.size() + 1) * static_cast<std::size_t>(grid_.width_px) * grid_.height_px * sizeof(float);
 }
 
-void HistogramFilter::normalise() {
-  // Over the building's rows only, two passes: per-slice mass and maximum; then scale to a PDF,
-  // prune below prune_below x the largest value, and record each slice's peak (the estimate and
-  // the next motion use them). Scaling by a positive float is monotonic, so the pruning floor and
-  // the peaks are those of the scaled belief.
+void HistogramFilter::measure_slices() {
   const int D = params_.num_orientations;
   const int H = grid_.height_px;
   mass_.assign(static_cast<std::size_t>(D), 0.0);
-  peak_.assign(static_cast<std::size_t>(D), 0.0);
-  peak_at_.assign(static_cast<std::size_t>(D), cv::Point(0, 0));
-  std::vector<float> raw_max(static_cast<std::size_t>(D), 0.0f);
+  slice_max_.assign(static_cast<std::size_t>(D), 0.0f);
   tbb::parallel_for(0, D, [&](int o) {
     const cv::Mat& b = belief_[static_cast<std::size_t>(o)];
     double sum = 0.0;
@@ -150,33 +155,46 @@ void HistogramFilter::normalise() {
       sum += rs;
     }
     mass_[static_cast<std::size_t>(o)] = sum;
-    raw_max[static_cast<std::size_t>(o)] = mx;
+    slice_max_[static_cast<std::size_t>(o)] = mx;
   });
+}
+
+void HistogramFilter::finish_normalise() {
+  // Over the building's rows only: scale to a PDF, prune below prune_below x the largest value,
+  // and record each slice's peak (the estimate uses them). Scaling by a positive float is
+  // monotonic, so the pruning floor and the peaks are those of the scaled belief.
+  const int D = params_.num_orientations;
+  const int H = grid_.height_px;
+  peak_.assign(static_cast<std::size_t>(D), 0.0);
+  peak_at_.assign(static_cast<std::size_t>(D), cv::Point(0, 0));
   double total = 0.0;
   for (double m : mass_) total += m;
   degenerate_ = !(total > 0.0);
   if (degenerate_) return;
   const float scale = static_cast<float>(1.0 / total);
-  const float top = *std::max_element(raw_max.begin(), raw_max.end()) * scale;
+  const float top = *std::max_element(slice_max_.begin(), slice_max_.end()) * scale;
   const float floor = params_.prune_below > 0.0 ? static_cast<float>(params_.prune_below * top) : 0.0f;
   tbb::parallel_for(0, D, [&](int o) {
     cv::Mat& b = belief_[static_cast<std::size_t>(o)];
     float mx = 0.0f;
     cv::Point at(0, 0);
-    for (int r = 0; r < H; ++r) {
-      const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
-      float* row = b.ptr<float>(r);
-      for (int c = c0; c <= c1; ++c) {
-        const float v = row[c] * scale;
-        if (v > mx) {
-          mx = v;
-          at = cv::Point(c, r);
+    if (slice_max_[static_cast<std::size_t>(o)] > 0.0f) {
+      for (int r = 0; r < H; ++r) {
+        const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
+        float* row = b.ptr<float>(r);
+        for (int c = c0; c <= c1; ++c) {
+          const float v = row[c] * scale;
+          if (v > mx) {
+            mx = v;
+            at = cv::Point(c, r);
+          }
+          row[c] = v < floor ? 0.0f : v;
         }
-        row[c] = v < floor ? 0.0f : v;
       }
     }
     peak_[static_cast<std::size_t>(o)] = mx;
     peak_at_[static_cast<std::size_t>(o)] = at;
+    slice_max_[static_cast<std::size_t>(o)] = mx;
     mass_[static_cast<std::size_t>(o)] *= scale;
   });
 }
@@ -227,88 +245,131 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double noise_scale
   const int H = grid_.height_px, W = grid_.width_px;
   const double res = grid_.resolution_m_per_px;
   const double sigma_px = std::max(params_.translation_sigma_m * noise_scale / res, 1e-3);
-  std::vector<char> nonzero(static_cast<std::size_t>(D), 0);
   // Translation: slice o heads at yaw 2 pi o / D; the body-frame motion rotated into it, as a
-  // separable Gaussian shift computed on the building's rows only: a horizontal pass on the rows
-  // and columns the vertical pass reads, then the vertical pass on the interior range of each
-  // row (the belief is 0 outside the building).
-  tbb::parallel_for(0, D, [&](int o) {
-    cv::Mat& b = belief_[static_cast<std::size_t>(o)];
-    if (!(peak_[static_cast<std::size_t>(o)] > 0.0)) return;
-    nonzero[static_cast<std::size_t>(o)] = 1;
+  // separable Gaussian shift (F3Loc's grouped convolution). Rotation: a circular Gaussian over the
+  // slices centred on the heading change. Empty slices are skipped.
+  std::vector<char> nonzero(static_cast<std::size_t>(D), 0);
+  std::vector<ShiftKernel> kx(static_cast<std::size_t>(D)), ky(static_cast<std::size_t>(D));
+  std::vector<int> y_lo(static_cast<std::size_t>(D), 0), y_hi(static_cast<std::size_t>(D), -1);
+  for (int o = 0; o < D; ++o) {
+    const auto so = static_cast<std::size_t>(o);
+    nonzero[so] = slice_max_[so] > 0.0f ? 1 : 0;
+    if (!nonzero[so]) continue;
     const double yaw = kTwoPi * o / D;
-    const double tx = (std::cos(yaw) * dx - std::sin(yaw) * dy) / res;
-    const double ty = (std::sin(yaw) * dx + std::cos(yaw) * dy) / res;
-    const ShiftKernel kx = shift_kernel(tx, sigma_px), ky = shift_kernel(ty, sigma_px);
+    kx[so] = shift_kernel((std::cos(yaw) * dx - std::sin(yaw) * dy) / res, sigma_px);
+    ky[so] = shift_kernel((std::sin(yaw) * dx + std::cos(yaw) * dy) / res, sigma_px);
     // Rows the vertical pass reads lie within reach_rows_ of the row it writes (the constructor
-    // sized the horizontal pass's column ranges for that); a larger shift cannot occur: predict()
-    // splits motions beyond max_substep_m.
-    const int y_lo = std::max(ky.first_offset, -reach_rows_);
-    const int y_hi = std::min(ky.first_offset + static_cast<int>(ky.w.size()) - 1, reach_rows_);
-    cv::Mat& tmp = impl_tmp_.local();
-    if (tmp.empty()) tmp.create(H, W, CV_32F);
-    for (int r = 0; r < H; ++r) {
-      const int c0 = reach_lo_[static_cast<std::size_t>(r)], c1 = reach_hi_[static_cast<std::size_t>(r)];
-      if (c0 > c1) continue;
-      const float* in = b.ptr<float>(r);
-      float* t = tmp.ptr<float>(r);
-      std::fill(t + c0, t + c1 + 1, 0.0f);
-      for (std::size_t i = 0; i < kx.w.size(); ++i) {
-        const float w = kx.w[i];
-        const int off = kx.first_offset + static_cast<int>(i);
-        const int lo = std::max(c0, -off), hi = std::min(c1, W - 1 - off);
-        for (int c = lo; c <= hi; ++c) t[c] += w * in[c + off];
-      }
-    }
-    for (int r = 0; r < H; ++r) {
-      // Cells outside a row's interior range are never written: they stay 0.
-      float* out = b.ptr<float>(r);
-      const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
-      if (c0 > c1) continue;
-      float* acc = out + c0;
-      std::fill(acc, acc + (c1 - c0 + 1), 0.0f);
-      for (int off = y_lo; off <= y_hi; ++off) {
-        const int rr = r + off;
-        if (rr < 0 || rr >= H) continue;
-        const float w = ky.w[static_cast<std::size_t>(off - ky.first_offset)];
-        const float* t = tmp.ptr<float>(rr) + c0;
-        for (int c = 0; c <= c1 - c0; ++c) acc[c] += w * t[c];
-      }
-      const float* in = interior_.ptr<float>(r) + c0;
-      for (int c = 0; c <= c1 - c0; ++c) acc[c] *= in[c];
-    }
-  });
-  // Rotation: circular Gaussian over the slices, centred on the heading change (interior rows
-  // only; zero slices skipped).
+    // sized the horizontal pass's column ranges for that); predict() splits larger motions.
+    y_lo[so] = std::max(ky[so].first_offset, -reach_rows_);
+    y_hi[so] = std::min(ky[so].first_offset + static_cast<int>(ky[so].w.size()) - 1, reach_rows_);
+  }
   const double bin = kTwoPi / D;
   const double shift = dyaw / bin;
   const double sigma_bins = std::max(params_.rotation_sigma_rad * noise_scale / bin, 1e-3);
   const int lo = static_cast<int>(std::floor(shift - 3.0 * sigma_bins)), hi = static_cast<int>(std::ceil(shift + 3.0 * sigma_bins));
-  std::vector<double> w;
-  double sum = 0.0;
-  for (int k = lo; k <= hi; ++k) {
-    const double u = k - shift;
-    w.push_back(std::exp(-0.5 * u * u / (sigma_bins * sigma_bins)));
-    sum += w.back();
+  std::vector<float> w;
+  {
+    std::vector<double> wd;
+    double sum = 0.0;
+    for (int k = lo; k <= hi; ++k) {
+      const double u = k - shift;
+      wd.push_back(std::exp(-0.5 * u * u / (sigma_bins * sigma_bins)));
+      sum += wd.back();
+    }
+    for (double v : wd) w.push_back(static_cast<float>(v / sum));
   }
-  for (double& v : w) v /= sum;
-  tbb::parallel_for(0, D, [&](int o) {
-    cv::Mat& out = scratch_[static_cast<std::size_t>(o)];
-    for (int r = 0; r < H; ++r) {
-      float* dst = out.ptr<float>(r);
-      const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
-      if (c0 > c1) continue;
-      std::fill(dst + c0, dst + c1 + 1, 0.0f);
-      for (int k = lo; k <= hi; ++k) {
-        const int src = ((o - k) % D + D) % D;  // mass of heading src moves to heading src + k
-        if (!nonzero[static_cast<std::size_t>(src)]) continue;
-        const float wk = static_cast<float>(w[static_cast<std::size_t>(k - lo)]);
-        const float* in = belief_[static_cast<std::size_t>(src)].ptr<float>(r);
-        for (int c = c0; c <= c1; ++c) dst[c] += wk * in[c];
+  // Row blocks: each block translates the rows it needs of every slice into a block buffer that
+  // stays in cache, then rotates across slices into the output; the belief is read and the output
+  // written once per step. Per-block slice sums and maxima are reduced in block order (the same
+  // bytes at any thread count) and stand in for the first pass of the next normalisation.
+  constexpr int kBlockRows = 16;
+  const int blocks = (H + kBlockRows - 1) / kBlockRows;
+  std::vector<double> block_sum(static_cast<std::size_t>(blocks) * D, 0.0);
+  std::vector<float> block_max(static_cast<std::size_t>(blocks) * D, 0.0f);
+  const std::size_t block_stride = static_cast<std::size_t>(kBlockRows) * W;
+  tbb::parallel_for(0, blocks, [&](int blk) {
+    const int r0 = blk * kBlockRows, r1 = std::min(H, r0 + kBlockRows);
+    bool any_interior = false;
+    for (int r = r0; r < r1; ++r) any_interior |= row_lo_[static_cast<std::size_t>(r)] <= row_hi_[static_cast<std::size_t>(r)];
+    if (!any_interior) return;  // cells outside the building are never written: they stay 0
+    MotionWorkspace& ws = workspace_.local();
+    ws.block.resize(block_stride * D);
+    ws.rows.resize(static_cast<std::size_t>(kBlockRows + 2 * reach_rows_ + 1) * W);
+    for (int s = 0; s < D; ++s) {
+      const auto ss = static_cast<std::size_t>(s);
+      if (!nonzero[ss]) continue;
+      const cv::Mat& b = belief_[ss];
+      // Horizontal pass over the rows the vertical pass reads (row rr -> ws.rows row rr - first).
+      const int first = std::max(0, r0 + y_lo[ss]), last = std::min(H - 1, r1 - 1 + y_hi[ss]);
+      for (int rr = first; rr <= last; ++rr) {
+        const int c0 = reach_lo_[static_cast<std::size_t>(rr)], c1 = reach_hi_[static_cast<std::size_t>(rr)];
+        if (c0 > c1) continue;
+        const float* in = b.ptr<float>(rr);
+        float* t = ws.rows.data() + static_cast<std::size_t>(rr - first) * W;
+        std::fill(t + c0, t + c1 + 1, 0.0f);
+        for (std::size_t i = 0; i < kx[ss].w.size(); ++i) {
+          const float wi = kx[ss].w[i];
+          const int off = kx[ss].first_offset + static_cast<int>(i);
+          const int clo = std::max(c0, -off), chi = std::min(c1, W - 1 - off);
+          if (clo <= chi) axpy(t + clo, in + clo + off, wi, chi - clo + 1);
+        }
       }
+      // Vertical pass into the block buffer, times the interior mask.
+      for (int r = r0; r < r1; ++r) {
+        const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
+        if (c0 > c1) continue;
+        float* acc = ws.block.data() + ss * block_stride + static_cast<std::size_t>(r - r0) * W + c0;
+        std::fill(acc, acc + (c1 - c0 + 1), 0.0f);
+        for (int off = y_lo[ss]; off <= y_hi[ss]; ++off) {
+          const int rr = r + off;
+          if (rr < first || rr > last) continue;
+          const float wv = ky[ss].w[static_cast<std::size_t>(off - ky[ss].first_offset)];
+          const float* t = ws.rows.data() + static_cast<std::size_t>(rr - first) * W + c0;
+          axpy(acc, t, wv, c1 - c0 + 1);
+        }
+        const float* in = interior_.ptr<float>(r) + c0;
+        for (int c = 0; c <= c1 - c0; ++c) acc[c] *= in[c];
+      }
+    }
+    // Rotation into the output slices, with the block's per-slice sum and maximum.
+    for (int o = 0; o < D; ++o) {
+      double sum = 0.0;
+      float mx = 0.0f;
+      cv::Mat& out = scratch_[static_cast<std::size_t>(o)];
+      for (int r = r0; r < r1; ++r) {
+        const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
+        if (c0 > c1) continue;
+        float* dst = out.ptr<float>(r);
+        std::fill(dst + c0, dst + c1 + 1, 0.0f);
+        for (int k = lo; k <= hi; ++k) {
+          const int src = ((o - k) % D + D) % D;  // mass of heading src moves to heading src + k
+          if (!nonzero[static_cast<std::size_t>(src)]) continue;
+          const float wk = w[static_cast<std::size_t>(k - lo)];
+          const float* in = ws.block.data() + static_cast<std::size_t>(src) * block_stride +
+                            static_cast<std::size_t>(r - r0) * W;
+          axpy(dst + c0, in + c0, wk, c1 - c0 + 1);
+        }
+        double rs = 0.0;
+        for (int c = c0; c <= c1; ++c) {
+          rs += dst[c];
+          mx = std::max(mx, dst[c]);
+        }
+        sum += rs;
+      }
+      block_sum[static_cast<std::size_t>(blk) * D + o] = sum;
+      block_max[static_cast<std::size_t>(blk) * D + o] = mx;
     }
   });
   std::swap(belief_, scratch_);
+  mass_.assign(static_cast<std::size_t>(D), 0.0);
+  slice_max_.assign(static_cast<std::size_t>(D), 0.0f);
+  for (int blk = 0; blk < blocks; ++blk) {
+    for (int o = 0; o < D; ++o) {
+      mass_[static_cast<std::size_t>(o)] += block_sum[static_cast<std::size_t>(blk) * D + o];
+      slice_max_[static_cast<std::size_t>(o)] =
+          std::max(slice_max_[static_cast<std::size_t>(o)], block_max[static_cast<std::size_t>(blk) * D + o]);
+    }
+  }
 }
 
 void HistogramFilter::predict(const OdometryStep& step) {
@@ -327,7 +388,7 @@ void HistogramFilter::predict(const OdometryStep& step) {
     const double dx = (c * t.x_m - s * t.y_m) / n, dy = (s * t.x_m + c * t.y_m) / n;
     move(dx, dy, t.yaw_rad / n, noise_scale);
   }
-  normalise();
+  finish_normalise();  // move() measured the slices
 }
 
 void HistogramFilter::update(const Posterior& post) {

@@ -75,7 +75,14 @@ class HistogramFilter final : public Tracker {
 
  private:
   void move(double dx_m, double dy_m, double dyaw_rad, double noise_scale);
-  void normalise();
+  /// Per-slice mass and maximum of the belief (pass 1 of normalise; move() produces them itself).
+  void measure_slices();
+  /// Scale to a PDF, prune and record the peaks, from mass_ and slice_max_ (pass 2).
+  void finish_normalise();
+  void normalise() {
+    measure_slices();
+    finish_normalise();
+  }
   HistogramFilterParams params_;
   GridSpec grid_;
   cv::Mat interior_;               ///< CV_32F 1 inside the building, 0 elsewhere
@@ -83,12 +90,18 @@ class HistogramFilter final : public Tracker {
   std::vector<cv::Mat> scratch_;   ///< rotation buffers
   /// Per slice after the last normalisation: mass, maximum and where it is.
   std::vector<double> mass_, peak_;
+  /// Per slice: the unnormalised maximum of the belief as it is now (0: the slice is empty).
+  std::vector<float> slice_max_;
   std::vector<cv::Point> peak_at_;
   /// Interior column range of each row; the wider range the translation's horizontal pass covers.
   std::vector<int> row_lo_, row_hi_, reach_lo_, reach_hi_;
   int reach_rows_ = 0;
-  /// Per-thread buffer of the horizontal pass.
-  mutable tbb::enumerable_thread_specific<cv::Mat> impl_tmp_;
+  /// Per-thread buffers of the motion step: horizontal-pass rows and one block of translated rows
+  /// of every slice.
+  struct MotionWorkspace {
+    std::vector<float> rows, block;
+  };
+  mutable tbb::enumerable_thread_specific<MotionWorkspace> workspace_;
   bool degenerate_ = false;
 };
 
