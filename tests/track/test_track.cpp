@@ -142,6 +142,32 @@ TEST(HistogramFilter, LargeStepsAreSplitWithoutExtraNoise) {
   EXPECT_NEAR(x_spread(g.belief()).second, 0.1, 0.02);
 }
 
+// A turn larger than max_substep_deg (here 90 deg = 3 sub-steps of 30 deg) turns the whole
+// belief: every sub-step sees the slices the previous one filled, so the mean heading turns by
+// 90 deg (within 1 deg), the position stays (within 1 cm) and the belief keeps its mass (the
+// normalised belief sums to 1 and nothing is left near the start heading).
+TEST(HistogramFilter, LargeTurnsAreSplitAndKeepTheirMass) {
+  const FloorPlan plan = hall();
+  HistogramFilterParams p;
+  p.max_substep_deg = 30.0;
+  HistogramFilter f(plan, p);
+  f.initialise(delta_posterior(f.grid(), 36, {{0, {5.05, 5.05}}}), OdometryStep{});
+  f.predict(motion(0.0, 0.0, deg_to_rad(90.0)));
+  const Pose2 turned = belief_mean(f.belief());
+  EXPECT_NEAR(angle_distance_rad(turned.yaw_rad, deg_to_rad(90.0)), 0.0, deg_to_rad(1.0));
+  EXPECT_NEAR(turned.x_m, 5.05, 0.01);
+  EXPECT_NEAR(turned.y_m, 5.05, 0.01);
+  double total = 0.0, near_start = 0.0;
+  const Posterior& b = f.belief();
+  for (int s = 0; s < b.num_slices(); ++s) {
+    const double m = cv::sum(b.scores[static_cast<std::size_t>(s)])[0];
+    total += m;
+    if (angle_distance_rad(b.yaw_rad[static_cast<std::size_t>(s)], 0.0) < deg_to_rad(45.0)) near_start += m;
+  }
+  EXPECT_GT(total, 0.0);
+  EXPECT_LT(near_start / total, 0.01);
+}
+
 // A measurement update multiplies the belief: mass where the posterior is high.
 TEST(HistogramFilter, UpdateAndEstimate) {
   const FloorPlan plan = hall();
