@@ -16,6 +16,10 @@ struct ImportCliOptions {
   std::string format;
   std::string output;
   std::string level;
+  std::string building;
+  std::string units;
+  double scale = 0.0;
+  double column_size_m = ImportOptions{}.default_column_size_m;
   double resolution_m_per_px = 0.0;
   double wall_thickness_m = 0.0;
   std::vector<double> png_origin_m;
@@ -46,9 +50,15 @@ void print_report(const ImportResult& r, const std::string& output) {
             << c.gaps_closed << ")\n";
   std::cout << "         endpoints snapped " << c.snapped_endpoints << ", onto walls " << c.endpoints_snapped_to_walls
             << "; openings re-attached " << c.openings_reattached << ", merged " << c.openings_merged << ", trimmed "
-            << c.openings_trimmed << ", dropped " << c.openings_dropped << "\n";
+            << c.openings_trimmed << ", slid " << c.openings_slid << ", narrowed " << c.openings_narrowed
+            << ", moved onto the axis " << c.openings_moved_to_axis << ", dropped " << c.openings_dropped << "\n";
+  if (!r.repairs.empty()) {
+    std::cout << "repairs:";
+    for (const auto& [what, n] : r.repairs) std::cout << " " << what << "=" << n;
+    std::cout << "\n";
+  }
   std::cout << "plan: walls " << counts.walls << ", doors " << counts.doors << " (closed " << counts.doors_closed
-            << "), windows " << counts.windows << "\n";
+            << "), windows " << counts.windows << ", rooms " << r.plan.rooms.size() << "\n";
   for (const std::string& n : c.notes) std::cout << "note: " << n << "\n";
   for (const std::string& n : r.notes) std::cout << "note: " << n << "\n";
 }
@@ -74,9 +84,19 @@ nlohmann::ordered_json report_json(const ImportResult& r, const std::string& out
                   {"openings_reattached", c.openings_reattached},
                   {"openings_merged", c.openings_merged},
                   {"openings_trimmed", c.openings_trimmed},
+                  {"openings_slid", c.openings_slid},
+                  {"openings_narrowed", c.openings_narrowed},
+                  {"openings_moved_to_axis", c.openings_moved_to_axis},
                   {"openings_dropped", c.openings_dropped}};
+  nlohmann::ordered_json repairs = nlohmann::ordered_json::object();
+  for (const auto& [what, n] : r.repairs) repairs[what] = n;
+  j["repairs"] = repairs;
   const PlanCounts counts = plan_counts(r.plan);
-  j["plan"] = {{"walls", counts.walls}, {"doors", counts.doors}, {"doors_closed", counts.doors_closed}, {"windows", counts.windows}};
+  j["plan"] = {{"walls", counts.walls},
+               {"doors", counts.doors},
+               {"doors_closed", counts.doors_closed},
+               {"windows", counts.windows},
+               {"rooms", r.plan.rooms.size()}};
   nlohmann::ordered_json notes = nlohmann::ordered_json::array();
   for (const std::string& n : c.notes) notes.push_back(n);
   for (const std::string& n : r.notes) notes.push_back(n);
@@ -89,12 +109,20 @@ void register_plan_import(CLI::App& root) {
   auto o = std::make_shared<ImportCliOptions>();
   auto* cmd = plan.add_subcommand(
       "import", "Import a floor plan from csv (PALMS segments), s3d (Structured3D annotation_3d.json), png "
-                "(occupancy image), imdf (IMDF folder) or osm (Simple Indoor Tagging); cleans it up and validates it");
+                "(occupancy image), imdf (IMDF folder), osm (Simple Indoor Tagging XML) or geojson (OSM-derived "
+                "GeoJSON); cleans it up and validates it");
   cmd->add_option("SRC", o->source, "Source file (imdf: folder; s3d: annotation_3d.json or its scene folder)")->required();
-  cmd->add_option("--format,-f", o->format, "csv | s3d | png | imdf | osm")->required();
+  cmd->add_option("--format,-f", o->format, "csv | s3d | png | imdf | osm | geojson")->required();
   cmd->add_option("-o,--output", o->output, "Output plan JSON")->required();
   cmd->add_option("--level", o->level,
-                  "Level to import: imdf ordinal (or level id), osm level value; csv/s3d/png: the plan's storey number");
+                  "Level to import: imdf ordinal (or level id), osm/geojson level value; csv/s3d/png: the plan's storey number");
+  cmd->add_option("--building", o->building,
+                  "imdf: building (id or name) whose level --level names by ordinal (archives with several buildings)");
+  cmd->add_option("--units", o->units,
+                  "csv/s3d: the source's length unit m, cm, mm, ft or in (default: m for csv, mm for s3d); skips the unit check");
+  cmd->add_option("--scale", o->scale, "csv/s3d: factor applied to the coordinates after --units; skips the unit check");
+  cmd->add_option("--column-size", o->column_size_m, "osm/geojson: side of columns mapped as nodes (m)")
+      ->default_val(o->column_size_m);
   cmd->add_option("--resolution", o->resolution_m_per_px, "png: metres per pixel (required for png)");
   cmd->add_option("--png-origin", o->png_origin_m, "png: world x y (m) of the image's bottom-left corner (default 0 0)")
       ->expected(2);
@@ -116,6 +144,15 @@ void register_plan_import(CLI::App& root) {
   cmd->callback([o] {
     ImportOptions opts;
     if (!o->level.empty()) opts.level = o->level;
+    if (!o->building.empty()) opts.building = o->building;
+    if (!o->units.empty()) opts.units = o->units;
+    if (o->scale != 0.0) opts.scale = o->scale;
+    opts.default_column_size_m = o->column_size_m;
+    const bool unit_format = o->format == "csv" || o->format == "s3d" || o->format == "structured3d";
+    if ((!o->units.empty() || o->scale != 0.0) && !unit_format) {
+      throw InputError("--units/--scale apply to csv and s3d sources (" + o->format +
+                       " has its own units: png --resolution, imdf/osm/geojson WGS84)");
+    }
     if (o->resolution_m_per_px != 0.0) opts.resolution_m_per_px = o->resolution_m_per_px;
     if (o->wall_thickness_m != 0.0) opts.wall_thickness_m = o->wall_thickness_m;
     if (o->png_origin_m.size() == 2) opts.png_origin_m = Vec2(o->png_origin_m[0], o->png_origin_m[1]);

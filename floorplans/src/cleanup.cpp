@@ -112,14 +112,14 @@ double line_angle_difference(double a, double b) {
   return std::min(d, kPi - d);
 }
 
-/// Collinear: the shorter segment's endpoints lie within tol of the longer one's line and their
-/// directions differ by at most angle_tol - or by asin(2 tol / shorter length) for pieces so short
-/// that the offset test already bounds their angle more loosely (noisy short pieces of a line).
+/// Collinear: directions within angle_tol and the shorter segment's endpoints within tol of the
+/// longer one's line. Judged by direction and offset only, never by shortness: a piece a few
+/// centimetres long lies within tol of almost any line through its neighbourhood (corner chamfers,
+/// survey noise), so a looser angle for short pieces chains unrelated walls into one fitted line.
 bool collinear(const Segment2& s1, const Segment2& s2, double tol, double angle_tol) {
   const double l1 = s1.length_m(), l2 = s2.length_m();
   if (l1 <= 0.0 || l2 <= 0.0) return false;
-  const double short_angle = std::asin(std::min(1.0, 2.0 * tol / std::min(l1, l2)));
-  if (line_angle_difference(line_angle(s1), line_angle(s2)) > std::max(angle_tol, short_angle)) return false;
+  if (line_angle_difference(line_angle(s1), line_angle(s2)) > angle_tol) return false;
   const Segment2& longer = l1 >= l2 ? s1 : s2;
   const Segment2& shorter = l1 >= l2 ? s2 : s1;
   const Vec2 u = (longer.b_m - longer.a_m) / longer.length_m();
@@ -137,6 +137,10 @@ std::string fmt(double v) {
 }
 
 std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+
+/// Openings moved onto their wall's axis by more than this get a note (beyond it the native
+/// format's validation would refuse them where they were).
+constexpr double kOpeningNoteOffsetM = 0.05;
 
 /// Snaps wall endpoints: clusters near-coincident endpoints, then moves vertices onto nearby
 /// wall interiors. Updates walls in place; returns (snapped endpoints, endpoints snapped to walls).
@@ -341,13 +345,9 @@ std::vector<int> collinear_groups(const std::vector<Segment2>& segments, double 
     c /= static_cast<double>(n);
     double radius = 0.0;
     for (const Segment2& s : segments) radius = std::max({radius, (s.a_m - c).norm(), (s.b_m - c).norm()});
-    // Angle bins as wide as the largest tolerance any pair can get (short pieces get more).
-    double min_len = std::numeric_limits<double>::infinity();
-    for (const Segment2& s : segments) {
-      if (s.length_m() > 0.0) min_len = std::min(min_len, s.length_m());
-    }
-    const double widest = std::max(angle_tolerance_rad, std::asin(std::min(1.0, 2.0 * offset_tolerance_m / min_len)));
-    const double angle_bin = std::max(widest, 1e-6);
+    // Angle bins as wide as the angle tolerance.
+    const double angle_bin = std::max(angle_tolerance_rad, 1e-6);
+    const double widest = angle_bin;
     const long long bins = std::max(1LL, static_cast<long long>(std::ceil(kPi / angle_bin)));
     const double rho_bin = std::max(offset_tolerance_m + radius * widest, 1e-6) * 2.0;
     std::vector<double> theta(n), rho(n);
@@ -705,12 +705,25 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
   for (std::size_t w = 0; w < merged.size(); ++w) group_pieces.emplace(piece_group[w], static_cast<int>(w));
   struct Placement {
     int wall = -1;
-    double t0 = 0.0, t1 = 0.0;  // span along the wall
+    double t0 = 0.0, t1 = 0.0;  // span along the wall (may overshoot its ends)
+    double across = 0.0;        // distance of the centre from the wall axis
+    double overshoot = 0.0;     // how far the span leaves the wall (both ends together)
+  };
+  // Ranking of candidate walls: spans that fit (overshoot within the snap tolerance) before spans
+  // that must slide, then the smaller overshoot, then the nearer axis.
+  auto better = [&](const Placement& a, const Placement& b) {
+    const bool a_slides = a.overshoot > tol + 1e-9, b_slides = b.overshoot > tol + 1e-9;
+    if (a_slides != b_slides) return !a_slides;
+    if (a_slides && std::abs(a.overshoot - b.overshoot) > 1e-9) return a.overshoot < b.overshoot;
+    return a.across < b.across;
   };
   // Finds the wall for an opening; returns a placement or a reason in `why`.
   auto place = [&](const std::string& old_wall, const Vec2& center, double width, bool is_window,
                    std::string& why) -> Placement {
-    auto try_wall = [&](int w, Placement& out, double& dist) {
+    // A candidate: the centre lies within thickness/2 + the attach tolerance of the wall's axis and
+    // along the wall, or beyond one of its ends by at most half the opening's width (a door node
+    // on a wall end: the span then slides inside the wall).
+    auto try_wall = [&](int w, Placement& out) {
       const Wall& wall = merged[static_cast<std::size_t>(w)];
       if (is_window && wall.material == WallMaterial::kGlass) return false;
       const double len = wall.length_m();
@@ -719,24 +732,18 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
       const double along = r.dot(u);
       const double across = std::abs(u.x() * r.y() - u.y() * r.x());
       if (across > 0.5 * wall.thickness_m + options.opening_attach_tolerance_m) return false;
-      if (along < -1e-9 || along > len + 1e-9) return false;
-      double t0 = along - 0.5 * width, t1 = along + 0.5 * width;
-      if (t0 < -tol - 1e-9 || t1 > len + tol + 1e-9) return false;
-      out = {w, t0, t1};
-      dist = across;
+      if (along < -0.5 * width - 1e-9 || along > len + 0.5 * width + 1e-9) return false;
+      const double t0 = along - 0.5 * width, t1 = along + 0.5 * width;
+      out = {w, t0, t1, across, std::max(0.0, -t0) + std::max(0.0, t1 - len)};
       return true;
     };
     Placement best;
-    double best_dist = std::numeric_limits<double>::infinity();
     auto consider = [&](int w) {
       Placement p;
-      double d = 0.0;
-      if (try_wall(w, p, d) && d < best_dist) {
-        best = p;
-        best_dist = d;
-      }
+      if (try_wall(w, p) && (best.wall < 0 || better(p, best))) best = p;
     };
-    // Prefer the merged walls of the opening's original line group.
+    // Prefer the merged walls of the opening's original line group (the source said which wall);
+    // look around only when none of them takes it.
     auto it = input_index.find(old_wall);
     if (it != input_index.end() && input_group[static_cast<std::size_t>(it->second)] >= 0) {
       const auto range = group_pieces.equal_range(input_group[static_cast<std::size_t>(it->second)]);
@@ -769,27 +776,49 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
       } else {
         const double along = (center - w.a_m).dot(w.direction());
         why = "its span [" + fmt(along - 0.5 * width) + ", " + fmt(along + 0.5 * width) +
-              "] m does not fit on wall " + quoted(w.id) + " [0, " + fmt(w.length_m()) + "] m";
+              "] m does not reach wall " + quoted(w.id) + " [0, " + fmt(w.length_m()) + "] m";
       }
     }
     return {};
   };
 
-  auto fit_span = [&](const Placement& p, Vec2& center, double& width) {
+  // Puts an opening on its wall: the centre onto the wall's axis; a span overshooting an end by at
+  // most the snap tolerance is shortened, one overshooting more slides inside the wall, one wider
+  // than the wall is narrowed to it. Every repair is counted; the larger ones get a note.
+  auto fit_span = [&](const std::string& name, const Placement& p, Vec2& center, double& width) {
     const Wall& wall = merged[static_cast<std::size_t>(p.wall)];
     const double len = wall.length_m();
     double t0 = p.t0, t1 = p.t1;
-    if (t0 < 0.0 || t1 > len) {
-      t0 = std::max(t0, 0.0);
-      t1 = std::min(t1, len);
-      ++report.openings_trimmed;
+    if (t1 - t0 > len) {
+      report.notes.push_back(name + " narrowed from " + fmt(t1 - t0) + " m to the " + fmt(len) + " m of wall " +
+                             quoted(wall.id) + " (wider than its wall)");
+      ++report.openings_narrowed;
+      t0 = 0.0;
+      t1 = len;
+    } else if (t0 < 0.0 || t1 > len) {
+      if (p.overshoot <= tol + 1e-9) {
+        t0 = std::max(t0, 0.0);
+        t1 = std::min(t1, len);
+        ++report.openings_trimmed;
+      } else {
+        const double shift = t0 < 0.0 ? -t0 : len - t1;
+        t0 += shift;
+        t1 += shift;
+        ++report.openings_slid;
+        report.notes.push_back(name + " slid " + fmt(std::abs(shift)) + " m along wall " + quoted(wall.id) +
+                               " to lie inside it (its span overran the wall's end)");
+      }
     }
-    // Keep the centre's offset from the axis; move it along the wall to the span's middle.
     const Vec2 u = wall.direction();
-    const Vec2 r = center - wall.a_m;
-    const double across = u.x() * r.y() - u.y() * r.x();
-    center = wall.a_m + 0.5 * (t0 + t1) * u + across * Vec2(-u.y(), u.x());
+    center = wall.a_m + 0.5 * (t0 + t1) * u;
     width = t1 - t0;
+    constexpr double kOnAxis = 1e-3;  // within a millimetre: coordinate noise, not a repair
+    if (p.across > kOnAxis) {
+      ++report.openings_moved_to_axis;
+      if (p.across > kOpeningNoteOffsetM) {
+        report.notes.push_back(name + " moved " + fmt(p.across) + " m onto the axis of wall " + quoted(wall.id));
+      }
+    }
   };
 
   auto unattachable = [&](const std::string& name, const std::string& why) {
@@ -810,7 +839,7 @@ CleanupReport cleanup_floor_plan(FloorPlan& plan, const CleanupOptions& options,
         unattachable(name, why);
         continue;
       }
-      fit_span(p, o.center_m, o.width_m);
+      fit_span(name, p, o.center_m, o.width_m);
       const std::string& wid = merged[static_cast<std::size_t>(p.wall)].id;
       if (wid != o.wall_id) ++report.openings_reattached;
       o.wall_id = wid;

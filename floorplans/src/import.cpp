@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -56,12 +57,16 @@ int plain_level(const ImportOptions& options, const std::string& source) {
 }
 
 ImportResult finish_import(FloorPlan plan, const std::string& source, const std::string& default_name,
-                           const ImportOptions& options, ImportResult partial) {
+                           const ImportOptions& options, ImportResult partial, const UnitCheck* units) {
   plan.name = options.name.empty() ? default_name : options.name;
   if (plan.walls.empty()) throw InputError(source + ": no walls found");
+  // A level kilometres wide is refused before anything else looks at it; the finer checks (too
+  // small, feet) need the cleaned, valid plan.
+  if (units) check_plan_units(plan, source, units->unit_m, units->native_unit, units->remedy, true);
   partial.cleanup = cleanup_floor_plan(plan, options.cleanup, source);
   if (plan.walls.empty()) throw InputError(source + ": no walls left after clean-up (all degenerate)");
   validate_floor_plan(plan, source);
+  if (units) check_plan_units(plan, source, units->unit_m, units->native_unit, units->remedy, false);
   partial.plan = std::move(plan);
   return partial;
 }
@@ -75,6 +80,148 @@ void append_walls(FloorPlan& plan, const std::vector<Segment2>& segments, double
     w.thickness_m = thickness_m;
     plan.walls.push_back(std::move(w));
   }
+}
+
+double source_unit_m(const ImportOptions& options, const std::string& native_unit, const std::string& source) {
+  const std::string unit = options.units.value_or(native_unit);
+  double factor = 0.0;
+  if (unit == "m") factor = 1.0;
+  else if (unit == "cm") factor = 0.01;
+  else if (unit == "mm") factor = 0.001;
+  else if (unit == "ft") factor = 0.3048;
+  else if (unit == "in") factor = 0.0254;
+  else throw InputError(source + ": --units " + quoted(unit) + " is not a length unit (m, cm, mm, ft or in)");
+  if (options.scale) {
+    if (!std::isfinite(*options.scale) || !(*options.scale > 0.0)) {
+      throw InputError(source + ": --scale " + fmt(*options.scale) + " must be a positive number");
+    }
+    factor *= *options.scale;
+  }
+  return factor;
+}
+
+namespace {
+
+/// Gaps between collinear wall pieces up to 4 units long (door openings in plans that draw doors
+/// as gaps, like PALMS CSVs).
+std::vector<double> opening_gaps(const FloorPlan& plan) {
+  std::vector<Segment2> segs;
+  for (const Wall& w : plan.walls) segs.push_back(w.centerline());
+  std::vector<double> gaps;
+  const double tol = 1e-3 * std::max(1.0, [&] {
+    double len = 0.0;
+    for (const Segment2& s : segs) len = std::max(len, s.length_m());
+    return len;
+  }());
+  // Gaps along a line: pieces on one line (collinear within 1 degree and `tol`), sorted along it.
+  const std::vector<int> group = collinear_groups(segs, tol, 0.0175);
+  std::map<int, std::vector<int>> members;
+  for (std::size_t i = 0; i < group.size(); ++i) members[group[i]].push_back(static_cast<int>(i));
+  for (const auto& [g, mem] : members) {
+    if (mem.size() < 2) continue;
+    const GroupLine line = fit_group_line(segs, mem);
+    std::vector<std::pair<double, double>> iv;
+    for (int m : mem) {
+      double t0 = line.param(segs[static_cast<std::size_t>(m)].a_m), t1 = line.param(segs[static_cast<std::size_t>(m)].b_m);
+      if (t1 < t0) std::swap(t0, t1);
+      iv.emplace_back(t0, t1);
+    }
+    std::sort(iv.begin(), iv.end());
+    double reach = iv.front().second;
+    for (std::size_t k = 1; k < iv.size(); ++k) {
+      const double gap = iv[k].first - reach;
+      if (gap > 0.0 && gap <= 4.0) gaps.push_back(gap);
+      reach = std::max(reach, iv[k].second);
+    }
+  }
+  return gaps;
+}
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+void check_plan_units(const FloorPlan& plan, const std::string& source, double unit_m, const std::string& native_unit,
+                      const std::string& remedy, bool too_large_only) {
+  if (plan.walls.empty()) return;
+  double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
+  std::vector<double> lengths;
+  for (const Wall& w : plan.walls) {
+    for (const Vec2& p : {w.a_m, w.b_m}) {
+      xmin = std::min(xmin, p.x());
+      xmax = std::max(xmax, p.x());
+      ymin = std::min(ymin, p.y());
+      ymax = std::max(ymax, p.y());
+    }
+    lengths.push_back(w.length_m());
+  }
+  const double extent = std::max(xmax - xmin, ymax - ymin);
+  const double median_wall = median_of(lengths);
+  const std::string read_as = remedy == "--resolution" ? std::string("at the given resolution")
+                                                       : "read as " + native_unit + (native_unit == "m" ? "etres" : "");
+  const std::string what = source + ": " + read_as + ", the plan is " + fmt(xmax - xmin) + " x " + fmt(ymax - ymin) +
+                           " m with a median wall of " + fmt(median_wall) + " m";
+  // How to say "multiply by f": a unit when one fits, else a scale.
+  auto fix = [&](double f, const std::string& unit_word) {
+    if (remedy == "--resolution") return std::string("Check --resolution (metres per pixel)");
+    const double target = unit_m * f;
+    for (const auto& [name, m] : std::vector<std::pair<std::string, double>>{
+             {"m", 1.0}, {"cm", 0.01}, {"mm", 0.001}, {"ft", 0.3048}, {"in", 0.0254}}) {
+      if (std::abs(target - m) <= 1e-9 * m) {
+        return "Pass --units " + name + " (or --scale " + fmt(f) + "), or --units " + native_unit + " if they really are " +
+               unit_word;
+      }
+    }
+    return "Pass --scale " + fmt(f) + ", or --units " + native_unit + " if the coordinates really are " + unit_word;
+  };
+  const std::string native_word = native_unit == "m" ? "metres" : native_unit == "mm" ? "millimetres" : native_unit;
+  // No level of a building is 2 km across; a plan in millimetres or centimetres read as metres is.
+  constexpr double kMaxExtentM = 2000.0, kMinExtentM = 1.0;
+  if (extent > kMaxExtentM) {
+    // Divide by 1,000 or 100: whichever brings the median wall nearer a typical 4 m.
+    const bool thousand = std::abs(std::log(median_wall * 0.001 / 4.0)) <= std::abs(std::log(median_wall * 0.01 / 4.0));
+    const double f = thousand ? 0.001 : 0.01;
+    throw InputError(what + ": no building level is that large (" + fmt(extent * f) + " m across at " + fmt(f) +
+                     " of the size). " + fix(f, native_word));
+  }
+  if (too_large_only) return;
+  if (extent < kMinExtentM) {
+    throw InputError(what + ": too small for a building level. " +
+                     (remedy == "--resolution" ? std::string("Check --resolution (metres per pixel)")
+                                               : "Give the source's unit with --units (m, cm, mm, ft, in) or --scale"));
+  }
+  if (remedy == "--resolution") return;
+  // Feet read as metres: doors 2.3-3.6 "m" wide. Evidence from the doors, else from the gaps
+  // between collinear wall pieces (plans that draw doors as gaps); at least 3 of them.
+  std::vector<double> widths;
+  for (const Door& d : plan.doors) widths.push_back(d.width_m);
+  const bool from_doors = widths.size() >= 3;
+  const std::vector<double> gaps = from_doors ? widths : opening_gaps(plan);
+  if (gaps.size() >= 3) {
+    const double median_gap = median_of(gaps);
+    if (median_gap >= 2.3 && median_gap <= 3.6) {
+      throw InputError(what + ", and its " + std::to_string(gaps.size()) +
+                       (from_doors ? " doors are" : " door openings (gaps between collinear walls) are") + " a median " +
+                       fmt(median_gap) + " m wide: doors are 0.7-1.1 m, i.e. 2.3-3.6 ft, so the coordinates look like feet. " +
+                       fix(0.3048, native_word));
+    }
+  }
+}
+
+void count_repair(ImportResult& result, const std::string& name, int n) {
+  if (n == 0) return;
+  for (auto& [what, count] : result.repairs) {
+    if (what == name) {
+      count += n;
+      return;
+    }
+  }
+  result.repairs.emplace_back(name, n);
 }
 
 double distance_to_segments(const Vec2& p, const std::vector<Segment2>& segments) {
@@ -158,7 +305,8 @@ ImportFormat parse_import_format(const std::string& name) {
   if (n == "png") return ImportFormat::kPng;
   if (n == "imdf") return ImportFormat::kImdf;
   if (n == "osm") return ImportFormat::kOsm;
-  throw InputError("unknown import format " + quoted(name) + " (expected csv, s3d, png, imdf or osm)");
+  if (n == "geojson") return ImportFormat::kGeojson;
+  throw InputError("unknown import format " + quoted(name) + " (expected csv, s3d, png, imdf, osm or geojson)");
 }
 
 const char* import_format_name(ImportFormat format) {
@@ -168,6 +316,7 @@ const char* import_format_name(ImportFormat format) {
     case ImportFormat::kPng: return "png";
     case ImportFormat::kImdf: return "imdf";
     case ImportFormat::kOsm: return "osm";
+    case ImportFormat::kGeojson: return "geojson";
   }
   return "?";
 }
@@ -214,15 +363,18 @@ ImportResult import_floor_plan(const std::string& path, ImportFormat format, con
       }
       const std::string level = read_text_file(path + "/level.geojson");
       const std::string unit = read_text_file(path + "/unit.geojson");
-      std::string opening;
+      std::string opening, building;
       const bool has_openings = is_file(path + "/opening.geojson");
       if (has_openings) opening = read_text_file(path + "/opening.geojson");
-      ImportResult r = import_imdf_texts(level, unit, opening, path, opts);
+      if (is_file(path + "/building.geojson")) building = read_text_file(path + "/building.geojson");
+      ImportResult r = import_imdf_texts(level, unit, opening, building, path, opts);
       if (!has_openings) r.notes.insert(r.notes.begin(), path + ": no opening.geojson, so no doors");
       return r;
     }
     case ImportFormat::kOsm:
       return import_osm_xml(read_text_file(path), path, opts);
+    case ImportFormat::kGeojson:
+      return import_geojson_text(read_text_file(path), path, opts);
   }
   throw InputError(path + ": unknown import format");
 }
@@ -310,6 +462,15 @@ bool parse_osm_levels(const std::string& value, std::vector<std::pair<double, do
     double single = 0.0;
     if (parse_level_number(t, single)) {
       ranges.emplace_back(single, single);
+      continue;
+    }
+    // A range "a~b" (OSM-derived GeoJSON exports).
+    const auto tilde = t.find('~');
+    if (tilde != std::string::npos) {
+      double lo = 0.0, hi = 0.0;
+      if (!parse_level_number(t.substr(0, tilde), lo) || !parse_level_number(t.substr(tilde + 1), hi)) return false;
+      if (hi < lo) std::swap(lo, hi);
+      ranges.emplace_back(lo, hi);
       continue;
     }
     // A range "a-b": the separating dash follows a digit (or a dot) of the first number.

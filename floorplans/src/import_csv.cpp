@@ -36,6 +36,7 @@ bool parse_number(const std::string& field, double& out) {
 
 ImportResult import_csv_text(const std::string& text, const std::string& source, const ImportOptions& options) {
   const double thickness = import_detail::wall_thickness_or(options, 0.10, source);
+  const double unit_m = import_detail::source_unit_m(options, "m", source);
   FloorPlan plan;
   plan.level = import_detail::plain_level(options, source);
   std::istringstream in(text);
@@ -67,15 +68,17 @@ ImportResult import_csv_text(const std::string& text, const std::string& source,
     }
     Wall w;
     w.id = "l" + std::to_string(line_number);
-    w.a_m = Vec2(v[0], v[1]);
-    w.b_m = Vec2(v[2], v[3]);
+    w.a_m = unit_m * Vec2(v[0], v[1]);
+    w.b_m = unit_m * Vec2(v[2], v[3]);
     w.thickness_m = thickness;
     plan.walls.push_back(std::move(w));
   }
   if (plan.walls.empty()) throw InputError(source + ": no wall segments (expected lines x1,y1,x2,y2)");
   ImportResult result;
   result.source_counts.emplace_back("segments", static_cast<int>(plan.walls.size()));
-  return import_detail::finish_import(std::move(plan), source, import_detail::stem_of(source), options, std::move(result));
+  const import_detail::UnitCheck check{unit_m, "m", "--units"};
+  return import_detail::finish_import(std::move(plan), source, import_detail::stem_of(source), options, std::move(result),
+                                      options.units || options.scale ? nullptr : &check);
 }
 
 }  // namespace floorcast

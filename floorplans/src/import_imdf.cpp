@@ -11,11 +11,14 @@
 // Projection: local tangent plane about the selected level's centroid.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "floorcast/core/math.hpp"
 #include "floorcast/floorplans/import.hpp"
+#include "geojson_reader.hpp"
 #include "import_common.hpp"
 
 namespace floorcast {
@@ -25,140 +28,9 @@ using Json = nlohmann::json;
 using import_detail::fmt;
 using import_detail::quoted;
 
-struct LonLat {
-  double lon = 0.0, lat = 0.0;
-};
-using Ring = std::vector<LonLat>;
-
-class GeoJsonFile {
- public:
-  GeoJsonFile(const std::string& text, std::string name, const char* expected_type)
-      : name_(std::move(name)), expected_type_(expected_type) {
-    try {
-      root_ = Json::parse(text);
-    } catch (const Json::exception& e) {
-      throw InputError(name_ + ": malformed JSON: " + e.what());
-    }
-    if (!root_.is_object() || !root_.contains("type") || root_["type"] != "FeatureCollection") {
-      throw InputError(name_ + ": expected a GeoJSON FeatureCollection");
-    }
-    if (!root_.contains("features") || !root_["features"].is_array()) {
-      throw InputError(name_ + ": FeatureCollection has no \"features\" array");
-    }
-  }
-
-  std::size_t size() const { return root_["features"].size(); }
-  const Json& feature(std::size_t i) const {
-    const Json& f = root_["features"][i];
-    if (!f.is_object()) fail(i, "feature must be a JSON object");
-    return f;
-  }
-
-  std::string id(std::size_t i) const {
-    const Json& f = root_["features"][i];
-    if (f.is_object() && f.contains("id") && f["id"].is_string()) return f["id"].get<std::string>();
-    return {};
-  }
-
-  std::string where(std::size_t i) const {
-    std::string w = name_ + ": features[" + std::to_string(i) + "]";
-    const std::string fid = id(i);
-    if (!fid.empty()) w += " (id " + quoted(fid) + ")";
-    return w;
-  }
-
-  [[noreturn]] void fail(std::size_t i, const std::string& reason) const {
-    throw InputError(where(i) + ": " + reason);
-  }
-
-  /// Checks feature_type and returns properties (object).
-  const Json& properties(std::size_t i) const {
-    const Json& f = feature(i);
-    if (f.contains("feature_type") && f["feature_type"].is_string() && f["feature_type"] != expected_type_) {
-      fail(i, "feature_type is " + quoted(f["feature_type"].get<std::string>()) + ", expected " + quoted(expected_type_));
-    }
-    if (!f.contains("properties") || !f["properties"].is_object()) fail(i, "missing \"properties\" object");
-    return f["properties"];
-  }
-
-  std::string string_property(std::size_t i, const char* key, bool required) const {
-    const Json& p = properties(i);
-    if (!p.contains(key) || p[key].is_null()) {
-      if (required) fail(i, std::string("missing properties.") + key);
-      return {};
-    }
-    if (!p[key].is_string()) fail(i, std::string("properties.") + key + " must be a string, got " + p[key].dump());
-    return p[key].get<std::string>();
-  }
-
-  LonLat position(std::size_t i, const Json& v, const std::string& path) const {
-    if (!v.is_array() || v.size() < 2 || !v[0].is_number() || !v[1].is_number()) {
-      fail(i, "geometry position " + path + " must be [longitude, latitude], got " + v.dump());
-    }
-    LonLat p{v[0].get<double>(), v[1].get<double>()};
-    if (!std::isfinite(p.lon) || !std::isfinite(p.lat) || std::abs(p.lon) > 180.0 || std::abs(p.lat) > 90.0) {
-      fail(i, "geometry position " + path + " is not a WGS84 [longitude, latitude]: " + v.dump());
-    }
-    return p;
-  }
-
-  /// Rings of a Polygon / MultiPolygon geometry (outer rings and holes).
-  std::vector<Ring> polygon_rings(std::size_t i, std::vector<bool>* is_outer = nullptr) const {
-    const Json& f = feature(i);
-    if (!f.contains("geometry") || !f["geometry"].is_object()) fail(i, "missing geometry");
-    const Json& g = f["geometry"];
-    const std::string type = g.contains("type") && g["type"].is_string() ? g["type"].get<std::string>() : "";
-    if (!g.contains("coordinates") || !g["coordinates"].is_array()) fail(i, "geometry has no coordinates array");
-    std::vector<const Json*> polygons;
-    if (type == "Polygon") {
-      polygons.push_back(&g["coordinates"]);
-    } else if (type == "MultiPolygon") {
-      for (const Json& p : g["coordinates"]) polygons.push_back(&p);
-    } else {
-      fail(i, "geometry must be a Polygon or MultiPolygon, got " + quoted(type));
-    }
-    std::vector<Ring> rings;
-    for (std::size_t pi = 0; pi < polygons.size(); ++pi) {
-      const Json& poly = *polygons[pi];
-      if (!poly.is_array() || poly.empty()) fail(i, "polygon " + std::to_string(pi) + " has no rings");
-      for (std::size_t ri = 0; ri < poly.size(); ++ri) {
-        const Json& ring = poly[ri];
-        if (!ring.is_array() || ring.size() < 3) {
-          fail(i, "polygon " + std::to_string(pi) + " ring " + std::to_string(ri) + " needs at least 3 positions");
-        }
-        Ring r;
-        for (std::size_t k = 0; k < ring.size(); ++k) {
-          r.push_back(position(i, ring[k], "[" + std::to_string(pi) + "][" + std::to_string(ri) + "][" + std::to_string(k) + "]"));
-        }
-        // GeoJSON rings are closed (last = first); an unclosed ring is closed implicitly.
-        if (r.front().lon != r.back().lon || r.front().lat != r.back().lat) r.push_back(r.front());
-        rings.push_back(std::move(r));
-        if (is_outer) is_outer->push_back(ri == 0);
-      }
-    }
-    return rings;
-  }
-
-  Ring line_string(std::size_t i) const {
-    const Json& f = feature(i);
-    if (!f.contains("geometry") || !f["geometry"].is_object()) fail(i, "missing geometry");
-    const Json& g = f["geometry"];
-    if (!g.contains("type") || g["type"] != "LineString") fail(i, "geometry must be a LineString");
-    if (!g.contains("coordinates") || !g["coordinates"].is_array() || g["coordinates"].size() < 2) {
-      fail(i, "LineString needs at least 2 positions");
-    }
-    Ring r;
-    for (std::size_t k = 0; k < g["coordinates"].size(); ++k) r.push_back(position(i, g["coordinates"][k], "[" + std::to_string(k) + "]"));
-    return r;
-  }
-
-  const std::string& name() const { return name_; }
-
- private:
-  std::string name_;
-  const char* expected_type_;
-  Json root_;
-};
+using import_detail::GeoJsonFile;
+using import_detail::LonLat;
+using import_detail::Ring;
 
 /// First text of a LABELS object ({"en": "Ground"}), or empty.
 std::string label_text(const Json& props, const char* key) {
@@ -171,21 +43,94 @@ std::string label_text(const Json& props, const char* key) {
   return {};
 }
 
+/// Every text of a LABELS object, label_text()'s first.
+std::vector<std::string> label_texts(const Json& props, const char* key) {
+  std::vector<std::string> out;
+  const std::string first = label_text(props, key);
+  if (!first.empty()) out.push_back(first);
+  if (!props.contains(key) || !props[key].is_object()) return out;
+  for (auto it = props[key].begin(); it != props[key].end(); ++it) {
+    if (it.value().is_string() && it.value().get<std::string>() != first) out.push_back(it.value().get<std::string>());
+  }
+  return out;
+}
+
+/// Chains an opening's line strings (a MultiLineString drawn in pieces) into polylines: a piece
+/// continues another when their ends meet within `tol_m` (either direction).
+std::vector<std::vector<Vec2>> chain_lines(std::vector<std::vector<Vec2>> parts, double tol_m) {
+  std::vector<std::vector<Vec2>> out;
+  std::vector<bool> used(parts.size(), false);
+  for (std::size_t s = 0; s < parts.size(); ++s) {
+    if (used[s]) continue;
+    used[s] = true;
+    std::vector<Vec2> line = parts[s];
+    for (bool grown = true; grown;) {
+      grown = false;
+      for (std::size_t k = 0; k < parts.size(); ++k) {
+        if (used[k]) continue;
+        std::vector<Vec2>& p = parts[k];
+        if ((p.front() - line.back()).norm() <= tol_m) {
+          line.insert(line.end(), p.begin() + 1, p.end());
+        } else if ((p.back() - line.back()).norm() <= tol_m) {
+          line.insert(line.end(), p.rbegin() + 1, p.rend());
+        } else if ((p.back() - line.front()).norm() <= tol_m) {
+          line.insert(line.begin(), p.begin(), p.end() - 1);
+        } else if ((p.front() - line.front()).norm() <= tol_m) {
+          line.insert(line.begin(), p.rbegin(), p.rend() - 1);
+        } else {
+          continue;
+        }
+        used[k] = true;
+        grown = true;
+      }
+    }
+    out.push_back(std::move(line));
+  }
+  return out;
+}
+
 }  // namespace
 
 ImportResult import_imdf_texts(const std::string& level_geojson, const std::string& unit_geojson,
                                const std::string& opening_geojson, const std::string& source,
                                const ImportOptions& options) {
+  return import_imdf_texts(level_geojson, unit_geojson, opening_geojson, std::string(), source, options);
+}
+
+ImportResult import_imdf_texts(const std::string& level_geojson, const std::string& unit_geojson,
+                               const std::string& opening_geojson, const std::string& building_geojson,
+                               const std::string& source, const ImportOptions& options) {
   const double thickness = import_detail::wall_thickness_or(options, 0.10, source);
   const GeoJsonFile levels(level_geojson, source + "/level.geojson", "level");
   const GeoJsonFile units(unit_geojson, source + "/unit.geojson", "unit");
 
   // Levels.
+  // Buildings (optional file): id -> names, for --building and for messages.
+  struct Building {
+    std::string id;
+    std::vector<std::string> names;
+  };
+  std::vector<Building> buildings;
+  if (!building_geojson.empty()) {
+    const GeoJsonFile bf(building_geojson, source + "/building.geojson", "building");
+    for (std::size_t i = 0; i < bf.size(); ++i) {
+      Building b{bf.id(i), label_texts(bf.properties(i), "name")};
+      if (!b.id.empty()) buildings.push_back(std::move(b));
+    }
+  }
+  auto building_name = [&](const std::string& id) {
+    for (const Building& b : buildings) {
+      if (b.id == id && !b.names.empty()) return b.names.front();  // English when there is one
+    }
+    return id;
+  };
+
   struct Level {
     std::size_t index;
     std::string id;
     long long ordinal;
     std::string name;
+    std::vector<std::string> building_ids;
   };
   std::vector<Level> all_levels;
   for (std::size_t i = 0; i < levels.size(); ++i) {
@@ -193,56 +138,99 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
     const std::string id = levels.id(i);
     if (id.empty()) levels.fail(i, "missing string \"id\"");
     if (!p.contains("ordinal") || !p["ordinal"].is_number_integer()) levels.fail(i, "properties.ordinal must be an integer");
-    Level l{i, id, p["ordinal"].get<long long>(), label_text(p, "name")};
+    Level l{i, id, p["ordinal"].get<long long>(), label_text(p, "name"), {}};
     if (l.name.empty()) l.name = label_text(p, "short_name");
+    if (p.contains("building_ids") && p["building_ids"].is_array()) {
+      for (const Json& b : p["building_ids"]) {
+        if (b.is_string()) l.building_ids.push_back(b.get<std::string>());
+      }
+    }
     all_levels.push_back(std::move(l));
   }
   if (all_levels.empty()) throw InputError(levels.name() + ": no levels");
-  auto describe = [](const Level& l) {
+  auto describe = [&](const Level& l) {
     std::string s = "ordinal " + std::to_string(l.ordinal) + " (id " + quoted(l.id);
     if (!l.name.empty()) s += ", " + quoted(l.name);
+    for (const std::string& b : l.building_ids) s += ", building " + quoted(building_name(b));
     return s + ")";
   };
-  auto list_levels = [&] {
-    std::vector<const Level*> sorted;
-    for (const Level& l : all_levels) sorted.push_back(&l);
+  auto list_levels = [&](const std::vector<const Level*>& among) {
+    std::vector<const Level*> sorted = among;
     std::stable_sort(sorted.begin(), sorted.end(), [](const Level* a, const Level* b) { return a->ordinal < b->ordinal; });
     std::string s;
     for (const Level* l : sorted) s += (s.empty() ? "" : "; ") + describe(*l);
     return s;
   };
+  // Levels of the chosen building (--building: its id or any of its names), else all.
+  std::vector<const Level*> candidates;
+  std::string building_id;
+  if (options.building) {
+    const std::string& want = *options.building;
+    std::set<std::string> ids;
+    for (const Building& b : buildings) {
+      if (b.id == want || std::find(b.names.begin(), b.names.end(), want) != b.names.end()) ids.insert(b.id);
+    }
+    for (const Level& l : all_levels) {
+      for (const std::string& b : l.building_ids) {
+        if (b == want) ids.insert(b);
+      }
+    }
+    if (ids.empty()) {
+      std::set<std::string> known;
+      for (const Level& l : all_levels) {
+        for (const std::string& b : l.building_ids) known.insert(quoted(building_name(b)) + " (id " + quoted(b) + ")");
+      }
+      std::string list;
+      for (const std::string& k : known) list += (list.empty() ? "" : "; ") + k;
+      throw InputError(source + ": --building " + quoted(want) + " names no building with levels" +
+                       (building_geojson.empty() ? " (no building.geojson: give a building id)" : "") +
+                       "; buildings: " + (list.empty() ? "none (levels carry no building_ids)" : list));
+    }
+    if (ids.size() > 1) {
+      throw InputError(source + ": --building " + quoted(want) + " names " + std::to_string(ids.size()) +
+                       " buildings; give its id");
+    }
+    building_id = *ids.begin();
+    for (const Level& l : all_levels) {
+      if (std::find(l.building_ids.begin(), l.building_ids.end(), building_id) != l.building_ids.end()) candidates.push_back(&l);
+    }
+  } else {
+    for (const Level& l : all_levels) candidates.push_back(&l);
+  }
   const Level* selected = nullptr;
   if (options.level) {
-    for (const Level& l : all_levels) {
-      if (l.id == *options.level) selected = &l;
+    for (const Level* l : candidates) {
+      if (l->id == *options.level) selected = l;
     }
     if (!selected) {
       char* end = nullptr;
       const long long ordinal = std::strtoll(options.level->c_str(), &end, 10);
       if (options.level->empty() || *end != '\0') {
         throw InputError(source + ": --level " + quoted(*options.level) +
-                         " is neither a level ordinal (integer) nor a level id; available levels: " + list_levels());
+                         " is neither a level ordinal (integer) nor a level id; available levels: " + list_levels(candidates));
       }
       std::vector<const Level*> matches;
-      for (const Level& l : all_levels) {
-        if (l.ordinal == ordinal) matches.push_back(&l);
+      for (const Level* l : candidates) {
+        if (l->ordinal == ordinal) matches.push_back(l);
       }
       if (matches.empty()) {
-        throw InputError(source + ": no level with ordinal " + std::to_string(ordinal) + "; available levels: " + list_levels());
+        throw InputError(source + ": no level with ordinal " + std::to_string(ordinal) +
+                         (options.building ? " in building " + quoted(*options.building) : std::string()) +
+                         "; available levels: " + list_levels(candidates));
       }
       if (matches.size() > 1) {
-        std::string s;
-        for (const Level* l : matches) s += (s.empty() ? "" : "; ") + describe(*l);
         throw InputError(source + ": ordinal " + std::to_string(ordinal) + " is ambiguous, " +
-                         std::to_string(matches.size()) + " levels have it (" + s + "); pass --level LEVEL_ID");
+                         std::to_string(matches.size()) + " levels have it (" + list_levels(matches) +
+                         "); pass --building NAME_OR_ID or --level LEVEL_ID");
       }
       selected = matches.front();
     }
-  } else if (all_levels.size() == 1) {
-    selected = &all_levels.front();
+  } else if (candidates.size() == 1) {
+    selected = candidates.front();
   } else {
-    throw InputError(source + ": " + std::to_string(all_levels.size()) +
-                     " levels, choose one with --level ORDINAL (or --level LEVEL_ID); available levels: " + list_levels());
+    throw InputError(source + ": " + std::to_string(candidates.size()) +
+                     " levels, choose one with --level ORDINAL (with --building when buildings share ordinals) or "
+                     "--level LEVEL_ID; available levels: " + list_levels(candidates));
   }
 
   // Projection origin: area centroid of the level's outer rings (planar in degrees; any nearby
@@ -276,15 +264,21 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
   const LocalTangentPlane ltp(lat0, lon0);
   auto project = [&](const LonLat& p) { return ltp.to_local_m(p.lat, p.lon); };
 
+  ImportResult result;
   std::set<std::string> open_categories(options.imdf_open_unit_categories.begin(), options.imdf_open_unit_categories.end());
   std::vector<import_detail::BoundaryEdge> edges;
   int unit_count = 0;
+  std::vector<Room> rooms;
   for (std::size_t i = 0; i < units.size(); ++i) {
     const std::string level_id = units.string_property(i, "level_id", true);
     if (level_id != selected->id) continue;
     const std::string category = units.string_property(i, "category", true);
     ++unit_count;
-    for (const Ring& ring : units.polygon_rings(i)) {
+    std::vector<bool> outer;
+    const std::vector<Ring> rings = units.polygon_rings(i, &outer);
+    const std::string fid = units.id(i);
+    for (std::size_t r = 0; r < rings.size(); ++r) {
+      const Ring& ring = rings[r];
       for (std::size_t k = 0; k + 1 < ring.size(); ++k) {
         import_detail::BoundaryEdge e;
         e.segment_m = {project(ring[k]), project(ring[k + 1])};
@@ -293,15 +287,30 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
         e.open = open_categories.count(category) > 0;
         edges.push_back(e);
       }
+      // The unit as a room label (its category is the kind); holes go to the polygon before them.
+      std::vector<Vec2> poly;
+      for (std::size_t k = 0; k + 1 < ring.size(); ++k) poly.push_back(project(ring[k]));
+      if (outer[r]) {
+        Room room;
+        room.id = "unit-" + (fid.empty() ? std::to_string(i) : fid);
+        int n = 2;
+        for (const Room& other : rooms) n += other.id.rfind(room.id, 0) == 0 ? 1 : 0;
+        if (n > 2) room.id += "-" + std::to_string(n - 1);
+        room.kind = category;
+        room.polygon_m = std::move(poly);
+        rooms.push_back(std::move(room));
+      } else if (!rooms.empty()) {
+        rooms.back().holes_m.push_back(std::move(poly));
+      }
     }
   }
   if (unit_count == 0) throw InputError(units.name() + ": no units on level " + describe(*selected));
 
   const auto pieces = import_detail::classify_boundaries(edges, options.cleanup.snap_tolerance_m, options.cleanup.angle_tolerance_rad);
-  ImportResult result;
   FloorPlan plan;
   plan.level = static_cast<int>(std::clamp<long long>(selected->ordinal, -1000000, 1000000));
   import_detail::append_walls(plan, pieces.walls, thickness);
+  plan.rooms = std::move(rooms);
 
   int opening_count = 0;
   if (!opening_geojson.empty()) {
@@ -311,27 +320,64 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
       const std::string level_id = openings.string_property(i, "level_id", true);
       if (level_id != selected->id) continue;
       ++opening_count;
-      const Ring line = openings.line_string(i);
-      const Vec2 a = project(line.front()), b = project(line.back());
-      const Vec2 center = 0.5 * (a + b);
-      const double d_wall = import_detail::distance_to_segments(center, pieces.walls);
-      if (d_wall > reach) {
-        const double d_open = import_detail::distance_to_segments(center, pieces.open);
-        if (d_open <= reach) {
-          result.notes.push_back(openings.where(i) + ": opening on an open boundary (no wall), skipped");
-        } else {
-          result.notes.push_back(openings.where(i) + ": opening is not on any unit boundary of the level (nearest wall " +
-                                 fmt(d_wall) + " m away), skipped");
-        }
-        continue;
+      // A LineString, or a MultiLineString whose pieces are chained where their ends meet; each
+      // resulting polyline is one opening from its first to its last point.
+      std::vector<std::vector<Vec2>> parts;
+      for (const Ring& line : openings.line_strings(i)) {
+        std::vector<Vec2> part;
+        for (const LonLat& q : line) part.push_back(project(q));
+        parts.push_back(std::move(part));
       }
-      Door d;
-      const std::string fid = openings.id(i);
-      d.id = "opening-" + (fid.empty() ? std::to_string(i) : fid);
-      d.center_m = center;
-      d.width_m = (b - a).norm();
-      d.closed = options.doors_closed;
-      plan.doors.push_back(std::move(d));
+      const bool multi = parts.size() > 1;
+      const std::vector<std::vector<Vec2>> lines = chain_lines(std::move(parts), options.cleanup.snap_tolerance_m);
+      if (multi) import_detail::count_repair(result, "multilinestring_openings_joined");
+      for (std::size_t li = 0; li < lines.size(); ++li) {
+        const Vec2 a = lines[li].front(), b = lines[li].back();
+        const Vec2 center = 0.5 * (a + b);
+        const std::string label = openings.where(i) + (lines.size() > 1 ? " line " + std::to_string(li) : std::string());
+        if ((b - a).norm() < 0.05) {
+          result.notes.push_back(label + ": opening shorter than 5 cm, skipped");
+          import_detail::count_repair(result, "degenerate_openings_skipped");
+          continue;
+        }
+        const double d_wall = import_detail::distance_to_segments(center, pieces.walls);
+        if (d_wall > reach) {
+          const double d_open = import_detail::distance_to_segments(center, pieces.open);
+          if (d_open <= reach) {
+            result.notes.push_back(label + ": opening on an open boundary (no wall), skipped");
+          } else {
+            result.notes.push_back(label + ": opening is not on any unit boundary of the level (nearest wall " +
+                                   fmt(d_wall) + " m away), skipped");
+          }
+          continue;
+        }
+        Door d;
+        const std::string fid = openings.id(i);
+        d.id = "opening-" + (fid.empty() ? std::to_string(i) : fid) + (lines.size() > 1 ? "-" + std::to_string(li + 1) : "");
+        d.center_m = center;
+        d.width_m = (b - a).norm();
+        d.closed = options.doors_closed;
+        // The wall it is drawn along: the nearest wall within reach running in the opening's
+        // direction (within 10 degrees), so that an opening near a corner goes into its own wall,
+        // not across the perpendicular one. None found: clean-up places it on the nearest wall.
+        const Vec2 u = (b - a) / (b - a).norm();
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t w = 0; w < pieces.walls.size(); ++w) {
+          const Segment2& s = pieces.walls[w];
+          const double len = s.length_m();
+          if (len <= 0.0) continue;
+          const Vec2 v = (s.b_m - s.a_m) / len;
+          if (std::abs(u.x() * v.y() - u.y() * v.x()) > std::sin(10.0 * kPi / 180.0)) continue;
+          const Vec2 r = center - s.a_m;
+          const double along = r.dot(v), across = std::abs(v.x() * r.y() - v.y() * r.x());
+          if (across > reach || along < -0.5 * d.width_m || along > len + 0.5 * d.width_m) continue;
+          if (across < best) {
+            best = across;
+            d.wall_id = plan.walls[w].id;
+          }
+        }
+        plan.doors.push_back(std::move(d));
+      }
     }
   }
 

@@ -1,18 +1,7 @@
-// OpenStreetMap Simple Indoor Tagging (SIT), .osm XML (parsed with pugixml). SIT semantics used:
-//   indoor=room      a space enclosed by walls: its outline is a wall;
-//   indoor=corridor  a room made for walking: its outline is a wall, except where it borders
-//                    another corridor or an indoor=area (corridors are split into pieces for
-//                    naming and routing, and open onto halls mapped as areas);
-//   indoor=area      a space without walls: its outline is not a wall;
-//   indoor=wall      a wall not already given by a room's outline (open or closed way);
-//   indoor=column    a structural column: its outline is a wall (blocks sight);
-//   door=* (any value, including door=no, an opening without a leaf) and indoor=door nodes:
-//                    a door on the wall segment the node lies on;
-//   level=* / repeat_on=*: "0", "-1", "1;2", "0-2", "-3--1", "0.5"; a feature is on every level
-//                    listed or inside a listed range. A feature without level=* is on level 0.
-//   Spaces may be closed ways or type=multipolygon relations (outer and inner member ways).
+// OpenStreetMap Simple Indoor Tagging (SIT), .osm XML (parsed with pugixml): nodes, ways and
+// multipolygon relations become the indoor elements import_indoor() reads (semantics there and in
+// floorplans/README.md). A multipolygon's member ways are chained into rings by their end nodes.
 // Elements marked action="delete" (JOSM files) or visible="false" are ignored.
-// Projection: local tangent plane about the mean of the selected features' nodes.
 #include <pugixml.hpp>
 
 #include <algorithm>
@@ -31,29 +20,6 @@ namespace {
 using import_detail::fmt;
 using import_detail::quoted;
 using Ranges = std::vector<std::pair<double, double>>;
-
-enum class Kind { kNone, kRoom, kCorridor, kArea, kWall, kColumn };
-
-Kind kind_of(const std::string& indoor) {
-  if (indoor == "room") return Kind::kRoom;
-  if (indoor == "corridor") return Kind::kCorridor;
-  if (indoor == "area") return Kind::kArea;
-  if (indoor == "wall") return Kind::kWall;
-  if (indoor == "column") return Kind::kColumn;
-  return Kind::kNone;
-}
-
-const char* kind_name(Kind k) {
-  switch (k) {
-    case Kind::kRoom: return "room";
-    case Kind::kCorridor: return "corridor";
-    case Kind::kArea: return "area";
-    case Kind::kWall: return "wall";
-    case Kind::kColumn: return "column";
-    case Kind::kNone: break;
-  }
-  return "none";
-}
 
 struct Node {
   double lat = 0.0, lon = 0.0;
@@ -103,37 +69,41 @@ bool parse_coordinate(const char* text, double& out) {
   return *end == '\0' && std::isfinite(out);
 }
 
-/// "0.9", "0.9 m", "0.9m", "90 cm" -> metres.
-bool parse_width(const std::string& text, double& out) {
-  std::string t = text;
-  while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.pop_back();
-  double scale = 1.0;
-  if (t.size() > 2 && t.compare(t.size() - 2, 2, "cm") == 0) {
-    scale = 0.01;
-    t.resize(t.size() - 2);
-  } else if (t.size() > 1 && t.back() == 'm') {
-    t.pop_back();
+/// Chains ways (node lists) into rings by their end nodes; returns the rings and whether each closed.
+std::vector<std::pair<std::vector<long long>, bool>> chain_rings(std::vector<std::vector<long long>> ways) {
+  std::vector<std::pair<std::vector<long long>, bool>> out;
+  std::vector<bool> used(ways.size(), false);
+  for (std::size_t start = 0; start < ways.size(); ++start) {
+    if (used[start] || ways[start].size() < 2) continue;
+    used[start] = true;
+    std::vector<long long> ring = ways[start];
+    bool grown = true;
+    while (ring.front() != ring.back() && grown) {
+      grown = false;
+      for (std::size_t k = 0; k < ways.size(); ++k) {
+        if (used[k] || ways[k].size() < 2) continue;
+        const std::vector<long long>& w = ways[k];
+        if (w.front() == ring.back()) {
+          ring.insert(ring.end(), w.begin() + 1, w.end());
+        } else if (w.back() == ring.back()) {
+          ring.insert(ring.end(), w.rbegin() + 1, w.rend());
+        } else {
+          continue;
+        }
+        used[k] = true;
+        grown = true;
+        break;
+      }
+    }
+    const bool closed = ring.size() >= 4 && ring.front() == ring.back();
+    out.emplace_back(std::move(ring), closed);
   }
-  while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.pop_back();
-  if (t.empty()) return false;
-  char* end = nullptr;
-  const double v = std::strtod(t.c_str(), &end);
-  if (*end != '\0' || !std::isfinite(v) || v <= 0.0) return false;
-  out = v * scale;
-  return true;
-}
-
-bool on_level(const Ranges& ranges, double level) {
-  for (const auto& [lo, hi] : ranges) {
-    if (level >= lo - 1e-9 && level <= hi + 1e-9) return true;
-  }
-  return false;
+  return out;
 }
 
 }  // namespace
 
 ImportResult import_osm_xml(const std::string& xml_text, const std::string& source, const ImportOptions& options) {
-  const double thickness = import_detail::wall_thickness_or(options, 0.10, source);
   pugi::xml_document doc;
   const pugi::xml_parse_result parsed = doc.load_buffer(xml_text.data(), xml_text.size());
   if (!parsed) {
@@ -197,214 +167,75 @@ ImportResult import_osm_xml(const std::string& xml_text, const std::string& sour
     relations[id] = std::move(r);
   }
 
-  // Levels of a tagged element: level=* plus repeat_on=*; none -> level 0.
-  auto levels_of = [&](const std::map<std::string, std::string>& tags, const std::string& what, bool& has_level) {
-    Ranges all;
-    has_level = false;
-    for (const char* key : {"level", "repeat_on"}) {
-      const std::string v = tag(tags, key);
-      if (v.empty()) continue;
-      Ranges r;
-      if (!parse_osm_levels(v, r)) {
-        throw InputError(source + ": " + what + ": " + key + "=" + quoted(v) +
-                         " is not a level value (expected e.g. 0, -1, 1;2, 0-2, -3--1, 0.5)");
-      }
-      all.insert(all.end(), r.begin(), r.end());
-      has_level = true;
+  import_detail::IndoorData data;
+  auto lonlat = [&](long long nid, const std::string& what) {
+    auto it = nodes.find(nid);
+    if (it == nodes.end()) {
+      throw InputError(source + ": " + what + ": refers to node " + std::to_string(nid) + " which is not in the file");
     }
-    if (all.empty()) all.emplace_back(0.0, 0.0);
-    return all;
+    return import_detail::LonLat{it->second.lon, it->second.lat};
   };
-
-  // Indoor features: ways and multipolygon relations.
-  struct Feature {
-    std::string what;   // "way 12" / "relation 7"
-    Kind kind = Kind::kNone;
-    Ranges levels;
-    std::vector<long long> way_ids;  // the ways whose edges it draws
+  auto ring_of = [&](const std::vector<long long>& ids, const std::string& what) {
+    import_detail::Ring ring;
+    for (long long nid : ids) ring.push_back(lonlat(nid, what));
+    return ring;
   };
-  std::vector<Feature> features;
+  auto is_indoor = [](const std::map<std::string, std::string>& tags) {
+    const std::string v = tag(tags, "indoor");
+    return !v.empty() && v != "yes" && v != "no" && v != "door";
+  };
   for (const auto& [id, w] : ways) {
-    const Kind k = kind_of(tag(w.tags, "indoor"));
-    if (k == Kind::kNone) continue;
-    Feature f;
-    f.what = "way " + std::to_string(id);
-    f.kind = k;
-    bool has = false;
-    f.levels = levels_of(w.tags, f.what, has);
-    f.way_ids = {id};
-    features.push_back(std::move(f));
+    if (!is_indoor(w.tags)) continue;
+    import_detail::IndoorFeature f;
+    f.what = source + ": way " + std::to_string(id);
+    f.id = "way" + std::to_string(id);
+    f.tags = w.tags;
+    if (w.nodes.size() < 2) throw InputError(f.what + ": fewer than 2 nodes");
+    f.rings.push_back(ring_of(w.nodes, f.what));
+    f.inner.push_back(false);
+    f.area = tag(w.tags, "indoor") != "wall";
+    f.unclosed = f.area && (w.nodes.front() != w.nodes.back() || w.nodes.size() < 4);
+    data.features.push_back(std::move(f));
   }
   for (const auto& [id, r] : relations) {
-    const Kind k = kind_of(tag(r.tags, "indoor"));
-    if (k == Kind::kNone || k == Kind::kWall || tag(r.tags, "type") != "multipolygon") continue;
-    Feature f;
-    f.what = "relation " + std::to_string(id);
-    f.kind = k;
-    bool has = false;
-    f.levels = levels_of(r.tags, f.what, has);
-    for (const Member& m : r.members) {
-      if (m.type != "way") continue;
-      if (!ways.count(m.ref)) {
-        throw InputError(source + ": " + f.what + ": member way " + std::to_string(m.ref) + " is not in the file");
-      }
-      // A member way without its own level inherits the relation's.
-      f.way_ids.push_back(m.ref);
-    }
-    features.push_back(std::move(f));
-  }
-  if (features.empty()) {
-    throw InputError(source + ": no Simple Indoor Tagging features (ways or multipolygons with indoor=room, corridor, "
-                              "area, wall or column)");
-  }
-
-  // Level selection.
-  std::set<double> available;
-  for (const Feature& f : features) {
-    for (const auto& [lo, hi] : f.levels) {
-      available.insert(lo);
-      available.insert(hi);
-      for (double v = std::ceil(lo); v <= hi; v += 1.0) available.insert(v);
-    }
-  }
-  auto list_levels = [&] {
-    std::string s;
-    for (double v : available) s += (s.empty() ? "" : ", ") + fmt(v);
-    return s;
-  };
-  double level = 0.0;
-  if (options.level) {
-    Ranges r;
-    if (!parse_osm_levels(*options.level, r) || r.size() != 1 || r[0].first != r[0].second) {
-      throw InputError(source + ": --level " + quoted(*options.level) + " must be one level value such as 0, -1 or 0.5");
-    }
-    level = r[0].first;
-    bool any = false;
-    for (const Feature& f : features) any = any || on_level(f.levels, level);
-    if (!any) throw InputError(source + ": no indoor features on level " + fmt(level) + "; available levels: " + list_levels());
-  } else if (available.size() == 1) {
-    level = *available.begin();
-  } else {
-    throw InputError(source + ": indoor features on " + std::to_string(available.size()) +
-                     " levels, choose one with --level; available levels: " + list_levels());
-  }
-
-  // Selected features and the nodes they use.
-  std::vector<const Feature*> selected;
-  std::set<long long> used_nodes;
-  for (const Feature& f : features) {
-    if (!on_level(f.levels, level)) continue;
-    selected.push_back(&f);
-    for (long long wid : f.way_ids) {
-      const Way& w = ways.at(wid);
-      if (w.nodes.size() < 2) throw InputError(source + ": way " + std::to_string(wid) + ": fewer than 2 nodes");
-      if ((f.kind == Kind::kRoom || f.kind == Kind::kCorridor || f.kind == Kind::kArea || f.kind == Kind::kColumn) &&
-          f.what.rfind("way", 0) == 0 && w.nodes.front() != w.nodes.back()) {
-        throw InputError(source + ": way " + std::to_string(wid) + ": indoor=" + kind_name(f.kind) +
-                         " must be a closed way (first node = last node)");
-      }
-      for (long long nid : w.nodes) {
-        if (!nodes.count(nid)) {
-          throw InputError(source + ": way " + std::to_string(wid) + ": refers to node " + std::to_string(nid) +
-                           " which is not in the file");
+    if (!is_indoor(r.tags) || tag(r.tags, "indoor") == "wall" || tag(r.tags, "type") != "multipolygon") continue;
+    import_detail::IndoorFeature f;
+    f.what = source + ": relation " + std::to_string(id);
+    f.id = "relation" + std::to_string(id);
+    f.tags = r.tags;
+    f.area = true;
+    for (const char* role : {"outer", "inner"}) {
+      std::vector<std::vector<long long>> member_ways;
+      for (const Member& m : r.members) {
+        if (m.type != "way") continue;
+        const bool inner = m.role == "inner";
+        if (inner != (std::string(role) == "inner")) continue;
+        auto it = ways.find(m.ref);
+        if (it == ways.end()) {
+          throw InputError(f.what + ": member way " + std::to_string(m.ref) + " is not in the file");
         }
-        used_nodes.insert(nid);
+        member_ways.push_back(it->second.nodes);
+      }
+      for (auto& [ids, closed] : chain_rings(member_ways)) {
+        f.rings.push_back(ring_of(ids, f.what));
+        f.inner.push_back(std::string(role) == "inner");
+        f.unclosed = f.unclosed || !closed;
       }
     }
+    if (f.rings.empty()) continue;
+    data.features.push_back(std::move(f));
   }
-  // Door nodes on this level: a door=* / indoor=door node with a matching level, or without a
-  // level of its own on a selected way.
-  std::vector<long long> door_nodes;
-  for (const auto& [nid, n] : nodes) {
-    const bool is_door = n.tags.count("door") > 0 || tag(n.tags, "indoor") == "door";
-    if (!is_door) continue;
-    bool has_level = false;
-    const Ranges lv = levels_of(n.tags, "node " + std::to_string(nid), has_level);
-    if (has_level ? on_level(lv, level) : used_nodes.count(nid) > 0) door_nodes.push_back(nid);
+  for (const auto& [id, n] : nodes) {
+    if (n.tags.empty()) continue;
+    import_detail::IndoorPoint p;
+    p.what = source + ": node " + std::to_string(id);
+    p.id = "node" + std::to_string(id);
+    p.tags = n.tags;
+    p.at = {n.lon, n.lat};
+    data.points.push_back(std::move(p));
   }
-
-  double lat0 = 0.0, lon0 = 0.0;
-  for (long long nid : used_nodes) {
-    lat0 += nodes.at(nid).lat;
-    lon0 += nodes.at(nid).lon;
-  }
-  lat0 /= static_cast<double>(std::max<std::size_t>(used_nodes.size(), 1));
-  lon0 /= static_cast<double>(std::max<std::size_t>(used_nodes.size(), 1));
-  const LocalTangentPlane ltp(lat0, lon0);
-  auto project = [&](long long nid) {
-    const Node& n = nodes.at(nid);
-    return ltp.to_local_m(n.lat, n.lon);
-  };
-
-  std::vector<import_detail::BoundaryEdge> edges;
-  std::map<Kind, int> kind_counts;
-  for (std::size_t fi = 0; fi < selected.size(); ++fi) {
-    const Feature& f = *selected[fi];
-    ++kind_counts[f.kind];
-    for (long long wid : f.way_ids) {
-      const Way& w = ways.at(wid);
-      for (std::size_t k = 0; k + 1 < w.nodes.size(); ++k) {
-        import_detail::BoundaryEdge e;
-        e.segment_m = {project(w.nodes[k]), project(w.nodes[k + 1])};
-        e.owner = static_cast<int>(fi);
-        e.walled = f.kind != Kind::kArea;
-        e.open = f.kind == Kind::kCorridor || f.kind == Kind::kArea;
-        edges.push_back(e);
-      }
-    }
-  }
-  const auto pieces = import_detail::classify_boundaries(edges, options.cleanup.snap_tolerance_m, options.cleanup.angle_tolerance_rad);
-
-  ImportResult result;
-  FloorPlan plan;
-  plan.level = static_cast<int>(std::floor(level));
-  if (static_cast<double>(plan.level) != level) {
-    result.notes.push_back("level " + fmt(level) + " is not an integer; the plan's level is " + std::to_string(plan.level));
-  }
-  import_detail::append_walls(plan, pieces.walls, thickness);
-  const double reach = 0.5 * thickness + options.cleanup.opening_attach_tolerance_m;
-  for (long long nid : door_nodes) {
-    const Vec2 p = project(nid);
-    const std::string what = "node " + std::to_string(nid);
-    const double d_wall = import_detail::distance_to_segments(p, pieces.walls);
-    if (d_wall > reach) {
-      if (import_detail::distance_to_segments(p, pieces.open) <= reach) {
-        result.notes.push_back(what + ": door on an open boundary (corridor/area outline, no wall), skipped");
-      } else {
-        result.notes.push_back(what + ": door is not on any wall of level " + fmt(level) + " (nearest wall " +
-                               fmt(d_wall) + " m away), skipped");
-      }
-      continue;
-    }
-    Door d;
-    d.id = "node" + std::to_string(nid);
-    d.center_m = p;
-    d.width_m = options.default_door_width_m;
-    const std::string width = tag(nodes.at(nid).tags, "width");
-    if (!width.empty()) {
-      double wv = 0.0;
-      if (parse_width(width, wv)) {
-        d.width_m = wv;
-      } else {
-        result.notes.push_back(what + ": width=" + quoted(width) + " is not a length, door width " +
-                               fmt(options.default_door_width_m) + " m used");
-      }
-    }
-    d.closed = options.doors_closed;
-    plan.doors.push_back(std::move(d));
-  }
-
-  result.level_description = "level " + fmt(level);
-  result.source_counts = {{"nodes", static_cast<int>(nodes.size())},
-                          {"ways", static_cast<int>(ways.size())},
-                          {"rooms", kind_counts[Kind::kRoom]},
-                          {"corridors", kind_counts[Kind::kCorridor]},
-                          {"areas", kind_counts[Kind::kArea]},
-                          {"walls", kind_counts[Kind::kWall]},
-                          {"columns", kind_counts[Kind::kColumn]},
-                          {"doors", static_cast<int>(door_nodes.size())}};
-  return import_detail::finish_import(std::move(plan), source, import_detail::stem_of(source) + " level " + fmt(level),
-                                      options, std::move(result));
+  data.source_counts = {{"nodes", static_cast<int>(nodes.size())}, {"ways", static_cast<int>(ways.size())}};
+  return import_detail::import_indoor(data, source, import_detail::stem_of(source), options);
 }
 
 }  // namespace floorcast

@@ -599,6 +599,74 @@ std::vector<Wall> vectorize_occupancy(const cv::Mat& occupied, double resolution
   return walls;
 }
 
+namespace {
+
+/// Solid mass is not a wall: occupied regions thicker than `max_wall_m` (an occupied exterior
+/// around the building, filled shafts) keep only a band along their free boundary as thick as the
+/// image's walls (the median thickness of the other walls, else 0.2 m); the rest becomes free.
+/// Returns how many regions were hollowed and adds a note for each.
+int hollow_solid_regions(cv::Mat& occupied, double res, double max_wall_m, std::vector<std::string>& notes) {
+  if (!(max_wall_m > 0.0)) return 0;
+  cv::Mat dist;
+  cv::distanceTransform(occupied, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const float deep_px = static_cast<float>(0.5 * max_wall_m / res);
+  cv::Mat labels;
+  const int n = cv::connectedComponents(occupied, labels, 8, CV_32S);
+  std::vector<bool> deep(static_cast<std::size_t>(n), false);
+  for (int r = 0; r < occupied.rows; ++r) {
+    const float* d = dist.ptr<float>(r);
+    const int* l = labels.ptr<int>(r);
+    for (int c = 0; c < occupied.cols; ++c) {
+      if (d[c] > deep_px) deep[static_cast<std::size_t>(l[c])] = true;
+    }
+  }
+  if (std::none_of(deep.begin() + 1, deep.end(), [](bool b) { return b; })) return 0;
+  // Wall thickness of the image: twice the distance at ridge pixels (3x3 local maxima) of the
+  // regions that are walls.
+  std::vector<float> half;
+  for (int r = 1; r + 1 < occupied.rows; ++r) {
+    for (int c = 1; c + 1 < occupied.cols; ++c) {
+      const float v = dist.at<float>(r, c);
+      if (v <= 0.0f || deep[static_cast<std::size_t>(labels.at<int>(r, c))]) continue;
+      bool ridge = true;
+      for (int dr = -1; dr <= 1 && ridge; ++dr) {
+        for (int dc = -1; dc <= 1; ++dc) ridge = ridge && dist.at<float>(r + dr, c + dc) <= v;
+      }
+      if (ridge) half.push_back(v);
+    }
+  }
+  double band_px = 0.2 / res;
+  if (!half.empty()) {
+    std::nth_element(half.begin(), half.begin() + static_cast<std::ptrdiff_t>(half.size() / 2), half.end());
+    band_px = 2.0 * half[half.size() / 2];
+  }
+  band_px = std::clamp(band_px, 2.0, static_cast<double>(deep_px));
+  std::vector<int> removed(static_cast<std::size_t>(n), 0);
+  for (int r = 0; r < occupied.rows; ++r) {
+    const float* d = dist.ptr<float>(r);
+    const int* l = labels.ptr<int>(r);
+    uchar* o = occupied.ptr<uchar>(r);
+    for (int c = 0; c < occupied.cols; ++c) {
+      if (o[c] && deep[static_cast<std::size_t>(l[c])] && d[c] > band_px) {
+        o[c] = 0;
+        ++removed[static_cast<std::size_t>(l[c])];
+      }
+    }
+  }
+  int hollowed = 0;
+  for (int k = 1; k < n; ++k) {
+    if (!deep[static_cast<std::size_t>(k)]) continue;
+    ++hollowed;
+    notes.push_back("occupied region " + std::to_string(k) + " is solid mass thicker than " +
+                    import_detail::fmt(max_wall_m) + " m (an occupied exterior or a filled shaft): " +
+                    std::to_string(removed[static_cast<std::size_t>(k)]) + " px inside it made free, a " +
+                    import_detail::fmt(band_px * res) + " m band along its free boundary kept as wall");
+  }
+  return hollowed;
+}
+
+}  // namespace
+
 ImportResult import_png_image(const cv::Mat& image, const std::string& source, const ImportOptions& options) {
   if (!options.resolution_m_per_px) {
     throw InputError(source + ": png import needs the image resolution (--resolution M_PER_PX)");
@@ -626,6 +694,9 @@ ImportResult import_png_image(const cv::Mat& image, const std::string& source, c
     }
   }
   ImportResult result;
+  const int occupied_px = cv::countNonZero(occupied);
+  import_detail::count_repair(result, "solid_regions_hollowed",
+                              hollow_solid_regions(occupied, res, options.png_max_wall_thickness_m, result.notes));
   ImportOptions opts = options;
   opts.cleanup.snap_tolerance_m = std::max(opts.cleanup.snap_tolerance_m, 1.5 * res);
   opts.cleanup.angle_tolerance_rad = std::max(opts.cleanup.angle_tolerance_rad, 3.0 * 3.14159265358979323846 / 180.0);
@@ -634,10 +705,11 @@ ImportResult import_png_image(const cv::Mat& image, const std::string& source, c
   plan.level = import_detail::plain_level(options, source);
   plan.walls = vectorize_occupancy(occupied, res, opts, &result.notes);
   result.source_counts = {{"pixels", image.rows * image.cols},
-                          {"occupied_pixels", cv::countNonZero(occupied)},
+                          {"occupied_pixels", occupied_px},
                           {"vectorised_walls", static_cast<int>(plan.walls.size())}};
   if (plan.walls.empty()) throw InputError(source + ": the image has no occupied pixels to vectorise (255 = free)");
-  return import_detail::finish_import(std::move(plan), source, import_detail::stem_of(source), opts, std::move(result));
+  const import_detail::UnitCheck check{res, "px", "--resolution"};
+  return import_detail::finish_import(std::move(plan), source, import_detail::stem_of(source), opts, std::move(result), &check);
 }
 
 }  // namespace floorcast

@@ -29,7 +29,6 @@ using Json = nlohmann::json;
 using import_detail::fmt;
 using import_detail::quoted;
 
-constexpr double kMmToM = 1e-3;
 
 class S3dReader {
  public:
@@ -117,9 +116,10 @@ ImportResult import_s3d_json(const std::string& json_text, const std::string& so
   const Json& planes_json = rd.array(root, "planes");
   const Json& semantics_json = rd.array(root, "semantics");
 
+  const double unit_m = import_detail::source_unit_m(options, "mm", source);
   std::vector<Eigen::Vector3d> junctions;
   for (std::size_t k = 0; k < junctions_json.size(); ++k) {
-    junctions.push_back(rd.vec3(junctions_json[k], "coordinate", "junctions[" + std::to_string(k) + "]") * kMmToM);
+    junctions.push_back(rd.vec3(junctions_json[k], "coordinate", "junctions[" + std::to_string(k) + "]") * unit_m);
   }
   struct Plane {
     std::string type;
@@ -384,7 +384,9 @@ ImportResult import_s3d_json(const std::string& json_text, const std::string& so
                           {"wall_planes", static_cast<int>(faces.size())},
                           {"door_semantics", doors_read},
                           {"window_semantics", windows_read}};
-  return import_detail::finish_import(std::move(plan), source, import_detail::stem_of(source), options, std::move(result));
+  const import_detail::UnitCheck check{unit_m, "mm", "--units"};
+  return import_detail::finish_import(std::move(plan), source, import_detail::stem_of(source), options, std::move(result),
+                                      options.units || options.scale ? nullptr : &check);
 }
 
 }  // namespace floorcast

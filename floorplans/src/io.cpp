@@ -255,6 +255,22 @@ void validate_floor_plan(const FloorPlan& plan, const std::string& source, const
     check_range(o.height_m, 0.0, limits.max_height_m, fail, "height_m");
     if (!std::isfinite(o.yaw_rad)) fail("yaw_rad is not finite");
   }
+
+  std::set<std::string> room_ids;
+  for (std::size_t i = 0; i < plan.rooms.size(); ++i) {
+    const Room& room = plan.rooms[i];
+    const std::string name = element_name("rooms", i, room.id);
+    auto fail = [&](const std::string& reason) { throw InputError(source + ": " + name + ": " + reason); };
+    if (room.id.empty()) fail("empty id");
+    if (!room_ids.insert(room.id).second) fail("duplicate room id " + quoted(room.id));
+    if (room.kind.empty()) fail("empty kind");
+    auto check_ring = [&](const std::vector<Vec2>& ring, const std::string& what) {
+      if (ring.size() < 3) fail(what + " needs at least 3 points, got " + std::to_string(ring.size()));
+      for (const Vec2& v : ring) check_point(v, limits, fail, (what + " point").c_str());
+    };
+    check_ring(room.polygon_m, "polygon");
+    for (std::size_t h = 0; h < room.holes_m.size(); ++h) check_ring(room.holes_m[h], "holes[" + std::to_string(h) + "]");
+  }
 }
 
 FloorPlan parse_floor_plan_json(const std::string& json_text, const std::string& source,
@@ -268,7 +284,7 @@ FloorPlan parse_floor_plan_json(const std::string& json_text, const std::string&
   if (!root.is_object()) throw InputError(source + ": top level must be a JSON object");
 
   Reader top(root, source, "plan");
-  top.only_keys({"format_version", "name", "level", "walls", "doors", "windows", "obstacles"});
+  top.only_keys({"format_version", "name", "level", "walls", "doors", "windows", "obstacles", "rooms"});
   const int version = top.integer("format_version");
   if (version != FloorPlan::kFormatVersion) {
     throw InputError(source + ": unsupported format_version " + std::to_string(version) +
@@ -352,6 +368,34 @@ FloorPlan parse_floor_plan_json(const std::string& json_text, const std::string&
     plan.obstacles.push_back(std::move(o));
   }
 
+  const Json& rooms = array_field(root, "rooms", source, false);
+  for (std::size_t i = 0; i < rooms.size(); ++i) {
+    const std::string where = element_name("rooms", i, element_id(rooms[i]));
+    Reader r(rooms[i], source, where);
+    r.only_keys({"id", "kind", "polygon", "holes"});
+    Room room;
+    room.id = r.string("id");
+    room.kind = r.string("kind");
+    auto ring = [&](const Json& v, const std::string& what) {
+      if (!v.is_array()) r.fail(what + " must be an array of [x, y] points, got " + v.type_name());
+      std::vector<Vec2> out;
+      for (const Json& p : v) {
+        if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
+          r.fail(what + ": every point must be an array [x, y] of two numbers, got " + p.dump());
+        }
+        out.emplace_back(p[0].get<double>(), p[1].get<double>());
+      }
+      return out;
+    };
+    room.polygon_m = ring(r.get("polygon"), "field \"polygon\"");
+    if (r.has("holes")) {
+      const Json& holes = r.get("holes");
+      if (!holes.is_array()) r.fail("field \"holes\" must be an array of rings");
+      for (std::size_t h = 0; h < holes.size(); ++h) room.holes_m.push_back(ring(holes[h], "holes[" + std::to_string(h) + "]"));
+    }
+    plan.rooms.push_back(std::move(room));
+  }
+
   validate_floor_plan(plan, source, limits);
   return plan;
 }
@@ -412,6 +456,29 @@ std::string floor_plan_to_json(const FloorPlan& plan) {
     obstacles.push_back(std::move(j));
   }
   root["obstacles"] = std::move(obstacles);
+  // Rooms only when there are any: plans without labels keep their bytes (and hashes).
+  if (!plan.rooms.empty()) {
+    OrderedJson rooms = OrderedJson::array();
+    for (const Room& room : plan.rooms) {
+      OrderedJson j;
+      j["id"] = room.id;
+      j["kind"] = room.kind;
+      OrderedJson poly = OrderedJson::array();
+      for (const Vec2& v : room.polygon_m) poly.push_back(point(v));
+      j["polygon"] = std::move(poly);
+      if (!room.holes_m.empty()) {
+        OrderedJson holes = OrderedJson::array();
+        for (const auto& hole : room.holes_m) {
+          OrderedJson h = OrderedJson::array();
+          for (const Vec2& v : hole) h.push_back(point(v));
+          holes.push_back(std::move(h));
+        }
+        j["holes"] = std::move(holes);
+      }
+      rooms.push_back(std::move(j));
+    }
+    root["rooms"] = std::move(rooms);
+  }
   return root.dump(2) + "\n";
 }
 

@@ -9,20 +9,6 @@
 
 namespace floorcast {
 
-bool point_in_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
-  bool inside = false;
-  const std::size_t n = poly.size();
-  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec2& a = poly[i];
-    const Vec2& b = poly[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
-  }
-  return inside;
-}
-
 std::vector<Pose2> sample_observation_poses(const FloorPlan& plan, int n, std::uint64_t seed, int plan_index,
                                             double clearance_m, double resolution_m,
                                             const std::vector<std::vector<Vec2>>& regions) {

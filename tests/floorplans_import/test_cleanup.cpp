@@ -186,9 +186,91 @@ TEST(Cleanup, SpansOvershootingAWallEndAreTrimmedOnlyWithinTolerance) {
   EXPECT_NEAR(p.doors[0].center_m.x(), 2.5525, 1e-9);
   validate_floor_plan(p, "test");
 
+  // Overrunning the end by more than the tolerance: the span slides inside the wall (noted).
+  FloorPlan slid = plan_of({wall("w", {0, 0}, {3, 0})});
+  slid.doors.push_back({"d", "w", {2.8, 0.0}, 0.9, false});
+  const CleanupReport rs = cleanup_floor_plan(slid, {}, "t");
+  EXPECT_EQ(rs.openings_slid, 1);
+  EXPECT_EQ(rs.openings_trimmed, 0);
+  EXPECT_NEAR(slid.doors[0].center_m.x(), 2.55, 1e-9);
+  EXPECT_NEAR(slid.doors[0].width_m, 0.9, 1e-12);
+  ASSERT_EQ(rs.notes.size(), 1u);
+  EXPECT_NE(rs.notes[0].find("slid 0.25 m along wall \"w\""), std::string::npos) << rs.notes[0];
+  validate_floor_plan(slid, "t");
+
+  // A centre beyond the wall's end by more than half the width lies on no wall.
   FloorPlan bad = plan_of({wall("w", {0, 0}, {3, 0})});
-  bad.doors.push_back({"d", "w", {2.8, 0.0}, 0.9, false});
-  expect_input_error([&] { cleanup_floor_plan(bad, {}, "t"); }, {"doors[0] (id \"d\")", "does not fit on wall \"w\""});
+  bad.doors.push_back({"d", "w", {3.6, 0.0}, 0.9, false});
+  expect_input_error([&] { cleanup_floor_plan(bad, {}, "t"); },
+                     {"doors[0] (id \"d\")", "does not lie on any wall", "\"w\" is 0.6 m away"});
+  // A narrow opening just beyond the end, within reach of the wall: its span does not reach it.
+  FloorPlan beyond = plan_of({wall("w", {0, 0}, {3, 0})});
+  beyond.doors.push_back({"d", "w", {3.1, 0.0}, 0.1, false});
+  expect_input_error([&] { cleanup_floor_plan(beyond, {}, "t"); }, {"doors[0] (id \"d\")", "does not reach wall \"w\""});
+}
+
+// A door node on a wall end (OSM draws doors as vertices of room outlines; at a corner the door's
+// centre is both walls' end): it slides into the wall it fits, centred as close as it can be.
+TEST(Cleanup, DoorOnAWallEndSlidesInsideTheWall) {
+  FloorPlan p = plan_of({wall("south", {0, 0}, {8, 0}), wall("east", {8, 0}, {8, 4})});
+  p.doors.push_back({"corner", "", {8.0, 0.0}, 0.9, false});
+  const CleanupReport r = cleanup_floor_plan(p, {}, "t");
+  EXPECT_EQ(r.openings_slid, 1);
+  ASSERT_EQ(p.doors.size(), 1u);
+  validate_floor_plan(p, "t");
+  const Door& d = p.doors[0];
+  const Wall& w = p.walls[static_cast<std::size_t>(p.wall_index(d.wall_id))];
+  const double along = (d.center_m - w.a_m).dot(w.direction());
+  EXPECT_NEAR(std::min(along, w.length_m() - along), 0.45, 1e-9);  // flush with the corner
+}
+
+TEST(Cleanup, OpeningWiderThanItsWallIsNarrowedToIt) {
+  FloorPlan p = plan_of({wall("stub", {0, 0}, {0.6, 0}), wall("long", {0.6, 0}, {0.6, 5})});
+  p.doors.push_back({"wide", "stub", {0.3, 0.0}, 0.9, false});
+  const CleanupReport r = cleanup_floor_plan(p, {}, "t");
+  EXPECT_EQ(r.openings_narrowed, 1);
+  EXPECT_EQ(p.doors[0].wall_id, "stub");
+  EXPECT_NEAR(p.doors[0].width_m, 0.6, 1e-12);
+  validate_floor_plan(p, "t");
+}
+
+// Real exports put doors a few centimetres off the wall's axis (IMDF openings drawn on a unit's
+// outline next to the wall): within the attach tolerance they move onto the axis, counted, with a
+// note beyond 5 cm (where validation would have refused them), so --drop-bad-openings is not needed.
+TEST(Cleanup, OpeningsOffTheAxisMoveOntoIt) {
+  FloorPlan p = plan_of({wall("w", {0, 0}, {6, 0}, 0.1)});
+  p.doors.push_back({"near", "", {2.0, 0.02}, 0.9, false});
+  p.doors.push_back({"off", "", {4.0, -0.12}, 0.9, false});
+  const CleanupReport r = cleanup_floor_plan(p, {}, "t");
+  EXPECT_EQ(r.openings_moved_to_axis, 2);
+  ASSERT_EQ(r.notes.size(), 1u);
+  EXPECT_NE(r.notes[0].find("doors[1] (id \"off\") moved 0.12 m onto the axis of wall \"w\""), std::string::npos)
+      << r.notes[0];
+  for (const Door& d : p.doors) EXPECT_NEAR(d.center_m.y(), 0.0, 1e-12);
+  validate_floor_plan(p, "t");
+}
+
+// Collinearity is judged by direction and offset, never by shortness: a 1.5 cm chamfer at a corner
+// lies within the snap tolerance of both walls' lines but is collinear with neither, so the walls
+// stay two walls meeting at the corner (the old rule chained them into one fitted diagonal).
+TEST(Cleanup, ShortPiecesNeverChainWallsOfAnotherDirection) {
+  FloorPlan p = plan_of({wall("south", {0, 0}, {5.985, 0}), wall("chamfer", {5.985, 0}, {6.0, 0.015}),
+                         wall("east", {6.0, 0.015}, {6, 4})});
+  cleanup_floor_plan(p, {}, "t");
+  // The chamfer (2.1 cm, longer than the snap tolerance) stays a wall of its own.
+  ASSERT_EQ(p.walls.size(), 3u);
+  const Wall* south = find_wall(p, {0, 0}, {5.985, 0}, 1e-9);
+  const Wall* east = find_wall(p, {6, 0.015}, {6, 4}, 1e-9);
+  ASSERT_TRUE(south && east);
+  EXPECT_EQ(south->a_m.y(), 0.0);
+  EXPECT_EQ(south->b_m.y(), 0.0);
+  EXPECT_EQ(east->a_m.x(), 6.0);
+  EXPECT_EQ(east->b_m.x(), 6.0);
+  // And pairwise: a short piece across a line is not collinear with it.
+  const std::vector<Segment2> segs = {{{0, 0}, {10, 0}}, {{4, -0.01}, {4.005, 0.01}}, {{6, 0.001}, {6.02, 0.0012}}};
+  const std::vector<int> g = collinear_groups(segs, 0.02, 0.0175);
+  EXPECT_NE(g[0], g[1]);
+  EXPECT_EQ(g[0], g[2]);
 }
 
 TEST(Cleanup, WindowsNeverGoIntoGlassWalls) {
@@ -241,8 +323,12 @@ std::vector<Wall> messy_block(std::mt19937& rng, const Vec2& offset, int& next_i
                                                   {{6, 0}, {6, 9}}};
   std::vector<Wall> out;
   for (const auto& [a, b] : base) {
-    for (int k = 0; k < 3; ++k) {
-      Vec2 p0 = a + (b - a) * (k / 3.0) + offset, p1 = a + (b - a) * ((k + 1) / 3.0) + offset;
+    // Pieces of at least 2.5 m: 3 mm of jitter tilts them by at most 0.14 degrees, within the
+    // 1-degree tolerance (shorter jittered pieces may point off their line by more, and are then
+    // not collinear with it: direction decides, never shortness).
+    const int n = (b - a).norm() >= 7.5 ? 3 : 1;
+    for (int k = 0; k < n; ++k) {
+      Vec2 p0 = a + (b - a) * (k / double(n)) + offset, p1 = a + (b - a) * ((k + 1) / double(n)) + offset;
       p0 += Vec2(jitter(rng), jitter(rng));
       p1 += Vec2(jitter(rng), jitter(rng));
       out.push_back(wall("w" + std::to_string(next_id++), p0, p1));
@@ -289,8 +375,7 @@ bool slow_collinear(const Segment2& s, const Segment2& t, double tol, double ang
   };
   double da = std::abs(angle(s) - angle(t));
   da = std::min(da, M_PI - da);
-  const double shortest = std::min(s.length_m(), t.length_m());
-  if (da > std::max(angle_tol, std::asin(std::min(1.0, 2.0 * tol / shortest)))) return false;
+  if (da > angle_tol) return false;
   const Segment2& L = s.length_m() >= t.length_m() ? s : t;
   const Segment2& S = s.length_m() >= t.length_m() ? t : s;
   const Vec2 u = (L.b_m - L.a_m).normalized();

@@ -62,7 +62,11 @@ TEST(ImportCsv, BadLinesNameFileAndLineNumber) {
   expect_input_error([] { import_csv_text("0,0,1e999,0\n", "m.csv"); }, {"m.csv:1:", "x2"});
   expect_input_error([] { import_csv_text("# only comments\n\n", "m.csv"); }, {"m.csv", "no wall segments"});
   expect_input_error([] { import_csv_text("0,0,0,0\n", "m.csv"); }, {"m.csv", "no walls left"});
-  expect_input_error([] { import_csv_text("0,0,2e5,0\n", "m.csv"); }, {"m.csv", "walls[0]", "absurd"});
+  // A 200 km wall: the unit check speaks first (millimetres?); with the unit given, validation.
+  expect_input_error([] { import_csv_text("0,0,2e5,0\n", "m.csv"); }, {"m.csv", "no building level is that large", "--units"});
+  ImportOptions metres;
+  metres.units = "m";
+  expect_input_error([&] { import_csv_text("0,0,2e5,0\n", "m.csv", metres); }, {"m.csv", "walls[0]", "absurd"});
   expect_input_error([] { import_floor_plan(data_path("csv/missing.csv"), ImportFormat::kCsv); }, {"missing.csv"});
 }
 

@@ -76,12 +76,13 @@ TEST(ImportImdf, OpenCategoriesAreConfigurable) {
 TEST(ImportImdf, LevelSelectionByOrdinalOrIdAndClearRefusals) {
   const std::string campus = data_path("imdf/campus");
   expect_input_error([&] { import_floor_plan(campus, ImportFormat::kImdf); },
-                     {"3 levels", "--level", "ordinal 0 (id \"b1-level-0\", \"B1 Ground\")",
-                      "ordinal 0 (id \"b2-level-0\", \"B2 Ground\")", "ordinal 1 (id \"b1-level-1\", \"B1 First\")"});
+                     {"3 levels", "--level", "ordinal 0 (id \"b1-level-0\", \"B1 Ground\", building \"b1\")",
+                      "ordinal 0 (id \"b2-level-0\", \"B2 Ground\", building \"b2\")",
+                      "ordinal 1 (id \"b1-level-1\", \"B1 First\", building \"b1\")"});
   ImportOptions o;
   o.level = "0";
   expect_input_error([&] { import_floor_plan(campus, ImportFormat::kImdf, o); },
-                     {"ordinal 0 is ambiguous", "b1-level-0", "b2-level-0", "pass --level LEVEL_ID"});
+                     {"ordinal 0 is ambiguous", "b1-level-0", "b2-level-0", "pass --building NAME_OR_ID or --level LEVEL_ID"});
   o.level = "7";
   expect_input_error([&] { import_floor_plan(campus, ImportFormat::kImdf, o); }, {"no level with ordinal 7", "available levels"});
   o.level = "ground";

@@ -331,8 +331,189 @@ def make_png():
     write_png("png/two_rooms_f3loc.png", img)
 
 
+# ---- Real-data defects (issue 10) ---------------------------------------------------------------
+def chamfered(pts, cut):
+    """A polygon whose every corner is cut by a short diagonal edge (`cut` m along each side), the
+    way survey/CAD exports leave sub-3-cm pieces at corners."""
+    out = []
+    n = len(pts)
+    for i in range(n):
+        px, py = pts[i - 1]
+        cx, cy = pts[i]
+        nx, ny = pts[(i + 1) % n]
+        def toward(ax, ay, bx, by, d):
+            L = math.hypot(bx - ax, by - ay)
+            return (ax + (bx - ax) * d / L, ay + (by - ay) * d / L)
+        out.append(toward(cx, cy, px, py, cut))
+        out.append(toward(cx, cy, nx, ny, cut))
+    return out
+
+
+def jogged(pts, every, jog):
+    """Inserts, every `every` m along each edge, a 1-cm-long step `jog` m off the edge and back
+    (double vertices a few millimetres apart)."""
+    out = []
+    n = len(pts)
+    for i in range(n):
+        ax, ay = pts[i]
+        bx, by = pts[(i + 1) % n]
+        L = math.hypot(bx - ax, by - ay)
+        ux, uy = (bx - ax) / L, (by - ay) / L
+        out.append((ax, ay))
+        t = every
+        while t + 0.01 < L - 0.05:
+            out.append((ax + ux * t, ay + uy * t))
+            out.append((ax + ux * (t + 0.01) - uy * jog, ay + uy * (t + 0.01) + ux * jog))
+            out.append((ax + ux * (t + 0.02), ay + uy * (t + 0.02)))
+            t += every
+    return out
+
+
+def split(pts, step):
+    """Extra collinear vertices every `step` m along each edge (exports split straight walls)."""
+    out = []
+    n = len(pts)
+    for i in range(n):
+        ax, ay = pts[i]
+        bx, by = pts[(i + 1) % n]
+        L = math.hypot(bx - ax, by - ay)
+        k = int(L / step)
+        out.append((ax, ay))
+        for j in range(1, k):
+            if L - j * step > 0.5 * step:
+                out.append((ax + (bx - ax) * j * step / L, ay + (by - ay) * j * step / L))
+    return out
+
+
+def make_imdf_messy():
+    # office: a 30 x 20 m level, a walkway corridor y in [8.5, 11.5], six rooms of 5 m on each side.
+    # Every room corner is chamfered by 1.5 cm, straight edges are split every 0.8 m and the long
+    # sides have a 1-cm jog of 4 mm: about a fifth of the edges are shorter than 3 cm.
+    L = "office-level-0"
+    units = [unit("corridor", L, "walkway", chamfered(rect(0, 8.5, 30, 11.5), 0.015))]
+    for k in range(6):
+        x0, x1 = 5.0 * k, 5.0 * (k + 1)
+        units.append(unit("south-%d" % k, L, "office", split(jogged(chamfered(rect(x0, 0, x1, 8.5), 0.015), 6.0, 0.004), 0.8)))
+        units.append(unit("north-%d" % k, L, "office", split(jogged(chamfered(rect(x0, 11.5, x1, 20), 0.015), 6.0, 0.004), 0.8)))
+    openings = [opening("door-s%d" % k, L, (5.0 * k + 2.0, 8.5), (5.0 * k + 2.9, 8.5)) for k in range(6)]
+    openings += [opening("door-n%d" % k, L, (5.0 * k + 2.0, 11.5), (5.0 * k + 2.9, 11.5)) for k in range(6)]
+    write("imdf/short_edges/level.geojson", collection([level(L, 0, "Office", rect(0, 0, 30, 20), "office")]))
+    write("imdf/short_edges/unit.geojson", collection(units))
+    write("imdf/short_edges/opening.geojson", collection(openings))
+
+    # two buildings sharing ordinal 1 (building.geojson names them), openings as real exports
+    # write them: one as a MultiLineString of two touching pieces, one 12 cm off its wall's axis,
+    # one overrunning the end of its wall by 0.3 m.
+    def building(fid, name):
+        return feature(fid, "building", None, {"name": {"en": name, "de": name + " (de)"}, "alt_name": None,
+                                               "category": "unspecified", "restriction": None,
+                                               "display_point": None, "address_id": None})
+    main0, main1, annex1, annex2 = "main-0", "main-1", "annex-1", "annex-2"
+    levels = [level(main0, 0, "Main Ground", rect(0, 0, 12, 6), "bld-main"),
+              level(main1, 1, "Main First", rect(0, 0, 12, 6), "bld-main"),
+              level(annex1, 1, "Annex Ground", rect(30, 0, 40, 6), "bld-annex"),
+              level(annex2, 2, "Annex First", rect(30, 0, 40, 6), "bld-annex")]
+    units = [unit("m0-all", main0, "room", rect(0, 0, 12, 6)),
+             unit("m1-west", main1, "classroom", rect(0, 0, 6, 6)),
+             unit("m1-east", main1, "classroom", rect(6, 0, 12, 6)),
+             unit("a1-hall", annex1, "walkway", rect(30, 0, 40, 3)),
+             unit("a1-room", annex1, "office", rect(30, 3, 40, 6)),
+             unit("a2-all", annex2, "room", rect(30, 0, 40, 6))]
+    multi = feature("m1-double", "opening",
+                    {"type": "MultiLineString", "coordinates": [[lonlat(6, 1), lonlat(6, 1.5)], [lonlat(6, 1.5), lonlat(6, 2)]]},
+                    {"category": "pedestrian", "door": None, "name": None, "alt_name": None, "display_point": None,
+                     "accessibility": None, "access_control": None, "level_id": main1})
+    openings = [multi,
+                opening("m1-off-axis", main1, (6.12, 4.0), (6.12, 4.9)),
+                opening("a1-overrun", annex1, (39.5, 3.0), (40.3, 3.0))]
+    write("imdf/two_buildings/building.geojson", collection([building("bld-main", "Main"), building("bld-annex", "Annex")]))
+    write("imdf/two_buildings/level.geojson", collection(levels))
+    write("imdf/two_buildings/unit.geojson", collection(units))
+    write("imdf/two_buildings/opening.geojson", collection(openings))
+
+
+def make_osm_messy():
+    """Level 0: rooms R1 [0,4]x[0,4] (room=office) and R2 [4,8]x[0,4] (stairs=yes) south of a
+    corridor [0,8]x[4,6]; the level outline [0,8]x[0,6]; a door node on the exterior corner (8,0)
+    (a wall end: the door must slide inside a wall), a door on the R1/corridor wall; two column
+    nodes in the corridor; a glass indoor=wall inside R1; an indoor=room way that does not close."""
+    o = Osm()
+    n = o.node
+    c00, c40, c80 = n(0, 0), n(4, 0), n(8, 0, door="hinged", level="0")
+    c04, c24, c44, c84 = n(0, 4), n(2, 4, door="hinged"), n(4, 4), n(8, 4)
+    c06, c86 = n(0, 6), n(8, 6)
+    o.closed([c00, c40, c44, c24, c04], indoor="room", level="0", room="office", name="R1")
+    o.closed([c40, c80, c84, c44], indoor="room", level="0", stairs="yes", name="R2")
+    o.closed([c04, c24, c44, c84, c86, c06], indoor="corridor", level="0", name="C")
+    o.closed([n(0, 0), n(8, 0), n(8, 6), n(0, 6)], indoor="level", level="0")
+    n(2.0, 5.0, indoor="column", level="0")
+    n(6.0, 5.0, indoor="column", level="0", width="0.3")
+    o.way([n(1, 1), n(1, 3)], indoor="wall", level="0", material="glass")
+    o.way([n(10, 0), n(12, 0), n(12, 2), n(10, 2)], indoor="room", level="0", name="broken")
+    write("osm/messy.osm", o.xml())
+
+
+def make_geojson():
+    """OSM-derived GeoJSON as indoor map viewers export it: levels "0~0", "1~1", a stair shaft on
+    "0~1"; level 0 has a level outline [0,10]x[0,6] with two rooms along its south side and no
+    corridor (the rest is circulation), doors as Points (one on a wall end), an indoor=wall line,
+    one feature in the older osmtogeojson layout (tags under properties.tags, id "way/77")."""
+    def f(fid, geom, props):
+        return {"type": "Feature", "id": fid, "geometry": geom, "properties": props}
+    def poly(pts):
+        ring = [lonlat(x, y) for x, y in pts]
+        return {"type": "Polygon", "coordinates": [ring + [ring[0]]]}
+    def point(x, y):
+        return {"type": "Point", "coordinates": lonlat(x, y)}
+    feats = [
+        f(11, poly(rect(0, 0, 10, 6)), {"indoor": "level", "level": "0~0"}),
+        f(12, poly(rect(0, 0, 4, 3)), {"indoor": "room", "level": "0~0", "room": "study", "ref": "0.01"}),
+        f(13, poly(rect(4, 0, 8, 3)), {"indoor": "room", "level": "0~0", "room": "toilets"}),
+        f(14, poly(rect(8, 0, 10, 3)), {"indoor": "room", "level": "0~1", "stairs": "yes"}),
+        f(21, point(2, 3), {"door": "hinged", "indoor": "door", "level": "0~0", "width": "1.0"}),
+        f(22, point(8, 3), {"door": "hinged", "level": "0~0"}),
+        f(23, {"type": "LineString", "coordinates": [lonlat(6, 4.5), lonlat(6, 6)]}, {"indoor": "wall", "level": "0~0"}),
+        f("way/77", poly(rect(0, 0, 10, 6)), {"tags": {"indoor": "level", "level": "1~1"}, "id": "way/77"}),
+        f(31, poly(rect(0, 3, 8, 6)), {"indoor": "room", "level": "1~1", "room": "class"}),
+        f(32, point(4, 3), {"door": "yes", "level": 1}),
+        f(40, point(5, 5), {"highway": "elevator", "level": "0~1"}),
+    ]
+    write("geojson/studihaus.geojson", json.dumps({"type": "FeatureCollection", "features": feats}, indent=1) + "\n")
+
+
+def make_png_exterior():
+    """Occupancy at 0.1 m/px, 200 x 160 px (20 m x 16 m), everything occupied except the building's
+    free interior (columns 60..139, rows 50..109: 8 m x 6 m, rooms split by a 2-px wall at columns
+    99..100 with a 10-px door gap at rows 70..79) - the F3Loc layout where the exterior is occupied."""
+    w, h = 200, 160
+    img = [[0] * w for _ in range(h)]
+    for r in range(50, 110):
+        for c in range(60, 140):
+            img[r][c] = 255
+    for r in range(50, 110):
+        if not (70 <= r < 80):
+            img[r][99] = 0
+            img[r][100] = 0
+    write_png("png/occupied_exterior.png", img)
+
+
+def make_csv_units():
+    """The two-room plan of csv/two_rooms_messy.csv in millimetres and in feet (door gaps 0.9 m)."""
+    segs = [(0, 0, 3, 0), (3.9, 0, 10, 0), (10, 0, 10, 8), (10, 8, 0, 8), (0, 8, 0, 0),
+            (5, 0, 5, 3), (5, 3.9, 5, 8), (0, 4, 2, 4), (2.9, 4, 5, 4), (5, 4, 7, 4), (7.9, 4, 10, 4)]
+    write("csv/millimetres.csv", "# x1,y1,x2,y2 in millimetres\n" +
+          "".join("%g,%g,%g,%g\n" % tuple(1000 * v for v in s) for s in segs))
+    write("csv/feet.csv", "# x1,y1,x2,y2 in feet\n" +
+          "".join("%.4f,%.4f,%.4f,%.4f\n" % tuple(v / 0.3048 for v in s) for s in segs))
+
+
 if __name__ == "__main__":
     make_s3d()
     make_imdf()
     make_osm()
     make_png()
+    make_imdf_messy()
+    make_osm_messy()
+    make_geojson()
+    make_png_exterior()
+    make_csv_units()

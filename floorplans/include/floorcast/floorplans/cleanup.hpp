@@ -9,7 +9,9 @@
 //      onto that wall's centreline (closes T-junction gaps);
 //   3. merge collinear walls: walls whose directions differ by at most angle_tolerance_rad, whose
 //      endpoints lie within snap_tolerance_m of each other's line and whose extents overlap or
-//      touch along it form runs (connected components); a run's walls are projected onto the
+//      touch along it form runs (connected components). Direction and offset decide, never
+//      shortness: a piece a few centimetres long is not collinear with a wall it crosses or
+//      chamfers, whatever its length. A run's walls are projected onto the
 //      run's length-weighted mean line and their union is
 //      rebuilt as maximal pieces (duplicates and overlaps vanish, touching pieces and gaps up to
 //      snap_tolerance_m join). Where pieces of different kind overlap, solid beats glass and the
@@ -19,8 +21,10 @@
 //      degenerate;
 //   5. re-attach doors and windows: each opening goes to the merged wall that now carries its
 //      centre (openings with an empty or unknown wall id go to the nearest wall within
-//      thickness/2 + opening_attach_tolerance_m and along whose length the span fits; a span that
-//      overshoots a wall end by at most snap_tolerance_m is shortened to fit); openings of one
+//      thickness/2 + opening_attach_tolerance_m, preferring walls along which the span fits);
+//      the centre moves onto the wall's axis; a span that overshoots a wall end by at most
+//      snap_tolerance_m is shortened to fit, one that overruns it further (a door node on a wall
+//      end) slides inside the wall, one wider than its wall is narrowed to it; openings of one
 //      kind whose spans overlap on one wall are merged into one spanning both (a door drawn once
 //      per room; a merged door is closed if either was). Windows never go into glass walls.
 // Output walls keep the id of their first contributing input wall (later pieces of the same
@@ -70,6 +74,9 @@ struct CleanupReport {
   int openings_reattached = 0;       ///< doors/windows moved to a different (merged) wall id
   int openings_merged = 0;           ///< duplicate doors/windows merged into another
   int openings_trimmed = 0;          ///< spans overshooting a wall end by <= snap_tolerance_m, shortened
+  int openings_slid = 0;             ///< spans overrunning a wall end by more, slid inside the wall (noted)
+  int openings_narrowed = 0;         ///< openings wider than their wall, narrowed to it (noted)
+  int openings_moved_to_axis = 0;    ///< centres more than 1 mm off their wall's axis moved onto it (noted beyond 5 cm)
   int openings_dropped = 0;          ///< unattachable openings dropped (drop_unattachable_openings)
   std::vector<std::string> notes;    ///< one line per dropped element, with the reason
 };

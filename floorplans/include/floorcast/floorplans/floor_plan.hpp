@@ -63,6 +63,18 @@ struct Obstacle {
   double height_m = 1.0;
 };
 
+/// A labelled space of the plan: a room, corridor, lobby, ... (what a generator laid out or an
+/// importer read from OSM indoor=* / IMDF unit categories). Not geometry a sensor sees: walls do
+/// that. Rooms label the free space, e.g. to sample observation points in transitional spaces.
+/// Rooms may nest (an OSM level outline around its rooms): a point belongs to the smallest room
+/// containing it (rooms.hpp).
+struct Room {
+  std::string id;
+  std::string kind;                        ///< "hallway", "corridor", "office", "walkway", ...
+  std::vector<Vec2> polygon_m;             ///< outer boundary (any orientation, not closed)
+  std::vector<std::vector<Vec2>> holes_m;  ///< inner boundaries (courtyards, shafts)
+};
+
 struct FloorPlan {
   static constexpr int kFormatVersion = 1;
 
@@ -72,6 +84,8 @@ struct FloorPlan {
   std::vector<Door> doors;
   std::vector<Window> windows;
   std::vector<Obstacle> obstacles;
+  /// Optional room labels (ids unique among rooms; not part of the geometry).
+  std::vector<Room> rooms;
 
   /// Index of the wall with this id, or -1.
   int wall_index(const std::string& wall_id) const;

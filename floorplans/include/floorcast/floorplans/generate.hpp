@@ -141,13 +141,10 @@ struct AngledParams {
   std::vector<int> wing_directions_deg = {180, 30, -45};
 };
 
-/// A room of a generated building (not part of the plan file format; useful for scenarios and
-/// evaluation: room labels, hallway vs room, sampling poses per room).
-struct GeneratedRoom {
-  std::string id;
-  std::string kind;              ///< "hallway", "office", "lobby", "atrium", "lecture_hall", ...
-  std::vector<Vec2> polygon_m;   ///< wall centrelines, counter-clockwise
-};
+/// A room of a generated building: id, kind ("hallway", "office", "lobby", "atrium",
+/// "lecture_hall", ...), polygon (wall centrelines, counter-clockwise). Useful for room labels,
+/// hallway vs room, sampling poses per room.
+using GeneratedRoom = Room;
 
 struct GeneratedBuilding {
   FloorPlan plan;

@@ -28,9 +28,9 @@
 
 namespace floorcast {
 
-enum class ImportFormat { kCsv, kS3d, kPng, kImdf, kOsm };
+enum class ImportFormat { kCsv, kS3d, kPng, kImdf, kOsm, kGeojson };
 
-/// "csv", "s3d", "png", "imdf", "osm" -> format; throws InputError listing the valid names.
+/// "csv", "s3d", "png", "imdf", "osm", "geojson" -> format; throws InputError listing the valid names.
 ImportFormat parse_import_format(const std::string& name);
 const char* import_format_name(ImportFormat format);
 
@@ -39,6 +39,17 @@ struct ImportOptions {
   /// buildings' levels that share an ordinal); osm: a level=* value such as "0", "-1", "0.5".
   /// Required when the source holds more than one level. csv/s3d/png: just sets plan.level.
   std::optional<std::string> level;
+  /// imdf: the building (feature id, or its name in any language) whose level `level` names by
+  /// ordinal, for archives holding several buildings whose ordinals coincide.
+  std::optional<std::string> building;
+  /// csv and s3d: the source's length unit, "m", "cm", "mm", "ft" or "in" (default: metres for csv,
+  /// millimetres for s3d). Giving it also turns off the unit check (below), as does `scale`.
+  std::optional<std::string> units;
+  /// csv and s3d: a factor applied to the source's coordinates after `units` (e.g. a drawing's
+  /// scale). Unit check: without `units` and `scale`, a plan whose extent or wall lengths say it is
+  /// not in the assumed unit (millimetres or centimetres read as metres: a level kilometres wide;
+  /// feet: door openings of 2.6-3.3 "m") is refused with a message suggesting --units/--scale.
+  std::optional<double> scale;
   /// png only, required: metres per pixel of the image.
   std::optional<double> resolution_m_per_px;
   /// png only: world coordinates (metres) of the image's bottom-left corner.
@@ -47,8 +58,10 @@ struct ImportOptions {
   /// walls about 0.1 m wide); 0.02 m for s3d, whose walls are room surfaces (the wall's axis is
   /// the annotated surface). png measures each wall's thickness from the image.
   std::optional<double> wall_thickness_m;
-  /// osm: width of a door node without a usable width=* tag (m).
+  /// osm/geojson: width of a door node without a usable width=* tag (m).
   double default_door_width_m = 0.9;
+  /// osm/geojson: side of a square column from an indoor=column node without width=* (m).
+  double default_column_size_m = 0.4;
   /// Imported doors are closed (default: open, i.e. a gap in the wall, as PALMS cuts them).
   bool doors_closed = false;
   /// Plan name (default: derived from the source file name).
@@ -74,6 +87,10 @@ struct ImportOptions {
   double png_min_branch_px = 3.0;
   /// png: Douglas-Peucker tolerance when splitting skeleton chains into straight walls (pixels).
   double png_polyline_epsilon_px = 1.5;
+  /// png: occupied regions thicker than this are solid mass, not walls (an occupied exterior
+  /// around the building, filled shafts): only a band as thick as the image's walls along their
+  /// free boundary is kept as wall, the rest becomes empty (m).
+  double png_max_wall_thickness_m = 1.0;
 };
 
 /// What an import produced and did.
@@ -87,6 +104,9 @@ struct ImportResult {
   std::vector<std::pair<std::string, int>> source_counts;
   /// Elements skipped on purpose, one line each with the reason (never silent).
   std::vector<std::string> notes;
+  /// What the importer repaired or skipped before clean-up, by name (e.g. {"unclosed_ways_skipped",
+  /// 1}); the clean-up's own counts are in `cleanup`. Each has notes naming the elements.
+  std::vector<std::pair<std::string, int>> repairs;
 };
 
 /// Imports a file (csv/s3d/osm: a file; png: an image file; imdf: a folder).
@@ -103,6 +123,13 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
                                const std::string& opening_geojson, const std::string& source,
                                const ImportOptions& options = {});
 ImportResult import_osm_xml(const std::string& xml_text, const std::string& source, const ImportOptions& options = {});
+/// OSM-derived GeoJSON (osmtogeojson-style FeatureCollection: tags as flat properties or under
+/// properties.tags; levels also written as ranges like "2~2").
+ImportResult import_geojson_text(const std::string& text, const std::string& source, const ImportOptions& options = {});
+/// `building_geojson` may be empty (no building file: --building matches building ids only).
+ImportResult import_imdf_texts(const std::string& level_geojson, const std::string& unit_geojson,
+                               const std::string& opening_geojson, const std::string& building_geojson,
+                               const std::string& source, const ImportOptions& options = {});
 
 /// Vectorises an occupancy mask (CV_8U, non-zero = occupied; row 0 is the top of the image) into
 /// walls in metres (image bottom-left corner at png_origin_m, y up). Walls are not cleaned up.
@@ -127,7 +154,8 @@ class LocalTangentPlane {
 };
 
 /// One OSM level=* / repeat_on=* value as closed ranges: "1" -> [1,1]; "1;3" -> [1,1],[3,3];
-/// "-2--1" -> [-2,-1]; "0.5" -> [0.5,0.5]. Returns false if the value is not of that form.
+/// "-2--1" -> [-2,-1]; "0.5" -> [0.5,0.5]; "2~4" -> [2,4] (the range form of OSM-derived
+/// GeoJSON exports). Returns false if the value is not of that form.
 bool parse_osm_levels(const std::string& value, std::vector<std::pair<double, double>>& ranges);
 
 }  // namespace floorcast

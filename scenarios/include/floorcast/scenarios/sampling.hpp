@@ -7,11 +7,9 @@
 
 #include "floorcast/core/types.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
+#include "floorcast/floorplans/rooms.hpp"  // point_in_polygon
 
 namespace floorcast {
-
-/// True if p lies inside the closed polygon (even-odd rule; any orientation, non-convex allowed).
-bool point_in_polygon(const std::vector<Vec2>& polygon_m, const Vec2& p);
 
 /// N poses (position uniform over valid cells with at least clearance_m to the nearest blocked
 /// cell — walls, closed doors, glass, and every obstacle footprint whatever its height, since
