@@ -9,7 +9,6 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "floorcast/floorplans/import.hpp"
 #include "floorcast/floorplans/io.hpp"
