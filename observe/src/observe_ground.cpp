@@ -1,8 +1,4 @@
 // PALMS+ ground plane: lowest points, near-vertical normals, RANSAC plane, mode of inlier heights.
-#include <pcl/ModelCoefficients.h>
-#include <pcl/PointIndices.h>
-#include <pcl/segmentation/sac_segmentation.h>
-
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -33,34 +29,25 @@ GroundPlaneResult detect_ground_plane(const PointCloud3f& points_scan, const Gro
     if (p.z() <= z_cut) low.push_back(p);
   }
   // Keep those whose normal (k nearest neighbours among the low points) is near vertical.
-  auto low_pcl = detail::to_pcl(low);
-  auto normals = detail::estimate_normals(low_pcl, params.normal_k);
+  const std::vector<Eigen::Vector3f> normals = detail::estimate_normals(low, params.normal_k);
   const double cos_tilt = std::cos(params.max_normal_tilt_deg * kPi / 180.0);
   PointCloud3f candidates;
   for (std::size_t i = 0; i < low.size(); ++i) {
-    const auto& n = normals->points[i];
-    if (std::isfinite(n.normal_z) && std::abs(n.normal_z) >= cos_tilt) candidates.push_back(low[i]);
+    const float nz = normals[i].z();
+    if (std::isfinite(nz) && std::abs(nz) >= cos_tilt) candidates.push_back(low[i]);
   }
   res.candidates = candidates.size();
   if (candidates.size() < 3) {
     res.reason = "no low points with near-vertical normals";
     return res;
   }
-  auto cand_pcl = detail::to_pcl(candidates);
-  pcl::SACSegmentation<pcl::PointXYZ> seg;
-  seg.setModelType(pcl::SACMODEL_PLANE);
-  seg.setMethodType(pcl::SAC_RANSAC);
-  seg.setDistanceThreshold(params.ransac_distance_m);
-  seg.setMaxIterations(params.ransac_iterations);
-  seg.setOptimizeCoefficients(false);
-  seg.setInputCloud(cand_pcl);
-  pcl::PointIndices inliers;
-  pcl::ModelCoefficients coefficients;
-  seg.segment(inliers, coefficients);
-  res.inliers = inliers.indices.size();
-  if (coefficients.values.size() == 4) {
-    Eigen::Vector4d plane(coefficients.values[0], coefficients.values[1], coefficients.values[2],
-                          coefficients.values[3]);
+  const detail::RansacPlane ransac =
+      detail::ransac_plane(candidates, params.ransac_distance_m, params.ransac_iterations);
+  const std::vector<int>& inliers = ransac.inliers;
+  res.inliers = inliers.size();
+  if (ransac.coefficients.size() == 4) {
+    Eigen::Vector4d plane(ransac.coefficients[0], ransac.coefficients[1], ransac.coefficients[2],
+                          ransac.coefficients[3]);
     plane /= plane.head<3>().norm();
     if (plane[2] < 0) plane = -plane;
     res.plane = plane;
@@ -74,7 +61,7 @@ GroundPlaneResult detect_ground_plane(const PointCloud3f& points_scan, const Gro
   }
   // Mode of the inlier heights in fixed bins (ties: the lowest bin).
   std::map<long, int> bins;
-  for (int i : inliers.indices) {
+  for (int i : inliers) {
     ++bins[static_cast<long>(std::floor(candidates[i].z() / params.height_bin_m))];
   }
   long mode_bin = bins.begin()->first;
@@ -90,7 +77,7 @@ GroundPlaneResult detect_ground_plane(const PointCloud3f& points_scan, const Gro
   if (params.refine_height) {
     double sum = 0.0;
     int n = 0;
-    for (int i : inliers.indices) {
+    for (int i : inliers) {
       const double zi = candidates[i].z();
       if (std::abs(zi - centre) <= params.height_bin_m) {
         sum += zi;

@@ -1,46 +1,59 @@
-// PCL-based plane extraction: RANSAC plane and normals + region growing. PCL headers stay here.
-#include <pcl/features/normal_3d.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-#include <pcl/search/kdtree.h>
-#include <pcl/segmentation/region_growing.h>
-#include <pcl/segmentation/sac_segmentation.h>
-
+// PCL-based plane extraction (RANSAC plane; normals + region growing) through the PCL back-end
+// module (pcl_backend_api.hpp): no PCL header or library in the observe library itself.
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
-#include "floorcast/observe/observe_planes.hpp"
 #include "floorcast/core/math.hpp"
+#include "floorcast/core/module.hpp"
+#include "floorcast/observe/observe_planes.hpp"
 #include "observe_pcl.hpp"
+#include "pcl_backend_api.hpp"
 
 namespace floorcast {
 namespace detail {
+namespace {
 
-pcl::PointCloud<pcl::PointXYZ>::Ptr to_pcl(const PointCloud3f& points) {
-  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
-  cloud->points.resize(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    cloud->points[i].x = points[i].x();
-    cloud->points[i].y = points[i].y();
-    cloud->points[i].z = points[i].z();
-  }
-  cloud->width = static_cast<std::uint32_t>(points.size());
-  cloud->height = 1;
-  cloud->is_dense = true;
-  return cloud;
+static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float), "points are passed to PCL as packed x, y, z floats");
+
+/// The back-end's functions, loaded once per process on first use.
+const pcl_api::Functions& pcl_functions() {
+  static const pcl_api::Functions* functions = [] {
+    void* handle = load_module(pcl_api::kModuleName);
+    const auto get = reinterpret_cast<pcl_api::GetFunctionsFn>(
+        module_symbol(handle, pcl_api::kModuleName, pcl_api::kFunctionsSymbol));
+    const pcl_api::Functions* f = get();
+    if (f == nullptr || f->api_version != pcl_api::kApiVersion)
+      throw std::runtime_error(std::string("floorcast module ") + pcl_api::kModuleName +
+                               " is stale (interface version " + std::to_string(f ? f->api_version : -1) +
+                               ", expected " + std::to_string(pcl_api::kApiVersion) + "): rebuild it");
+    return f;
+  }();
+  return *functions;
 }
 
-pcl::PointCloud<pcl::Normal>::Ptr estimate_normals(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud,
-                                                   int k) {
-  pcl::PointCloud<pcl::Normal>::Ptr normals(new pcl::PointCloud<pcl::Normal>);
-  pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
-  pcl::NormalEstimation<pcl::PointXYZ, pcl::Normal> ne;
-  ne.setInputCloud(cloud);
-  ne.setSearchMethod(tree);
-  ne.setKSearch(std::max(3, k));
-  ne.setViewPoint(0.0f, 0.0f, 0.0f);  // scan origin = sensor
-  ne.compute(*normals);
+const float* packed(const PointCloud3f& points) { return points.empty() ? nullptr : points.front().data(); }
+
+}  // namespace
+
+std::vector<Eigen::Vector3f> estimate_normals(const PointCloud3f& points, int k) {
+  std::vector<Eigen::Vector3f> normals(points.size());
+  if (points.empty()) return normals;
+  pcl_functions().estimate_normals(packed(points), points.size(), k, normals.front().data());
   return normals;
+}
+
+RansacPlane ransac_plane(const PointCloud3f& points, double distance_m, int iterations) {
+  RansacPlane out;
+  if (points.empty()) return out;
+  out.inliers.resize(points.size());
+  double coefficients[4] = {0, 0, 0, 0};
+  int coefficient_count = 0;
+  const std::size_t count = pcl_functions().ransac_plane(packed(points), points.size(), distance_m, iterations,
+                                                         out.inliers.data(), coefficients, &coefficient_count);
+  out.inliers.resize(count);
+  out.coefficients.assign(coefficients, coefficients + coefficient_count);
+  return out;
 }
 
 }  // namespace detail
@@ -48,28 +61,18 @@ pcl::PointCloud<pcl::Normal>::Ptr estimate_normals(const pcl::PointCloud<pcl::Po
 Plane3 fit_plane_ransac_pcl(const PointCloud3f& points, const RansacPlaneParams& params) {
   Plane3 plane;
   if (points.size() < 3) return plane;
-  auto cloud = detail::to_pcl(points);
-  pcl::SACSegmentation<pcl::PointXYZ> seg;
-  seg.setModelType(pcl::SACMODEL_PLANE);
-  seg.setMethodType(pcl::SAC_RANSAC);
-  seg.setDistanceThreshold(params.distance_m);
-  seg.setMaxIterations(params.iterations);
-  seg.setOptimizeCoefficients(false);
-  seg.setInputCloud(cloud);
-  pcl::PointIndices inliers;
-  pcl::ModelCoefficients coefficients;
-  seg.segment(inliers, coefficients);
-  if (inliers.indices.size() < 3 || coefficients.values.size() != 4) return plane;
-  if (params.refit_inliers) return fit_plane_pca(points, inliers.indices);
-  Eigen::Vector3d n(coefficients.values[0], coefficients.values[1], coefficients.values[2]);
+  const detail::RansacPlane found = detail::ransac_plane(points, params.distance_m, params.iterations);
+  if (found.inliers.size() < 3 || found.coefficients.size() != 4) return plane;
+  if (params.refit_inliers) return fit_plane_pca(points, found.inliers);
+  Eigen::Vector3d n(found.coefficients[0], found.coefficients[1], found.coefficients[2]);
   const double norm = n.norm();
   n /= norm;
-  double d = -coefficients.values[3] / norm;
+  double d = -found.coefficients[3] / norm;
   if (d > 0.0) {
     n = -n;
     d = -d;
   }
-  plane = fit_plane_pca(points, inliers.indices);  // centroid, rms, indices
+  plane = fit_plane_pca(points, found.inliers);  // centroid, rms, indices
   plane.normal = n;
   plane.offset_m = d;
   double sq = 0.0;
@@ -85,23 +88,19 @@ std::vector<Plane3> extract_planes_region_growing(const PointCloud3f& points,
                                                   const PclRegionGrowingParams& params) {
   std::vector<Plane3> planes;
   if (points.size() < 3) return planes;
-  auto cloud = detail::to_pcl(points);
-  auto normals = detail::estimate_normals(cloud, params.normal_k);
-  pcl::search::KdTree<pcl::PointXYZ>::Ptr tree(new pcl::search::KdTree<pcl::PointXYZ>);
-  pcl::RegionGrowing<pcl::PointXYZ, pcl::Normal> rg;
-  rg.setMinClusterSize(std::max(1, params.min_cluster_points));
-  rg.setMaxClusterSize(static_cast<int>(points.size()));
-  rg.setSearchMethod(tree);
-  rg.setNumberOfNeighbours(params.neighbours_k);
-  rg.setInputCloud(cloud);
-  rg.setInputNormals(normals);
-  rg.setSmoothnessThreshold(static_cast<float>(params.smoothness_deg * kPi / 180.0));
-  rg.setCurvatureThreshold(static_cast<float>(params.curvature_threshold));
-  std::vector<pcl::PointIndices> clusters;
-  rg.extract(clusters);
-  for (const auto& c : clusters) {
-    if (static_cast<int>(c.indices.size()) < params.min_cluster_points) continue;
-    planes.push_back(fit_plane_pca(points, c.indices));
+  std::vector<int> indices(points.size());
+  std::vector<int> sizes(points.size());
+  const std::size_t clusters = detail::pcl_functions().region_growing(
+      detail::packed(points), points.size(), params.normal_k, params.neighbours_k, params.min_cluster_points,
+      static_cast<float>(params.smoothness_deg * kPi / 180.0), static_cast<float>(params.curvature_threshold),
+      indices.data(), sizes.data());
+  std::size_t used = 0;
+  for (std::size_t i = 0; i < clusters; ++i) {
+    const std::vector<int> c(indices.begin() + static_cast<std::ptrdiff_t>(used),
+                             indices.begin() + static_cast<std::ptrdiff_t>(used + static_cast<std::size_t>(sizes[i])));
+    used += static_cast<std::size_t>(sizes[i]);
+    if (static_cast<int>(c.size()) < params.min_cluster_points) continue;
+    planes.push_back(fit_plane_pca(points, c));
   }
   std::stable_sort(planes.begin(), planes.end(), [](const Plane3& a, const Plane3& b) {
     if (a.point_indices.size() != b.point_indices.size())
