@@ -7,6 +7,23 @@
 #include <string>
 
 namespace floorcast {
+namespace {
+
+/// The hypothesis of cell (row, col) of slice `slice`, scored `score`.
+PoseHypothesis hypothesis_at(const Posterior& post, int slice, int row, int col, float score) {
+  PoseHypothesis h;
+  const Vec2 p = post.grid.cell_center_m(row, col);
+  h.x_m = p.x();
+  h.y_m = p.y();
+  h.yaw_rad = post.yaw_rad[static_cast<std::size_t>(slice)];
+  h.score = score;
+  h.slice = slice;
+  h.row = row;
+  h.col = col;
+  return h;
+}
+
+}  // namespace
 
 void Posterior::check() const {
   if (scores.size() != yaw_rad.size()) {
@@ -50,16 +67,7 @@ PoseHypothesis Posterior::argmax() const {
       }
     }
   }
-  PoseHypothesis h;
-  const Vec2 p = grid.cell_center_m(br, bc);
-  h.x_m = p.x();
-  h.y_m = p.y();
-  h.yaw_rad = yaw_rad[static_cast<std::size_t>(bs)];
-  h.score = best;
-  h.slice = bs;
-  h.row = br;
-  h.col = bc;
-  return h;
+  return hypothesis_at(*this, bs, br, bc, best);
 }
 
 std::vector<PoseHypothesis> Posterior::top_k(int k, double min_separation_m, double min_separation_rad) const {
@@ -108,15 +116,7 @@ std::vector<PoseHypothesis> Posterior::top_k(int k, double min_separation_m, dou
         break;
       }
     }
-    PoseHypothesis h;
-    const Vec2 p = grid.cell_center_m(br, bc);
-    h.x_m = p.x();
-    h.y_m = p.y();
-    h.yaw_rad = yaw_rad[static_cast<std::size_t>(bs)];
-    h.score = best;
-    h.slice = bs;
-    h.row = br;
-    h.col = bc;
+    const PoseHypothesis h = hypothesis_at(*this, bs, br, bc, best);
     modes.push_back(h);
     // Suppress every live cell within the separation in position and yaw (the mode itself
     // included: distance 0).
