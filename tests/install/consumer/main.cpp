@@ -1,7 +1,10 @@
 // Observe 2D points of an L-shaped room and localize them on its plan, with the installed
-// floorcast::observe and floorcast::match only. Prints "ok <error_m>" on success.
+// floorcast::observe and floorcast::match only; then find a floor with the observation module's
+// ground-plane search (PCL, through the installed back-end module). Prints "ok ..." on success.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <random>
 #include <vector>
 
 #include "floorcast/floorplans/floor_plan.hpp"
@@ -36,6 +39,15 @@ int main() {
   obs.ray_ranges_m = seg.ray_ranges_m;
   const PoseHypothesis best = make_matcher("kernel", plan)->match(obs).posterior.argmax();
   const double err = std::hypot(best.x_m - truth.x_m, best.y_m - truth.y_m);
-  std::printf("%s %zu segments, error %.3f m\n", err < 0.3 ? "ok" : "FAILED", obs.segments_m.size(), err);
-  return err < 0.3 ? 0 : 1;
+  // A flat floor 1.4 m below the sensor, found by the PCL back-end module of the installed tree.
+  setenv("FLOORCAST_MODULE_DIR", CONSUMER_MODULE_DIR, 0);
+  PointCloud3f cloud;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-2.0f, 2.0f);
+  for (int i = 0; i < 4000; ++i) cloud.emplace_back(u(rng), u(rng), -1.4f);
+  const GroundPlaneResult ground = detect_ground_plane(cloud, GroundPlaneParams{});
+  const bool ok = err < 0.3 && ground.found && std::abs(ground.height_m + 1.4) < 0.02;
+  std::printf("%s %zu segments, error %.3f m, ground %s at %.3f m\n", ok ? "ok" : "FAILED", obs.segments_m.size(), err,
+              ground.found ? "found" : ground.reason.c_str(), ground.height_m);
+  return ok ? 0 : 1;
 }
