@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "floorcast/match/fft_correlator.hpp"
+#include "kernel_search.hpp"
 #include "floorcast/match/plan_raster.hpp"
 #include "floorcast/core/timing.hpp"
 
@@ -26,6 +27,8 @@ const std::vector<std::pair<const char*, PlanRasterKind>> kPlanRasterNames = {
     {"outline", PlanRasterKind::kOutline}, {"centreline", PlanRasterKind::kCentreline}, {"filled", PlanRasterKind::kFilled}};
 const std::vector<std::pair<const char*, LineRule>> kLineRuleNames = {{"closed", LineRule::kClosed},
                                                                       {"half_open", LineRule::kHalfOpen}};
+const std::vector<std::pair<const char*, ModesSearch>> kModesSearchNames = {
+    {"branch_and_bound", ModesSearch::kBranchAndBound}, {"posterior", ModesSearch::kPosterior}};
 
 }  // namespace
 
@@ -53,6 +56,8 @@ nlohmann::ordered_json KernelMatcherParams::to_json() const {
   j["plan_raster"] = enum_name(plan_raster, kPlanRasterNames);
   j["line_rule"] = enum_name(line_rule, kLineRuleNames);
   j["ces_through_doorways"] = ces_through_doorways;
+  j["modes_search"] = enum_name(modes_search, kModesSearchNames);
+  j["search_levels"] = search_levels;
   return j;
 }
 
@@ -81,6 +86,8 @@ void KernelMatcherParams::apply_overrides(const nlohmann::json& overrides) {
   r.read_enum("plan_raster", plan_raster, kPlanRasterNames);
   r.read_enum("line_rule", line_rule, kLineRuleNames);
   r.read("ces_through_doorways", ces_through_doorways);
+  r.read_enum("modes_search", modes_search, kModesSearchNames);
+  r.read("search_levels", search_levels, 1, 10);
   r.finish();
 }
 
@@ -120,8 +127,18 @@ LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::
   return make_layout_kernels(params, obs, yaw, scale, R, distance_weight_image(params, R));
 }
 
-LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::vector<Segment2>& obs, double yaw,
-                                  double scale, int R, const cv::Mat& weight) {
+namespace {
+
+/// The geometry of one (orientation, scale)'s kernels: the RW's line pixels (within the square
+/// window of the scaled range) and the CES (shrunk triangles, square window, erosion), CV_8U
+/// 0/255, (2R + 1)^2, observer at pixel (R, R).
+struct KernelGeometry {
+  cv::Mat lines;
+  cv::Mat ces;
+};
+
+KernelGeometry kernel_geometry(const KernelMatcherParams& params, const std::vector<Segment2>& obs, double yaw,
+                               double scale, int R) {
   const int K = 2 * R + 1;
   const double res = params.resolution_m;
   // The observer sits at the centre of pixel (R, R).
@@ -139,55 +156,114 @@ LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::
     triangles.push_back({Vec2::Zero(), params.ces_shrink * a, params.ces_shrink * b});
   }
 
-  LayoutKernels k;
-  // RW: lines, blurred, distance-weighted, within the square window of the (scaled) range.
-  cv::Mat lines = cv::Mat::zeros(K, K, CV_8U);
-  draw_segment_lines(lines, segs, origin, res,
-                     params.line_rule);
+  KernelGeometry g;
+  // RW lines, within the square window of the (scaled) range.
+  g.lines = cv::Mat::zeros(K, K, CV_8U);
+  draw_segment_lines(g.lines, segs, origin, res, params.line_rule);
   const int reach_px = std::min(R, static_cast<int>(std::floor(reach_m / res + 1e-9)));
   if (reach_px < R) {
     cv::Mat window = cv::Mat::zeros(K, K, CV_8U);
     window(cv::Rect(R - reach_px, R - reach_px, 2 * reach_px + 1, 2 * reach_px + 1)).setTo(255);
-    cv::bitwise_and(lines, window, lines);
+    cv::bitwise_and(g.lines, window, g.lines);
   }
+
+  // CES: shrunk triangles, square window, erosion.
+  g.ces = cv::Mat::zeros(K, K, CV_8U);
+  fill_triangles(g.ces, triangles, origin, res);
+  const int win_px = std::min(R, static_cast<int>(std::floor(params.ces_window_m / res + 1e-9)));
+  if (win_px < R) {
+    cv::Mat window = cv::Mat::zeros(K, K, CV_8U);
+    window(cv::Rect(R - win_px, R - win_px, 2 * win_px + 1, 2 * win_px + 1)).setTo(255);
+    cv::bitwise_and(g.ces, window, g.ces);
+  }
+  if (params.ces_erode_px > 0) {
+    const int e = params.ces_erode_px;
+    const cv::Mat se = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * e + 1, 2 * e + 1));
+    cv::erode(g.ces, g.ces, se, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  }
+  return g;
+}
+
+bool blur_on(const KernelMatcherParams& p) { return p.blur_size_px > 1 && p.blur_sigma_px > 0.0; }
+
+/// P: the lines blurred, distance-weighted, min-max scaled and divided by the sum.
+cv::Mat rw_kernel(const KernelMatcherParams& params, const cv::Mat& lines, const cv::Mat& weight) {
   cv::Mat rw;
   lines.convertTo(rw, CV_32F, 1.0 / 255.0);
-  if (params.blur_size_px > 1 && params.blur_sigma_px > 0.0) {
+  if (blur_on(params)) {
     cv::GaussianBlur(rw, rw, cv::Size(params.blur_size_px, params.blur_size_px), params.blur_sigma_px,
                      params.blur_sigma_px, cv::BORDER_CONSTANT);
   }
   rw = rw.mul(weight);
   double mn = 0.0, mx = 0.0;
   cv::minMaxLoc(rw, &mn, &mx);
-  if (mx > mn) {
-    rw = (rw - mn) / (mx - mn);
-    const double sum = cv::sum(rw)[0];
-    rw /= sum;
-    k.p = rw;
-  } else {
-    k.p = cv::Mat::zeros(K, K, CV_32F);
-  }
+  if (!(mx > mn)) return cv::Mat::zeros(lines.size(), CV_32F);
+  rw = (rw - mn) / (mx - mn);
+  const double sum = cv::sum(rw)[0];
+  rw /= sum;
+  return rw;
+}
 
-  // CES: shrunk triangles, square window, erosion.
-  cv::Mat ces = cv::Mat::zeros(K, K, CV_8U);
-  fill_triangles(ces, triangles, origin, res);
-  const int win_px = std::min(R, static_cast<int>(std::floor(params.ces_window_m / res + 1e-9)));
-  if (win_px < R) {
-    cv::Mat window = cv::Mat::zeros(K, K, CV_8U);
-    window(cv::Rect(R - win_px, R - win_px, 2 * win_px + 1, 2 * win_px + 1)).setTo(255);
-    cv::bitwise_and(ces, window, ces);
+/// The factor c of P = c (weight * blur(lines) - min) (0 when P is all zero), computed on the
+/// lines' bounding box only: the same up to float round-off, for the search's bounds (which
+/// carry a 1e-4 relative margin).
+double rw_scale(const KernelMatcherParams& params, const cv::Mat& lines, const cv::Mat& weight) {
+  if (cv::countNonZero(lines) == 0) return 0.0;
+  const int half = blur_on(params) ? params.blur_size_px / 2 : 0;
+  cv::Rect box = cv::boundingRect(lines);
+  box = cv::Rect(box.x - half, box.y - half, box.width + 2 * half, box.height + 2 * half) &
+        cv::Rect(0, 0, lines.cols, lines.rows);
+  cv::Mat rw;
+  lines(box).convertTo(rw, CV_32F, 1.0 / 255.0);
+  if (blur_on(params)) {
+    cv::GaussianBlur(rw, rw, cv::Size(params.blur_size_px, params.blur_size_px), params.blur_sigma_px,
+                     params.blur_sigma_px, cv::BORDER_CONSTANT);
   }
-  if (params.ces_erode_px > 0) {
-    const int e = params.ces_erode_px;
-    const cv::Mat se = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * e + 1, 2 * e + 1));
-    cv::erode(ces, ces, se, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  rw = rw.mul(weight(box));
+  double mn = 0.0, mx = 0.0;
+  cv::minMaxLoc(rw, &mn, &mx);
+  const double total = static_cast<double>(lines.total());
+  double sum = cv::sum(rw)[0];
+  if (static_cast<std::size_t>(box.area()) < lines.total()) {
+    mn = std::min(mn, 0.0);  // zeros outside the box
+    sum -= mn * (total - box.area());
   }
-  ces.convertTo(k.ces, CV_32F, 1.0 / 255.0);
+  if (!(mx > mn)) return 0.0;
+  sum = (sum - mn * total) / (mx - mn);
+  return 1.0 / ((mx - mn) * sum);
+}
+
+}  // namespace
+
+detail::SearchKernel detail::build_search_kernel(const KernelMatcherParams& params, const std::vector<Segment2>& obs,
+                                                 double yaw, double scale, const cv::Mat& weight,
+                                                 const KernelSearchMaps& maps, bool with_leaf_data, cv::Mat* lines) {
+  const KernelGeometry g = kernel_geometry(params, obs, yaw, scale, maps.R);
+  SearchKernelInput in;
+  in.lines = g.lines;
+  in.ces = g.ces;
+  in.p_scale = rw_scale(params, g.lines, weight);
+  in.resolution_m = params.resolution_m;
+  in.distance_sigma_m = params.distance_sigma_m;
+  in.blur_half_px = blur_on(params) ? params.blur_size_px / 2 : 0;
+  SearchKernel k = make_search_kernel(in, maps);
+  if (with_leaf_data) add_leaf_data(k, rw_kernel(params, g.lines, weight), maps);
+  if (lines) *lines = g.lines;
+  return k;
+}
+
+LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::vector<Segment2>& obs, double yaw,
+                                  double scale, int R, const cv::Mat& weight) {
+  const KernelGeometry g = kernel_geometry(params, obs, yaw, scale, R);
+  LayoutKernels k;
+  k.p = rw_kernel(params, g.lines, weight);
+  g.ces.convertTo(k.ces, CV_32F, 1.0 / 255.0);
   return k;
 }
 
 struct KernelMatcher::Impl {
   std::unique_ptr<FftCorrelator> correlator;
+  std::unique_ptr<detail::KernelSearchMaps> search;
   int radius_px = 0;
   cv::Mat distance_weight;
   std::vector<Segment2> plan_segments;
@@ -238,6 +314,11 @@ KernelMatcher::KernelMatcher(const FloorPlan& plan, const KernelMatcherParams& p
     ces_raster_.convertTo(ces_f, CV_32F, 1.0 / 255.0);
     impl_->correlator = std::make_unique<FftCorrelator>(std::vector<cv::Mat>{plan_f, ces_f}, impl_->radius_px);
   }
+  if (params_.modes_search == ModesSearch::kBranchAndBound) {
+    impl_->search = std::make_unique<detail::KernelSearchMaps>(plan_raster_, ces_raster_, valid_, impl_->radius_px,
+                                                               params_.search_levels, params_.blur_size_px,
+                                                               params_.blur_sigma_px);
+  }
   precompute_s_ = seconds(t0, Clock::now());
 }
 
@@ -248,22 +329,116 @@ int KernelMatcher::fft_rows() const { return impl_->correlator->fft_rows(); }
 
 std::size_t KernelMatcher::precompute_bytes() const {
   return impl_->correlator->spectrum_bytes() + plan_raster_.total() + valid_.total() +
-         (ces_raster_.data == plan_raster_.data ? 0 : ces_raster_.total());
+         (ces_raster_.data == plan_raster_.data ? 0 : ces_raster_.total()) + search_bytes();
 }
 
-MatchResult KernelMatcher::match(const Observation2D& obs) const {
+std::size_t KernelMatcher::search_bytes() const { return impl_->search ? impl_->search->bytes() : 0; }
+
+const detail::KernelSearchMaps* KernelMatcher::search_maps() const { return impl_->search.get(); }
+
+const cv::Mat& KernelMatcher::distance_weight() const { return impl_->distance_weight; }
+
+MatchResult KernelMatcher::match(const Observation2D& obs, const MatchRequest& request) const {
   const auto t0 = Clock::now();
   const std::vector<double> yaws = orientation_candidates(params_.orientation, orientation_cache_, obs.segments_m);
   const double orient_s = seconds(t0, Clock::now());
-  MatchResult r = match_yaws(obs, yaws);
+  MatchResult r = match_yaws(obs, yaws, request);
   r.stage_s["orientation_candidates"] = orient_s;
   r.match_s = seconds(t0, Clock::now());
   return r;
 }
 
+std::vector<double> KernelMatcher::yaw_candidates(const Observation2D& obs) const {
+  return orientation_candidates(params_.orientation, orientation_cache_, obs.segments_m);
+}
+
 MatchResult KernelMatcher::match_yaws(const Observation2D& obs, const std::vector<double>& yaws) const {
+  return match_yaws(obs, yaws, MatchRequest{});
+}
+
+double KernelMatcher::cell_score(const Observation2D& obs, double yaw, double scale, int row, int col) const {
+  if (!grid_.contains(row, col)) throw std::invalid_argument("KernelMatcher::cell_score: cell outside the grid");
+  const int R = impl_->radius_px;
+  const LayoutKernels k = make_layout_kernels(params_, obs.segments_m, yaw, scale, R, impl_->distance_weight);
+  const double alpha = correlation_alpha(params_.alpha);
+  double p = 0.0, ces = 0.0;
+  for (int dr = -R; dr <= R; ++dr) {
+    const int rr = row + dr;
+    if (rr < 0 || rr >= grid_.height_px) continue;
+    const std::uint8_t* f = plan_raster_.ptr<std::uint8_t>(rr);
+    const std::uint8_t* g = ces_raster_.ptr<std::uint8_t>(rr);
+    const float* kp = k.p.ptr<float>(R + dr);
+    const float* ke = k.ces.ptr<float>(R + dr);
+    for (int dc = -R; dc <= R; ++dc) {
+      const int cc = col + dc;
+      if (cc < 0 || cc >= grid_.width_px) continue;
+      if (f[cc]) p += kp[R + dc];
+      if (g[cc]) ces += ke[R + dc];
+    }
+  }
+  return p - alpha * ces;
+}
+
+MatchResult KernelMatcher::match_yaws(const Observation2D& obs, const std::vector<double>& yaws,
+                                      const MatchRequest& request) const {
+  if (request.top_k < 1) throw std::invalid_argument("KernelMatcher: top_k must be >= 1");
+  if (request.output == MatchOutput::kModes && impl_->search) return search_modes(obs, yaws, request);
+  MatchResult result = posterior_yaws(obs, yaws);
+  const auto t = Clock::now();
+  finish_from_posterior(result, request);
+  result.stage_s["modes"] = seconds(t, Clock::now());
+  return result;
+}
+
+MatchResult KernelMatcher::search_modes(const Observation2D& obs, const std::vector<double>& yaws,
+                                        const MatchRequest& request) const {
   const auto t0 = Clock::now();
   MatchResult result;
+  result.grid = grid_;
+  const std::size_t S = params_.scales.size();
+  std::vector<detail::SearchKernel> kernels(yaws.size() * S);
+  std::vector<cv::Mat> lines(kernels.size());
+  tbb::enumerable_thread_specific<double> kernel_cpu(0.0);
+  tbb::parallel_for(std::size_t{0}, kernels.size(), [&](std::size_t j) {
+    const double a = thread_cpu_s();
+    kernels[j] = detail::build_search_kernel(params_, obs.segments_m, yaws[j / S], params_.scales[j % S],
+                                             impl_->distance_weight, *impl_->search, false, &lines[j]);
+    kernel_cpu.local() += thread_cpu_s() - a;
+  });
+  double kernel_s = 0.0;
+  for (double v : kernel_cpu) kernel_s += v;
+  const double b = thread_cpu_s();
+  detail::SearchRequest sr;
+  sr.num_scales = static_cast<int>(S);
+  sr.yaw_rad = yaws;
+  sr.alpha = correlation_alpha(params_.alpha);
+  sr.zero_below = params_.zero_below;
+  sr.top_k = request.top_k;
+  sr.separation_m = request.mode_separation_m;
+  sr.separation_rad = request.mode_separation_rad;
+  // P itself only for kernels whose cells get evaluated exactly (most never do).
+  double leaf_kernel_s = 0.0;
+  int leaf_kernels = 0;
+  sr.leaf_data = [&](std::size_t j, detail::SearchKernel& k) {
+    const double a = thread_cpu_s();
+    detail::add_leaf_data(k, rw_kernel(params_, lines[j], impl_->distance_weight), *impl_->search);
+    leaf_kernel_s += thread_cpu_s() - a;
+    ++leaf_kernels;
+  };
+  result.modes = detail::branch_and_bound_modes(*impl_->search, grid_, kernels, sr, &result.counters);
+  result.stage_s["search_kernels"] = kernel_s;
+  result.stage_s["branch_and_bound"] = thread_cpu_s() - b - leaf_kernel_s;
+  result.stage_s["leaf_kernels"] = leaf_kernel_s;
+  result.counters["kernels"] = static_cast<double>(kernels.size());
+  result.counters["leaf_kernels"] = leaf_kernels;
+  result.match_s = seconds(t0, Clock::now());
+  return result;
+}
+
+MatchResult KernelMatcher::posterior_yaws(const Observation2D& obs, const std::vector<double>& yaws) const {
+  const auto t0 = Clock::now();
+  MatchResult result;
+  result.grid = grid_;
   Posterior& post = result.posterior;
   post.grid = grid_;
   post.yaw_rad = yaws;

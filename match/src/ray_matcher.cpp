@@ -201,7 +201,7 @@ std::vector<double> RayMatcher::observation_rays(const Observation2D& obs) const
   return rays;
 }
 
-MatchResult RayMatcher::match(const Observation2D& obs) const {
+MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& request) const {
   const auto t0 = Clock::now();
   MatchResult result;
   const int D = params_.num_directions;
@@ -280,6 +280,9 @@ MatchResult RayMatcher::match(const Observation2D& obs) const {
   // Thread CPU seconds summed over workers.
   result.stage_s["l1_distances"] = l1_s;
   result.stage_s["exp_scatter"] = exp_s;
+  const auto t3 = Clock::now();
+  finish_from_posterior(result, request);
+  result.stage_s["modes"] = seconds(t3, Clock::now());
   result.match_s = seconds(t0, Clock::now());
   return result;
 }

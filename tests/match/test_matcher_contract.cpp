@@ -135,6 +135,45 @@ TEST_P(MatcherContract, EmptyObservationGivesAnEmptyPosterior) {
   EXPECT_GT(r.posterior.num_slices(), 0);
 }
 
+// The caller says what it needs and gets exactly that: the modes only (no slices kept), the
+// max-over-yaw map (equal to the full posterior's), or the full posterior; the same estimate and
+// top-K from each on a distinctive spot.
+TEST_P(MatcherContract, OutputsAsRequested) {
+  const std::unique_ptr<Matcher> m = make_matcher(GetParam(), plan());
+  const Observation2D obs = observe(plan(), {3.23, 1.61, 0.31});
+  MatchRequest full;
+  full.top_k = 3;
+  const MatchResult post = m->match(obs, full);
+  ASSERT_GT(post.posterior.num_slices(), 0);
+  EXPECT_TRUE(post.grid == post.posterior.grid);
+  ASSERT_EQ(post.modes.size(), 3u) << GetParam();
+  const std::vector<PoseHypothesis> expect = post.posterior.top_k(3);
+  for (std::size_t i = 0; i < expect.size(); ++i) {
+    EXPECT_EQ(post.modes[i].slice, expect[i].slice);
+    EXPECT_EQ(post.modes[i].row, expect[i].row);
+    EXPECT_EQ(post.modes[i].col, expect[i].col);
+  }
+  MatchRequest yaw_map = full;
+  yaw_map.output = MatchOutput::kMaxOverYaw;
+  const MatchResult my = m->match(obs, yaw_map);
+  EXPECT_TRUE(my.posterior.scores.empty()) << GetParam();
+  ASSERT_EQ(my.max_over_yaw.type(), CV_32F);
+  EXPECT_EQ(cv::norm(my.max_over_yaw, post.posterior.max_over_yaw(), cv::NORM_INF), 0.0) << GetParam();
+  const MatchResult modes = m->match(obs, MatchRequest::modes(3));
+  EXPECT_TRUE(modes.posterior.scores.empty()) << GetParam();
+  EXPECT_TRUE(modes.max_over_yaw.empty()) << GetParam();
+  EXPECT_TRUE(modes.grid == post.grid);
+  for (const MatchResult* r : {&my, &modes}) {
+    ASSERT_EQ(r->modes.size(), post.modes.size()) << GetParam();
+    for (std::size_t i = 0; i < post.modes.size(); ++i) {
+      EXPECT_EQ(r->modes[i].slice, post.modes[i].slice) << GetParam() << " mode " << i;
+      EXPECT_EQ(r->modes[i].row, post.modes[i].row) << GetParam() << " mode " << i;
+      EXPECT_EQ(r->modes[i].col, post.modes[i].col) << GetParam() << " mode " << i;
+      EXPECT_NEAR(r->modes[i].score, post.modes[i].score, 2e-4) << GetParam() << " mode " << i;
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Registered, MatcherContract, ::testing::ValuesIn(matcher_names()),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 

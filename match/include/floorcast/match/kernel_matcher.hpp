@@ -37,8 +37,19 @@
 
 namespace floorcast {
 
+namespace detail {
+class KernelSearchMaps;
+}
+
 /// What the kernel matcher's plan raster draws.
 enum class PlanRasterKind { kOutline, kCentreline, kFilled };
+
+/// How the kernel matcher finds the estimate and top-K modes when the caller asks for nothing
+/// else (MatchOutput::kModes).
+enum class ModesSearch {
+  kBranchAndBound,  ///< exact branch and bound over (orientation, scale, x, y), no posterior
+  kPosterior,       ///< the full FFT posterior, then Posterior::top_k
+};
 
 struct KernelMatcherParams {
   /// Grid resolution (PALMS+ configs: `resolution: 0.1`; PALMS+ sec. 3: 0.1 m raster).
@@ -92,6 +103,13 @@ struct KernelMatcherParams {
   PlanRasterKind plan_raster = PlanRasterKind::kOutline;
   /// Line rasterisation (plan and RW): closed or half_open (see plan_raster.hpp).
   LineRule line_rule = LineRule::kClosed;
+  /// Estimate and top-K without a posterior: the exact branch-and-bound search (same modes as
+  /// the FFT posterior's top_k, found without correlating everywhere; kernel_search.hpp) or the
+  /// posterior itself.
+  ModesSearch modes_search = ModesSearch::kBranchAndBound;
+  /// Levels of the search's bound maps: its coarsest nodes are 2^levels cells wide (5: 3.2 m at
+  /// 0.1 m; measured fastest on the campus and the office). Changes the time, never the modes.
+  int search_levels = 5;
 
   /// Takes the experiment's shared range and blocking flags (max_range_m, blocking).
   void apply_shared(const SharedParams& shared);
@@ -136,10 +154,28 @@ class KernelMatcher final : public Matcher {
   double precompute_s() const override { return precompute_s_; }
   std::size_t precompute_bytes() const override;
   BlockingOptions blocking() const override { return params_.blocking; }
-  MatchResult match(const Observation2D& observation) const override;
+  using Matcher::match;
+  MatchResult match(const Observation2D& observation, const MatchRequest& request) const override;
+
+  /// The orientation candidates match() searches for this observation (world yaws).
+  std::vector<double> yaw_candidates(const Observation2D& observation) const;
 
   /// Posterior for explicit yaws (no candidate search); used by tests and analyses.
   MatchResult match_yaws(const Observation2D& observation, const std::vector<double>& yaws_rad) const;
+  /// What `request` asks for, over explicit yaws (no candidate search).
+  MatchResult match_yaws(const Observation2D& observation, const std::vector<double>& yaws_rad,
+                         const MatchRequest& request) const;
+  /// The exact heatmap value h(yaw, scale) of one cell (before clipping and the valid mask), as
+  /// the branch-and-bound search computes it: the correlation summed directly, float products in
+  /// double sums (the FFT's is within its round-off of it).
+  double cell_score(const Observation2D& observation, double yaw_rad, double scale, int row, int col) const;
+  /// The branch-and-bound search's maps (null when modes_search is posterior) and the RW distance
+  /// weight image; for white-box tests of the search (match/src/kernel_search.hpp).
+  const detail::KernelSearchMaps* search_maps() const;
+  const cv::Mat& distance_weight() const;
+  /// Bytes of the branch-and-bound search's maps (built with the matcher unless modes_search is
+  /// posterior; part of precompute_bytes).
+  std::size_t search_bytes() const;
 
   const GridSpec& grid() const { return grid_; }
   /// Plan raster (CV_8U, 255 = wall surface) and valid-area mask (CV_8U, 255 = valid).
@@ -155,6 +191,9 @@ class KernelMatcher final : public Matcher {
 
  private:
   struct Impl;
+  MatchResult posterior_yaws(const Observation2D& observation, const std::vector<double>& yaws_rad) const;
+  MatchResult search_modes(const Observation2D& observation, const std::vector<double>& yaws_rad,
+                           const MatchRequest& request) const;
   KernelMatcherParams params_;
   GridSpec grid_;
   cv::Mat plan_raster_;

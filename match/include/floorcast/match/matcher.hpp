@@ -16,13 +16,57 @@
 
 namespace floorcast {
 
+/// What a caller needs from a match. Matchers compute and keep only that: a full posterior is one
+/// float map per orientation slice (campus: 5 MB each, 10-180 slices), while the estimate and the
+/// top-K modes can be found without one (the kernel matcher's exact branch-and-bound search).
+enum class MatchOutput {
+  kModes,       ///< the estimate and the top-K modes only
+  kMaxOverYaw,  ///< the modes and the max-over-yaw map (one slice: heatmaps)
+  kPosterior,   ///< the modes and the full posterior (filter initialisation, analyses)
+};
+
+struct MatchRequest {
+  MatchOutput output = MatchOutput::kPosterior;
+  /// Modes to return (>= 1), found as Posterior::top_k(top_k, mode_separation_m,
+  /// mode_separation_rad) of the full posterior would find them.
+  int top_k = 1;
+  double mode_separation_m = 1.0;
+  double mode_separation_rad = 0.5235987755982988;  // 30 deg
+
+  /// Only the estimate and top-K modes.
+  static MatchRequest modes(int k = 1, double separation_m = 1.0, double separation_rad = 0.5235987755982988) {
+    return {MatchOutput::kModes, k, separation_m, separation_rad};
+  }
+};
+
 struct MatchResult {
+  /// Greedy non-maximum-suppression modes in descending score order (Posterior::top_k of the
+  /// full posterior, whatever was computed): modes[0] is the estimate (Posterior::argmax when its
+  /// score is > 0). Empty = no pose (every score is 0, e.g. no observed wall fits anywhere).
+  std::vector<PoseHypothesis> modes;
+  /// The full posterior (MatchOutput::kPosterior only; otherwise it has no slices).
   Posterior posterior;
+  /// Max over orientation, CV_32F on `grid` (kMaxOverYaw only; with kPosterior it is
+  /// posterior.max_over_yaw()).
+  cv::Mat max_over_yaw;
+  /// The (x, y) grid of the scores (set for every output).
+  GridSpec grid;
   /// Wall-clock seconds of this match() call, and where they went (named stages; stages run on
   /// several threads are summed over threads, i.e. CPU seconds).
   double match_s = 0.0;
   std::map<std::string, double> stage_s;
+  /// Counters of the search (e.g. nodes expanded by the kernel's branch and bound), for benches.
+  std::map<std::string, double> counters;
+
+  bool has_pose() const { return !modes.empty(); }
+  /// modes[0]; throws std::logic_error when there is no pose.
+  const PoseHypothesis& estimate() const;
 };
+
+/// Fills result.modes from result.posterior (top_k) and, when asked for, result.max_over_yaw;
+/// drops the posterior's slices unless the request wants them. For matchers that compute the
+/// full posterior anyway.
+void finish_from_posterior(MatchResult& result, const MatchRequest& request);
 
 class Matcher {
  public:
@@ -38,9 +82,11 @@ class Matcher {
   /// What blocks in the map this matcher compares observations with (for drawing posteriors
   /// over the plan as the matcher sees it).
   virtual BlockingOptions blocking() const = 0;
-  /// Posterior for one observation (observer frame segments and/or rays). Thread-safe; uses
-  /// TBB internally.
-  virtual MatchResult match(const Observation2D& observation) const = 0;
+  /// What `request` asks for, for one observation (observer frame segments and/or rays).
+  /// Thread-safe; uses TBB internally.
+  virtual MatchResult match(const Observation2D& observation, const MatchRequest& request) const = 0;
+  /// The full posterior and the estimate (match(observation, MatchRequest{})).
+  MatchResult match(const Observation2D& observation) const { return match(observation, MatchRequest{}); }
 };
 
 /// A matcher's parameters, parsed, validated and complete (every default filled in), before any

@@ -62,7 +62,8 @@ class RayMatcher final : public Matcher {
   double precompute_s() const override { return precompute_s_; }
   std::size_t precompute_bytes() const override { return volume_.bytes(); }
   BlockingOptions blocking() const override { return params_.blocking; }
-  MatchResult match(const Observation2D& observation) const override;
+  using Matcher::match;
+  MatchResult match(const Observation2D& observation, const MatchRequest& request) const override;
 
   /// The observation's rays (metres, ray i at 2 pi i / D), as match() uses them.
   std::vector<double> observation_rays(const Observation2D& observation) const;
