@@ -1,210 +1,153 @@
-// `floorcast bench match`: layout-matcher cost on the shipped campus building — kernel posterior
-// per observation (O = 10, 3 scales), ray matcher precompute time and memory, ray match time —
-// with the stage breakdown, medians over seeded perfect observations.
-#include <tbb/info.h>
-
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <filesystem>
+// `floorcast bench match`: layout-matcher cost (bench/match_bench.hpp) on the shipped campus or
+// given plans — the kernel matcher's exact branch-and-bound modes beside its full FFT posterior
+// and the FFT floor, the ray matcher's modes, max-over-yaw map and posterior — and, with
+// --equivalence N, the search's modes against the posterior's on N seeded observations per plan
+// (bench/modes_equivalence.hpp).
 #include <iomanip>
 #include <iostream>
-#include <map>
 #include <memory>
-#include <random>
 
 #include "cli_common.hpp"
-#include "floorcast/floorplans/io.hpp"
-#include "floorcast/scenarios/sampling.hpp"
-#include "floorcast/match/kernel_matcher.hpp"
-#include "floorcast/match/ray_matcher.hpp"
+#include "floorcast/bench/match_bench.hpp"
+#include "floorcast/bench/modes_equivalence.hpp"
 #include "floorcast/core/math.hpp"
+#include "floorcast/floorplans/io.hpp"
+#include "floorcast/match/kernel_matcher.hpp"
 
 namespace floorcast::cli {
 namespace {
 
-/// Median per stage over several match results.
-std::map<std::string, double> median_stages(const std::vector<MatchResult>& results) {
-  std::map<std::string, std::vector<double>> all;
-  for (const MatchResult& r : results)
-    for (const auto& [k, v] : r.stage_s) all[k].push_back(v);
-  std::map<std::string, double> out;
-  for (auto& [k, v] : all) out[k] = median(v);
-  return out;
+using Json = nlohmann::ordered_json;
+
+double num(const Json& j, const char* a, const char* b = nullptr) {
+  const Json& x = b ? j.at(a).at(b) : j.at(a);
+  return x.get<double>();
 }
 
-/// Largest |FFT heatmap - direct correlation| over sampled cells of one (yaw, scale = 1) heatmap:
-/// the single-precision round-off actually seen on this plan.
-double fft_error_probe(const FloorPlan& plan, const Observation2D& obs, double yaw, int cells, std::uint64_t seed) {
-  KernelMatcherParams p;
-  p.scales = {1.0};
-  p.zero_below = 0.0;
-  const KernelMatcher m(plan, p);
-  const MatchResult r = m.match_yaws(obs, {yaw});
-  const int R = kernel_radius_px(p);
-  const LayoutKernels k = make_layout_kernels(p, obs.segments_m, yaw, 1.0, R);
-  const cv::Mat kernel = k.p - static_cast<float>(correlation_alpha(p.alpha)) * k.ces;
-  const cv::Mat& F = m.plan_raster();
-  const GridSpec& g = m.grid();
-  std::vector<std::pair<int, int>> valid;
-  for (int row = 0; row < g.height_px; ++row)
-    for (int col = 0; col < g.width_px; ++col)
-      if (m.valid_mask().at<std::uint8_t>(row, col)) valid.emplace_back(row, col);
-  std::mt19937_64 rng(seed);
-  double worst = 0.0;
-  for (int i = 0; i < cells && !valid.empty(); ++i) {
-    const auto [row, col] = valid[std::uniform_int_distribution<std::size_t>(0, valid.size() - 1)(rng)];
-    double s = 0.0;
-    for (int dr = -R; dr <= R; ++dr) {
-      const int rr = row + dr;
-      if (rr < 0 || rr >= g.height_px) continue;
-      const std::uint8_t* f = F.ptr<std::uint8_t>(rr);
-      const float* kr = kernel.ptr<float>(R + dr);
-      for (int dc = -R; dc <= R; ++dc) {
-        const int cc = col + dc;
-        if (cc >= 0 && cc < g.width_px && f[cc]) s += kr[R + dc];
-      }
-    }
-    worst = std::max(worst, std::abs(std::max(s, 0.0) - r.posterior.scores[0].at<float>(row, col)));
+void print_kernel(const Json& k) {
+  std::cout << std::fixed << std::setprecision(4);
+  std::cout << "  kernel, O = " << std::setprecision(0) << num(k, "orientations") << " x " << num(k, "scales")
+            << " scales (CPU s per observation, medians; wall in brackets):\n"
+            << std::setprecision(4);
+  std::cout << "    exact estimate + top-K (branch and bound) " << num(k, "modes", "cpu_s") << " ["
+            << num(k, "modes", "wall_s") << "]\n";
+  std::cout << "    exact estimate alone                      " << num(k, "argmax", "cpu_s") << " ["
+            << num(k, "argmax", "wall_s") << "]\n";
+  if (k.contains("posterior")) {
+    std::cout << "    full FFT posterior                        " << num(k, "posterior", "cpu_s") << " ["
+              << num(k, "posterior", "wall_s") << "]  (" << std::setprecision(1) << num(k, "posterior_over_modes")
+              << "x the search)\n"
+              << std::setprecision(4);
   }
-  return worst;
-}
-
-void print_stages(const char* title, const std::map<std::string, double>& stages) {
-  std::cout << "  " << title << " (median thread-CPU seconds per observation, summed over threads):\n";
-  double total = 0.0;
-  for (const auto& [k, v] : stages) total += v;
-  for (const auto& [k, v] : stages) {
-    std::cout << "    " << std::left << std::setw(24) << k << std::right << std::fixed << std::setprecision(4) << v
-              << "  (" << std::setprecision(0) << (total > 0 ? 100.0 * v / total : 0.0) << "%)\n";
+  std::cout << "    FFT floor (O x S full-size r2c + c2r)     " << num(k, "fft_floor_cpu_s") << "  ("
+            << num(k, "fft_pair_cpu_s") << " per pair, " << k["fft_size"][0] << " x " << k["fft_size"][1] << ")";
+  if (k.contains("posterior")) std::cout << std::setprecision(2) << "; posterior / floor " << num(k, "posterior_over_floor");
+  std::cout << "\n" << std::setprecision(4);
+  std::cout << "    own palms+ candidates (median " << std::setprecision(0) << num(k, "own_candidates")
+            << "): estimate + top-K " << std::setprecision(4) << num(k, "modes_own_candidates", "cpu_s") << " CPU s\n";
+  std::cout << std::setprecision(1) << "    plan precompute " << std::setprecision(3) << num(k, "precompute_wall_s")
+            << " s, " << std::setprecision(1) << num(k, "precompute_mb") << " MB (search maps "
+            << num(k, "search_maps_mb") << " MB)\n";
+  if (k.contains("equivalence")) {
+    const Json& e = k["equivalence"];
+    std::cout << "    search vs posterior on these observations: " << e["estimates_identical"] << " identical estimates, "
+              << e["estimates_tied"] << " tied, " << e["estimates_fft_order"] << " ordered by FFT round-off, "
+              << e["mismatches"] << " mismatches; top-K identical " << e["top_k_identical"] << ", up to a tie "
+              << e["top_k_tied"] << "\n";
+    std::cout << std::scientific << std::setprecision(1) << "    FFT max abs error " << num(k, "fft_max_abs_error")
+              << std::fixed << "\n";
   }
 }
 
-/// The candidates padded to exactly n yaws (PALMS+ O = 10): clean observations of a Manhattan
-/// plan give only 4 candidates with a positive histogram correlation; the benchmark times the
-/// paper's O = 10 by adding yaws of a 36-step grid away from the ones present.
-std::vector<double> pad_yaws(std::vector<double> yaws, std::size_t n) {
-  for (int k = 0; k < 36 && yaws.size() < n; ++k) {
-    const double y = 2.0 * kPi * (k + 0.5) / 36.0;
-    bool near = false;
-    for (double e : yaws) near = near || angle_distance_rad(e, y) < 5.0 * kPi / 180.0;
-    if (!near) yaws.push_back(y);
+void print_ray(const std::string& D, const Json& r) {
+  std::cout << std::fixed << std::setprecision(3) << "  ray, " << D << " directions: precompute "
+            << num(r, "precompute_s") << " s, " << std::setprecision(1) << num(r, "volume_mb") << " MB\n"
+            << std::setprecision(4);
+  std::cout << "    estimate + top-K " << num(r, "modes", "cpu_s") << " [" << num(r, "modes", "wall_s")
+            << "]; max-over-yaw map " << num(r, "max_over_yaw", "cpu_s") << " [" << num(r, "max_over_yaw", "wall_s") << "]";
+  if (r.contains("posterior")) {
+    std::cout << "; full posterior " << num(r, "posterior", "cpu_s") << " [" << num(r, "posterior", "wall_s") << "], "
+              << std::setprecision(1) << num(r, "posterior_mb") << " MB";
   }
-  return yaws;
+  std::cout << "\n";
 }
 
 void register_bench_match(CLI::App& root) {
   CLI::App& bench = group(root, "bench", "Benchmarks (medians over repeats, same-run ratios)");
   struct Options {
-    std::string plan;
-    int observations = 10;
-    int precompute_repeats = 3;
-    std::uint64_t seed = 1;
+    std::vector<std::string> plans;
+    MatchBenchParams params;
+    int equivalence = 0;
     bool json = false;
   };
   auto o = std::make_shared<Options>();
-  auto* cmd = bench.add_subcommand("match", "Kernel posterior time; ray precompute time, memory, match time");
-  cmd->add_option("--plan", o->plan, "Floor plan (default: floorplans/buildings/campus.json)");
-  cmd->add_option("--observations", o->observations, "Perfect observations to match (medians)")
+  auto* cmd = bench.add_subcommand(
+      "match", "Kernel: exact branch-and-bound modes vs full FFT posterior vs FFT floor; ray: modes, max-over-yaw, posterior");
+  cmd->add_option("--plan", o->plans, "Floor plans (default: floorplans/buildings/campus.json)");
+  cmd->add_option("--observations", o->params.observations, "Perfect observations to match (medians)")
       ->capture_default_str()
       ->check(CLI::Range(1, 10000));
-  cmd->add_option("--precompute-repeats", o->precompute_repeats, "Ray precomputations to time (median)")
+  cmd->add_option("--seed", o->params.seed, "Seed of the observation points")->capture_default_str();
+  cmd->add_option("--orientations", o->params.kernel_orientations,
+                  "Kernel orientations: candidates padded to this many (PALMS+ O = 10; 0 = its own)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 720));
+  cmd->add_option("--top-k", o->params.top_k, "Modes asked for")->capture_default_str()->check(CLI::Range(1, 100));
+  cmd->add_option("--rays", o->params.ray_directions, "Ray matcher direction counts (none: --rays 0)")
+      ->capture_default_str()
+      ->delimiter(',');
+  cmd->add_option("--precompute-repeats", o->params.ray_precompute_repeats, "Ray precomputations to time (median)")
       ->capture_default_str()
       ->check(CLI::Range(1, 100));
-  cmd->add_option("--seed", o->seed, "Seed of the observation points")->capture_default_str();
+  cmd->add_flag("!--no-posteriors", o->params.posteriors, "Skip the full posteriors");
+  cmd->add_option("--equivalence", o->equivalence,
+                  "Instead: compare the search's modes with the posterior's on N seeded observations per plan")
+      ->check(CLI::Range(0, 100000));
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
-    const std::string plan_path =
-        o->plan.empty() ? source_dir() + "/floorplans/buildings/campus.json" : o->plan;
-    const FloorPlan plan = load_floor_plan(plan_path);
-    const std::vector<Pose2> poses = sample_observation_poses(plan, o->observations, o->seed, 0, 0.5);
-    const PerfectObserver observer(plan);
-    std::vector<Observation2D> observations;
-    for (const Pose2& p : poses) observations.push_back(observer.observe(p));
-
-    // Kernel matcher (PALMS+ defaults: O = 10, scales 0.9/1.0/1.1).
-    const KernelMatcher kernel(plan);
-    (void)kernel.match(observations[0]);  // warm-up: thread pool, workspaces
-    std::vector<MatchResult> kr;
-    std::vector<double> kernel_s, kernel_cand_s, kernel_slices;
-    for (const Observation2D& obs : observations) {
-      const MatchResult own = kernel.match(obs);  // its own candidates
-      kernel_cand_s.push_back(own.match_s);
-      kernel_slices.push_back(own.posterior.num_slices());
-      const auto t0 = std::chrono::steady_clock::now();
-      const std::vector<double> yaws = pad_yaws(own.posterior.yaw_rad, 10);
-      kr.push_back(kernel.match_yaws(obs, yaws));
-      kernel_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    std::vector<std::string> plans = o->plans;
+    if (plans.empty()) plans = {source_dir() + "/floorplans/buildings/campus.json"};
+    std::vector<int> rays;
+    for (int d : o->params.ray_directions) {
+      if (d < 0 || d == 1 || d == 2 || d == 3 || d > 3600) throw InputError("--rays: direction counts must be 4 - 3600 (or 0 for none)");
+      if (d > 0) rays.push_back(d);
     }
-    const double fft_err = fft_error_probe(plan, observations[0], kr[0].posterior.argmax().yaw_rad, 300, o->seed);
-    const std::map<std::string, double> kernel_stages = median_stages(kr);
-    kr.clear();
-
-    // Ray matcher (F3Loc defaults: 36 directions, 0.1 m, 10 m).
-    std::vector<double> pre_s;
-    std::unique_ptr<RayMatcher> ray;
-    for (int i = 0; i < o->precompute_repeats; ++i) {
-      ray.reset();
-      ray = std::make_unique<RayMatcher>(plan);
-      pre_s.push_back(ray->precompute_s());
+    o->params.ray_directions = rays;
+    Json all = Json::object();
+    for (const std::string& path : plans) {
+      const FloorPlan plan = load_floor_plan(path);
+      const std::string name = std::filesystem::path(path).stem().string();
+      if (o->equivalence > 0) {
+        const KernelMatcher m(plan);
+        ModesEquivalenceParams ep;
+        ep.observations = o->equivalence;
+        ep.seed = o->params.seed;
+        ep.top_k = o->params.top_k;
+        const ModesEquivalenceResult r = compare_modes_with_posterior(plan, m, ep);
+        all[name] = to_json(r);
+        if (!o->json) {
+          std::cout << std::fixed << name << ": " << r.observations << " observations, top-" << ep.top_k << ": estimates "
+                    << r.estimates_identical << " identical, " << r.estimates_tied << " tied, " << r.estimates_fft_order
+                    << " FFT-ordered; top-K lists " << r.top_k_identical << " identical, " << r.top_k_tied
+                    << " identical up to a tie; " << r.mismatches << " mismatches; no pose " << r.no_pose
+                    << std::scientific << std::setprecision(1) << "; max tie gap " << r.max_tie_gap
+                    << ", max FFT-order gap " << r.max_fft_order_gap << ", search vs direct sum " << r.max_search_error
+                    << ", FFT error " << r.max_fft_error << std::fixed << std::setprecision(4) << "; wall s median: search "
+                    << median(r.search_s) << ", posterior " << median(r.posterior_s) << "\n";
+          for (const std::string& f : r.failures) std::cout << "  MISMATCH " << f << "\n";
+        }
+        continue;
+      }
+      const Json j = bench_match(plan, o->params);
+      all[name] = j;
+      if (o->json) continue;
+      std::cout << "bench match on " << name << " (" << j["grid_px"][0] << " x " << j["grid_px"][1] << " cells at 0.1 m, "
+                << j["valid_cells"] << " valid; " << j["threads"] << " threads; " << o->params.observations
+                << " perfect observations; top-" << o->params.top_k << ")\n";
+      if (j.contains("kernel")) print_kernel(j["kernel"]);
+      for (const auto& [d, r] : j["ray"].items()) print_ray(d, r);
     }
-    (void)ray->match(observations[0]);
-    std::vector<MatchResult> rr;
-    std::vector<double> ray_s;
-    for (const Observation2D& obs : observations) {
-      rr.push_back(ray->match(obs));
-      ray_s.push_back(rr.back().match_s);
-    }
-    const std::map<std::string, double> ray_stages = median_stages(rr);
-    const GridSpec& g = ray->grid();
-    const double posterior_mb = 36.0 * g.width_px * g.height_px * 4.0 / 1e6;
-    rr.clear();
-
-    nlohmann::ordered_json j;
-    j["kernel_posterior_s"] = median(kernel_s);
-    j["ray_precompute_s"] = median(pre_s);
-    j["ray_memory_mb"] = ray->precompute_bytes() / 1e6;
-    j["ray_match_s"] = median(ray_s);
-    j["plan"] = std::filesystem::path(plan_path).filename().string();
-    j["grid_px"] = {g.width_px, g.height_px};
-    j["valid_cells"] = ray->volume().num_cells();
-    j["threads"] = tbb::info::default_concurrency();
-    j["observations"] = o->observations;
-    j["kernel_orientations"] = 10;
-    j["kernel_candidates_median"] = median(kernel_slices);
-    j["kernel_posterior_candidates_s"] = median(kernel_cand_s);
-    j["kernel_scales"] = 3;
-    j["kernel_fft_size"] = {kernel.fft_cols(), kernel.fft_rows()};
-    j["kernel_precompute_s"] = kernel.precompute_s();
-    j["kernel_precompute_mb"] = kernel.precompute_bytes() / 1e6;
-    j["kernel_fft_max_abs_error"] = fft_err;
-    j["ray_posterior_mb"] = posterior_mb;
-    nlohmann::ordered_json ks, rs;
-    for (const auto& [k, v] : kernel_stages) ks[k] = v;
-    for (const auto& [k, v] : ray_stages) rs[k] = v;
-    j["kernel_stages_s"] = ks;
-    j["ray_stages_s"] = rs;
-    if (o->json) {
-      std::cout << j.dump(2) << "\n";
-      return;
-    }
-    std::cout << std::fixed << std::setprecision(3);
-    std::cout << "bench match on " << j["plan"].get<std::string>() << " (" << g.width_px << " x " << g.height_px
-              << " cells at 0.1 m, " << ray->volume().num_cells() << " valid; " << j["threads"] << " threads; "
-              << o->observations << " perfect observations)\n";
-    std::cout << "  kernel posterior:   " << j["kernel_posterior_s"].get<double>() << " s per observation (O = 10"
-              << " orientations x 3 scales, FFT " << kernel.fft_cols() << " x " << kernel.fft_rows() << "); "
-              << median(kernel_cand_s) << " s with its own " << std::setprecision(1) << median(kernel_slices)
-              << " palms+ candidates\n";
-    std::cout << std::setprecision(3) << "  kernel plan:        precompute " << kernel.precompute_s()
-              << " s, " << std::setprecision(1) << j["kernel_precompute_mb"].get<double>() << " MB; FFT max abs error "
-              << std::scientific << std::setprecision(1) << fft_err << std::fixed << "\n";
-    print_stages("kernel stages", kernel_stages);
-    std::cout << std::setprecision(3) << "  ray precompute:     " << j["ray_precompute_s"].get<double>() << " s, "
-              << std::setprecision(1) << j["ray_memory_mb"].get<double>() << " MB (36 directions, uint16 mm)\n";
-    std::cout << std::setprecision(3) << "  ray match:          " << j["ray_match_s"].get<double>()
-              << " s per observation (posterior " << std::setprecision(1) << posterior_mb << " MB)\n";
-    print_stages("ray stages", ray_stages);
+    if (o->json) std::cout << (plans.size() == 1 ? all.begin().value() : all).dump(2) << "\n";
   });
 }
 

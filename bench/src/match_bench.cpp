@@ -1,0 +1,275 @@
+#include "floorcast/bench/match_bench.hpp"
+
+#include <fftw3.h>
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <random>
+#include <sstream>
+
+#include "floorcast/bench/modes_equivalence.hpp"
+#include "floorcast/core/math.hpp"
+#include "floorcast/core/timing.hpp"
+#include "floorcast/match/kernel_matcher.hpp"
+#include "floorcast/match/plan_raster.hpp"
+#include "floorcast/match/ray_matcher.hpp"
+#include "floorcast/sim/perfect_observation.hpp"
+
+namespace floorcast {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// CPU (process, all threads) and wall seconds of one call.
+struct Cost {
+  double cpu_s = 0.0;
+  double wall_s = 0.0;
+};
+
+template <class F>
+Cost measure(F&& f) {
+  const double c0 = process_cpu_s();
+  const auto t0 = Clock::now();
+  f();
+  return {process_cpu_s() - c0, std::chrono::duration<double>(Clock::now() - t0).count()};
+}
+
+struct Series {
+  std::vector<double> cpu, wall;
+  void add(const Cost& c) {
+    cpu.push_back(c.cpu_s);
+    wall.push_back(c.wall_s);
+  }
+  nlohmann::ordered_json json() const {
+    return {{"cpu_s", cpu.empty() ? 0.0 : median(cpu)}, {"wall_s", wall.empty() ? 0.0 : median(wall)}};
+  }
+};
+
+/// Median of the per-observation ratios a / b.
+double median_ratio(const std::vector<double>& a, const std::vector<double>& b) {
+  std::vector<double> r;
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    if (b[i] > 0.0) r.push_back(a[i] / b[i]);
+  return r.empty() ? 0.0 : median(r);
+}
+
+std::map<std::string, double> median_of(const std::vector<std::map<std::string, double>>& all) {
+  std::map<std::string, std::vector<double>> v;
+  for (const auto& m : all)
+    for (const auto& [k, x] : m) v[k].push_back(x);
+  std::map<std::string, double> out;
+  for (auto& [k, x] : v) out[k] = median(x);
+  return out;
+}
+
+nlohmann::ordered_json to_json(const std::map<std::string, double>& m) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (const auto& [k, v] : m) j[k] = v;
+  return j;
+}
+
+/// One full-size FFTW r2c + c2r pair on rows x cols (FFTW_ESTIMATE, as the correlator plans),
+/// median CPU seconds over repeats: the least one correlation of an exhaustive FFT posterior costs.
+double fft_pair_cpu_s(int rows, int cols, int repeats) {
+  const int half = cols / 2 + 1;
+  float* real = fftwf_alloc_real(static_cast<std::size_t>(rows) * cols);
+  fftwf_complex* spec = fftwf_alloc_complex(static_cast<std::size_t>(rows) * half);
+  fftwf_plan fwd = fftwf_plan_dft_r2c_2d(rows, cols, real, spec, FFTW_ESTIMATE);
+  fftwf_plan inv = fftwf_plan_dft_c2r_2d(rows, cols, spec, real, FFTW_ESTIMATE);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(rows) * cols; ++i) real[i] = u(rng);
+  std::vector<double> t;
+  for (int k = 0; k < repeats; ++k) {
+    const double a = thread_cpu_s();
+    fftwf_execute(fwd);
+    fftwf_execute(inv);
+    t.push_back(thread_cpu_s() - a);
+  }
+  fftwf_destroy_plan(fwd);
+  fftwf_destroy_plan(inv);
+  fftwf_free(real);
+  fftwf_free(spec);
+  return median(t);
+}
+
+/// Largest |FFT heatmap - direct correlation| over sampled cells of one (yaw, scale = 1) heatmap:
+/// the single-precision round-off actually seen on this plan.
+double fft_error_probe(const FloorPlan& plan, const Observation2D& obs, double yaw, int cells, std::uint64_t seed) {
+  KernelMatcherParams p;
+  p.scales = {1.0};
+  p.zero_below = 0.0;
+  p.modes_search = ModesSearch::kPosterior;
+  const KernelMatcher m(plan, p);
+  const MatchResult r = m.match_yaws(obs, {yaw});
+  std::vector<std::pair<int, int>> valid;
+  for (int row = 0; row < m.grid().height_px; ++row)
+    for (int col = 0; col < m.grid().width_px; ++col)
+      if (m.valid_mask().at<std::uint8_t>(row, col)) valid.emplace_back(row, col);
+  std::mt19937_64 rng(seed);
+  double worst = 0.0;
+  for (int i = 0; i < cells && !valid.empty(); ++i) {
+    const auto [row, col] = valid[std::uniform_int_distribution<std::size_t>(0, valid.size() - 1)(rng)];
+    const double s = m.cell_score(obs, yaw, 1.0, row, col);
+    worst = std::max(worst, std::abs(std::max(s, 0.0) - r.posterior.scores[0].at<float>(row, col)));
+  }
+  return worst;
+}
+
+}  // namespace
+
+std::vector<double> pad_yaws(std::vector<double> yaws, std::size_t n) {
+  for (int k = 0; k < 36 && yaws.size() < n; ++k) {
+    const double y = 2.0 * kPi * (k + 0.5) / 36.0;
+    bool near = false;
+    for (double e : yaws) near = near || angle_distance_rad(e, y) < 5.0 * kPi / 180.0;
+    if (!near) yaws.push_back(y);
+  }
+  return yaws;
+}
+
+nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams& params) {
+  nlohmann::ordered_json j;
+  j["plan"] = plan.name;
+  j["threads"] = tbb::info::default_concurrency();
+  j["observations"] = params.observations;
+  j["top_k"] = params.top_k;
+
+  if (params.kernel) {
+    const auto t0 = Clock::now();
+    const KernelMatcher kernel(plan);
+    const double precompute_wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    const GridSpec& g = kernel.grid();
+    j["grid_px"] = {g.width_px, g.height_px};
+    j["valid_cells"] = cv::countNonZero(kernel.valid_mask());
+    PerfectObservationParams pp;
+    pp.num_rays = 0;
+    pp.max_range_m = kernel.params().max_range_m;
+    pp.blocking = kernel.blocking();
+    const PerfectObserver observer(plan, pp);
+    std::vector<Observation2D> observations;
+    for (const Pose2& p : sample_valid_poses(kernel, params.observations, params.seed)) observations.push_back(observer.observe(p));
+
+    const int S = static_cast<int>(kernel.params().scales.size());
+    MatchRequest full;
+    full.top_k = params.top_k;
+    (void)kernel.match(observations.front(), MatchRequest::modes(params.top_k));  // warm-up: thread pool
+    Series modes, argmax, posterior, own_modes;
+    std::vector<double> slices, own_slices;
+    std::vector<std::map<std::string, double>> counters, modes_stages, posterior_stages;
+    ModesEquivalenceResult eq;
+    ModesEquivalenceParams ep;
+    ep.top_k = params.top_k;
+    for (std::size_t i = 0; i < observations.size(); ++i) {
+      const Observation2D& obs = observations[i];
+      const std::vector<double> own = kernel.yaw_candidates(obs);
+      own_slices.push_back(static_cast<double>(own.size()));
+      own_modes.add(measure([&] { (void)kernel.match(obs, MatchRequest::modes(params.top_k)); }));
+      const std::vector<double> yaws =
+          params.kernel_orientations > 0 ? pad_yaws(own, static_cast<std::size_t>(params.kernel_orientations)) : own;
+      slices.push_back(static_cast<double>(yaws.size()));
+      MatchResult bb, fft;
+      modes.add(measure([&] { bb = kernel.match_yaws(obs, yaws, MatchRequest::modes(params.top_k)); }));
+      argmax.add(measure([&] { (void)kernel.match_yaws(obs, yaws, MatchRequest::modes(1)); }));
+      counters.push_back(bb.counters);
+      modes_stages.push_back(bb.stage_s);
+      if (params.posteriors) {
+        posterior.add(measure([&] { fft = kernel.match_yaws(obs, yaws, full); }));
+        posterior_stages.push_back(fft.stage_s);
+        compare_modes(kernel, obs, bb, fft, ep, "observation " + std::to_string(i), eq);
+      }
+    }
+    const double pair = fft_pair_cpu_s(kernel.fft_rows(), kernel.fft_cols(), 5);
+    const double O = median(slices);
+    nlohmann::ordered_json k;
+    k["orientations"] = O;
+    k["scales"] = S;
+    k["modes"] = modes.json();
+    k["argmax"] = argmax.json();
+    k["own_candidates"] = median(own_slices);
+    k["modes_own_candidates"] = own_modes.json();
+    k["precompute_wall_s"] = precompute_wall;
+    k["precompute_mb"] = kernel.precompute_bytes() / 1e6;
+    k["search_maps_mb"] = kernel.search_bytes() / 1e6;
+    k["fft_size"] = {kernel.fft_cols(), kernel.fft_rows()};
+    k["fft_pair_cpu_s"] = pair;
+    k["fft_floor_cpu_s"] = pair * O * S;
+    k["search_counters"] = to_json(median_of(counters));
+    k["modes_stages_cpu_s"] = to_json(median_of(modes_stages));
+    if (params.posteriors) {
+      k["posterior"] = posterior.json();
+      k["posterior_over_modes"] = median_ratio(posterior.cpu, modes.cpu);
+      k["posterior_over_floor"] = median(posterior.cpu) / (pair * O * S);
+      k["posterior_stages_cpu_s"] = to_json(median_of(posterior_stages));
+      k["posterior_mb"] = O * g.width_px * g.height_px * 4.0 / 1e6;
+      k["equivalence"] = to_json(eq);
+      k["fft_max_abs_error"] =
+          fft_error_probe(plan, observations.front(), kernel.yaw_candidates(observations.front()).front(), 300, params.seed);
+    }
+    j["kernel"] = k;
+  }
+
+  nlohmann::ordered_json rays = nlohmann::ordered_json::object();
+  for (int D : params.ray_directions) {
+    RayMatcherParams rp;
+    rp.num_directions = D;
+    std::vector<double> pre;
+    std::unique_ptr<RayMatcher> ray;
+    for (int i = 0; i < std::max(1, params.ray_precompute_repeats); ++i) {
+      ray.reset();
+      ray = std::make_unique<RayMatcher>(plan, rp);
+      pre.push_back(ray->precompute_s());
+    }
+    PerfectObservationParams pp;
+    pp.num_rays = D;
+    pp.max_range_m = rp.max_range_m;
+    pp.blocking = ray->blocking();
+    const PerfectObserver observer(plan, pp);
+    // The same poses as the kernel's (same grid, same blocking, same valid area).
+    std::vector<Observation2D> observations;
+    const cv::Mat valid = matcher_valid_mask(plan, ray->grid(), ray->blocking());
+    for (const Pose2& p : sample_valid_poses(valid, ray->grid(), params.observations, params.seed))
+      observations.push_back(observer.observe(p));
+    (void)ray->match(observations.front(), MatchRequest::modes(params.top_k));
+    Series modes, yaw_map, posterior;
+    std::vector<std::map<std::string, double>> stages;
+    int same_estimate = 0;
+    for (const Observation2D& obs : observations) {
+      MatchResult a, b;
+      modes.add(measure([&] { a = ray->match(obs, MatchRequest::modes(params.top_k)); }));
+      stages.push_back(a.stage_s);
+      MatchRequest ym = MatchRequest::modes(params.top_k);
+      ym.output = MatchOutput::kMaxOverYaw;
+      yaw_map.add(measure([&] { (void)ray->match(obs, ym); }));
+      if (params.posteriors) {
+        MatchRequest full;
+        full.top_k = params.top_k;
+        posterior.add(measure([&] { b = ray->match(obs, full); }));
+        same_estimate += a.modes.size() == b.modes.size() &&
+                         (a.modes.empty() || (a.modes[0].slice == b.modes[0].slice && a.modes[0].row == b.modes[0].row &&
+                                              a.modes[0].col == b.modes[0].col));
+      }
+    }
+    nlohmann::ordered_json r;
+    r["precompute_s"] = median(pre);
+    r["volume_mb"] = ray->precompute_bytes() / 1e6;
+    r["valid_cells"] = ray->volume().num_cells();
+    r["modes"] = modes.json();
+    r["max_over_yaw"] = yaw_map.json();
+    r["stages_cpu_s"] = to_json(median_of(stages));
+    if (params.posteriors) {
+      r["posterior"] = posterior.json();
+      r["posterior_mb"] = static_cast<double>(D) * ray->grid().width_px * ray->grid().height_px * 4.0 / 1e6;
+      r["same_estimate_as_posterior"] = same_estimate;
+    }
+    rays[std::to_string(D)] = r;
+  }
+  j["ray"] = rays;
+  return j;
+}
+
+}  // namespace floorcast
