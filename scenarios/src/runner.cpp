@@ -217,23 +217,26 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
     // A ray matcher whose direction count differs from the observation's rays casts its rays on
     // the observed segments (ray_source "auto"); for perfect observations that is exact.
     const Observation2D& input = observation;
-    const MatchResult mr = matcher.match(input);
+    // Only the estimate and the top-K modes are scored: matchers find them without a posterior
+    // (the kernel matcher's exact branch and bound) unless a heatmap is drawn.
+    const bool heatmap = images && unit.point < s.output.heatmaps;
+    MatchRequest request = MatchRequest::modes(s.scoring.top_k, 1.0, 30.0 * kPi / 180.0);
+    if (heatmap) request.output = MatchOutput::kPosterior;
+    const MatchResult mr = matcher.match(input, request);
     o.match_s = mr.match_s;
     match_total += mr.match_s;
-    const PoseHypothesis best = mr.posterior.argmax();
-    if (!(best.score > 0.0)) {
+    if (!mr.has_pose()) {
       o.ok = false;
       o.failure = "empty posterior";
     } else {
-      o.estimate = to_estimate(best, r.truth);
-      for (const PoseHypothesis& h : mr.posterior.top_k(s.scoring.top_k, 1.0, 30.0 * kPi / 180.0))
-        o.top_k.push_back(to_estimate(h, r.truth));
+      o.estimate = to_estimate(mr.estimate(), r.truth);
+      for (const PoseHypothesis& h : mr.modes) o.top_k.push_back(to_estimate(h, r.truth));
     }
-    if (images && unit.point < s.output.heatmaps) {
+    if (heatmap) {
+      const std::optional<PoseHypothesis> best = mr.has_pose() ? std::optional<PoseHypothesis>(mr.estimate()) : std::nullopt;
       const cv::Mat raster = rasterize_occupancy(building.plan, mr.posterior.grid, BlockingOptions{});
       const PoseHypothesis truth{r.truth.x_m, r.truth.y_m, r.truth.yaw_rad, 0.0};
-      const cv::Mat img = render_posterior_heatmap(mr.posterior, raster, truth,
-                                                   o.ok ? std::optional<PoseHypothesis>(best) : std::nullopt);
+      const cv::Mat img = render_posterior_heatmap(mr.posterior, raster, truth, o.ok ? best : std::nullopt);
       std::string name = unit.id + "_" + m.label + ".png";
       for (char& c : name) if (c == '/') c = '_';
       images->write_image("heatmaps/" + name, img);
