@@ -58,7 +58,8 @@ void register_compare_matchers(CLI::App& root) {
     std::vector<std::string> rooms;
     std::vector<std::string> specs;
     bool doors_open = false;
-    std::string room_kinds = "hallway,corridor,lobby,atrium,lounge,hall,vestibule";
+    std::string room_kinds;
+    bool uniform = false;
     int jobs = 0;
     bool quiet = false;
     std::string out;
@@ -81,9 +82,11 @@ void register_compare_matchers(CLI::App& root) {
       ->capture_default_str()
       ->check(CLI::IsMember({"palms", "palms+", "dense"}));
   cmd->add_option("--rooms", o->rooms,
-                  "Rooms files (`plan generate --rooms`), one per plan in order: points only in rooms of --room-kinds");
-  cmd->add_option("--room-kinds", o->room_kinds, "Room kinds sampled with --rooms (comma-separated)")
-      ->capture_default_str();
+                  "Rooms files (`plan generate --rooms`), one per plan in order, for plans without \"rooms\" labels");
+  cmd->add_option("--room-kinds", o->room_kinds,
+                  "Sample only in rooms of these kinds (comma-separated; default: the transitional kinds)");
+  cmd->add_flag("--uniform", o->uniform,
+                "Points anywhere in the free space (default: transitional spaces of labelled plans, PALMS+ 4.4)");
   cmd->add_flag("--doors-open", o->doors_open,
                 "Open doors stay open in the observations and the matchers' plans (default: all closed, PALMS+ 4.4)");
   cmd->add_option("--matcher", o->specs,
@@ -114,7 +117,9 @@ void register_compare_matchers(CLI::App& root) {
     }
     doc["buildings"] = buildings;
     doc["sampling"] = {{"count", o->points}, {"seed", o->seed}, {"clearance_m", o->clearance_m}};
-    if (!o->rooms.empty()) doc["sampling"]["region_kinds"] = split_commas(o->room_kinds);
+    if (o->uniform && !o->room_kinds.empty()) throw InputError("--uniform and --room-kinds exclude each other");
+    if (o->uniform) doc["sampling"]["region"] = "uniform";
+    if (!o->room_kinds.empty()) doc["sampling"]["region_kinds"] = split_commas(o->room_kinds);
     doc["shared"] = {{"range_m", o->range_m}, {"doors_closed", !o->doors_open}};
     doc["observation"] = {{"source", "perfect"}, {"rays", 36}};
     OJson matchers;

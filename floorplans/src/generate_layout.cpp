@@ -572,6 +572,7 @@ GeneratedBuilding Layout::assemble(const std::string& name) const {
     for (const Vec2& p : r.polygon_m) g.polygon_m.push_back(round4(p));
     out.rooms.push_back(std::move(g));
   }
+  out.plan.rooms = out.rooms;  // the labels travel with the plan file (sampling by room kind)
   return out;
 }
 

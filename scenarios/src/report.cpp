@@ -118,6 +118,29 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
   md << "Scenario hash `" << scenario.hash << "`, " << expected.size() << " work units ("
      << scenario.cells.size() << " cells x " << scenario.buildings.size() << " buildings x "
      << scenario.sampling.count << " points). Recalls in percent with bootstrap 95% intervals.\n\n";
+  {
+    // Where the points are: the PALMS+ protocol (transitional spaces) or not, per building.
+    std::map<std::string, std::vector<std::string>> by_region;
+    for (const BuildingSpec& b : scenario.buildings) by_region[b.sampling_region].push_back(b.label);
+    auto list = [](const std::vector<std::string>& v) {
+      std::string out;
+      for (const std::string& x : v) out += (out.empty() ? "" : ", ") + x;
+      return out;
+    };
+    md << "Observation points:";
+    const char* sep = " ";
+    for (const auto& [region, labels] : by_region) {
+      md << sep;
+      sep = "; ";
+      if (region == "transitional") md << "in transitional spaces (hallways, corridors, lobbies, ...)";
+      else if (region == "kinds") md << "in rooms of kinds " << list(scenario.sampling.region_kinds);
+      else if (region == "uniform") md << "uniform over the free space";
+      else md << "uniform over the free space, **no room labels** (not the transitional protocol)";
+      md << " in " << list(labels);
+    }
+    md << ".\n\n";
+    for (const BuildingSpec& b : scenario.buildings) sum["sampling_region"][b.label] = b.sampling_region;
+  }
 
   std::map<std::string, std::map<std::string, std::vector<double>>> cdf_by_cell;  // cell -> label -> errors
   // Pooled per axis value for accuracy-vs-axis plots: key -> value text -> label -> records.

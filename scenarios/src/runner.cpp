@@ -88,29 +88,24 @@ ScenarioRunner::ScenarioRunner(const Scenario& scenario, const std::function<voi
     const BuildingSpec& spec = scenario.buildings[b];
     Impl::Building building;
     const auto t0 = Clock::now();
-    const std::vector<std::string>& kinds = scenario.sampling.region_kinds;
-    std::vector<std::vector<Vec2>> regions;
+    std::vector<Room> rooms;
     if (!spec.file.empty()) {
       building.plan = load_floor_plan(spec.file);
-      if (!kinds.empty()) {
-        if (spec.rooms_file.empty()) {
-          throw InputError("building \"" + spec.label + "\": sampling.region_kinds needs room labels (a rooms file: "
-                           "buildings[].rooms)");
-        }
-        regions = load_room_polygons(spec.rooms_file, kinds);
-      }
+      rooms = spec.rooms_file.empty() ? building.plan.rooms : load_rooms_file(spec.rooms_file);
     } else {
       GeneratedBuilding generated = generate_building(parse_archetype(spec.archetype), spec.seed);
       building.plan = std::move(generated.plan);
-      for (const GeneratedRoom& room : generated.rooms) {
-        if (std::find(kinds.begin(), kinds.end(), room.kind) != kinds.end()) regions.push_back(room.polygon_m);
-      }
+      rooms = std::move(generated.rooms);
     }
-    if (!kinds.empty() && regions.empty()) {
-      throw InputError("building \"" + spec.label + "\": no room of the sampling.region_kinds");
+    std::vector<std::string> kinds;
+    if (spec.sampling_region == "transitional") kinds = {"transitional"};
+    if (spec.sampling_region == "kinds") kinds = scenario.sampling.region_kinds;
+    if (!kinds.empty() && rooms.empty()) {
+      throw InputError("building \"" + spec.label + "\": sampling by room kind needs room labels (a plan with "
+                       "\"rooms\", a generated building, or a rooms file: buildings[].rooms)");
     }
     building.poses = sample_observation_poses(building.plan, scenario.sampling.count, scenario.sampling.seed,
-                                              static_cast<int>(b), scenario.sampling.clearance_m, 0.1, regions);
+                                              static_cast<int>(b), scenario.sampling.clearance_m, 0.1, rooms, kinds);
     if (static_cast<int>(building.poses.size()) != scenario.sampling.count) {
       throw InputError("building \"" + spec.label + "\": only " + std::to_string(building.poses.size()) + " of " +
                        std::to_string(scenario.sampling.count) + " observation points fit with clearance " +
@@ -120,7 +115,7 @@ ScenarioRunner::ScenarioRunner(const Scenario& scenario, const std::function<voi
       for (Pose2& p : building.poses) p.yaw_rad = 0.0;
     if (any_scan) building.scene = std::make_unique<RayScene>(extrude_plan(building.plan));
     say("building " + spec.label + ": " + std::to_string(building.plan.walls.size()) + " walls, " +
-        std::to_string(building.poses.size()) + " points (" + std::to_string(seconds_since(t0)) + " s)");
+        std::to_string(building.poses.size()) + " points (" + spec.sampling_region + ", " + std::to_string(seconds_since(t0)) + " s)");
     d.buildings.push_back(std::move(building));
   }
 

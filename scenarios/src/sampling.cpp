@@ -11,7 +11,7 @@ namespace floorcast {
 
 std::vector<Pose2> sample_observation_poses(const FloorPlan& plan, int n, std::uint64_t seed, int plan_index,
                                             double clearance_m, double resolution_m,
-                                            const std::vector<std::vector<Vec2>>& regions) {
+                                            const std::vector<Room>& rooms, const std::vector<std::string>& kinds) {
   RasterOptions ro;
   ro.resolution_m_per_px = resolution_m;
   const PlanRasters rasters = make_plan_rasters(plan, ro);
@@ -28,22 +28,28 @@ std::vector<Pose2> sample_observation_poses(const FloorPlan& plan, int n, std::u
   // A blocked cell's centre may be up to half a diagonal farther than the surface in it, and the
   // point moves up to half a diagonal inside its cell: keep a full diagonal of slack.
   const float need = static_cast<float>(clearance_m + std::sqrt(2.0) * resolution_m);
+  const std::vector<std::string> wanted = expand_room_kinds(kinds);
+  std::vector<bool> room_wanted(rooms.size(), false);
+  for (std::size_t k = 0; k < rooms.size(); ++k) {
+    room_wanted[k] = std::find(wanted.begin(), wanted.end(), rooms[k].kind) != wanted.end();
+  }
+  const cv::Mat room_index = wanted.empty() ? cv::Mat() : room_index_raster(rooms, g);
   std::vector<std::pair<int, int>> cells;
   for (int r = 0; r < g.height_px; ++r) {
     const std::uint8_t* v = rasters.valid.ptr<std::uint8_t>(r);
     const float* d = distance_m.ptr<float>(r);
     for (int c = 0; c < g.width_px; ++c) {
       if (!v[c] || d[c] < need) continue;
-      bool in_region = regions.empty();
-      for (std::size_t k = 0; k < regions.size() && !in_region; ++k) {
-        in_region = point_in_polygon(regions[k], g.cell_center_m(r, c));
+      if (!wanted.empty()) {
+        const int k = room_index.at<int>(r, c);
+        if (k < 0 || !room_wanted[static_cast<std::size_t>(k)]) continue;
       }
-      if (in_region) cells.emplace_back(r, c);
+      cells.emplace_back(r, c);
     }
   }
   if (cells.empty()) {
     throw InputError("plan \"" + plan.name + "\": no free cell with " + format_fixed(clearance_m, 2) + " m clearance" +
-                     (regions.empty() ? "" : " inside the sampling regions") + " to sample observation points from");
+                     (wanted.empty() ? "" : " inside rooms of the sampled kinds") + " to sample observation points from");
   }
   std::vector<Pose2> poses;
   poses.reserve(static_cast<std::size_t>(std::max(n, 0)));

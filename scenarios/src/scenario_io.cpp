@@ -186,6 +186,14 @@ std::string find_file(const std::string& file, const std::string& base_dir, cons
   return {};
 }
 
+/// True if the building's points can be placed by room kind: generated (rooms built in), a rooms
+/// file, or a plan file with a non-empty "rooms" array.
+bool has_room_labels(const BuildingSpec& b) {
+  if (!b.archetype.empty() || !b.rooms_file.empty()) return true;
+  const nlohmann::json j = nlohmann::json::parse(read_text_file(b.file), nullptr, false);
+  return j.is_object() && j.contains("rooms") && j["rooms"].is_array() && !j["rooms"].empty();
+}
+
 std::vector<BuildingSpec> parse_buildings(const OJson& root, const Checker& chk, const std::string& base_dir,
                                           const std::string& source_root) {
   if (!root.contains("buildings")) chk.fail("buildings", "missing required key");
@@ -529,7 +537,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
 
   if (root.contains("sampling")) {
     const OJson& o = root.at("sampling");
-    chk.only_keys(o, "sampling", {"count", "seed", "clearance_m", "random_yaw", "region_kinds"});
+    chk.only_keys(o, "sampling", {"count", "seed", "clearance_m", "random_yaw", "region", "region_kinds"});
     s.sampling.count = static_cast<int>(chk.integer_in(o, "sampling", "count", s.sampling.count, 1, 1000000));
     s.sampling.seed = static_cast<std::uint64_t>(chk.integer_in(o, "sampling", "seed", 1, 0, (1LL << 53)));
     s.sampling.clearance_m = chk.number_in(o, "sampling", "clearance_m", s.sampling.clearance_m, 0.0, 10.0);
@@ -544,6 +552,18 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
         s.sampling.region_kinds.push_back(k[i].get<std::string>());
       }
     }
+    s.sampling.region = chk.string_in(o, "sampling", "region", s.sampling.region_kinds.empty() ? "transitional" : "kinds",
+                                      {"transitional", "uniform", "kinds"});
+    if (s.sampling.region == "kinds" && s.sampling.region_kinds.empty()) {
+      chk.fail("sampling.region", "\"kinds\" needs sampling.region_kinds");
+    }
+    if (s.sampling.region != "kinds" && !s.sampling.region_kinds.empty()) {
+      chk.fail("sampling.region_kinds", "only with sampling.region: kinds");
+    }
+  }
+  for (BuildingSpec& b : s.buildings) {
+    if (s.sampling.region != "transitional") b.sampling_region = s.sampling.region;
+    else b.sampling_region = has_room_labels(b) ? "transitional" : "uniform_unlabelled";
   }
   if (root.contains("scoring")) {
     const OJson& o = root.at("scoring");
@@ -659,10 +679,11 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
       j["seed"] = b.seed;
     }
     if (!b.rooms_file.empty()) j["rooms"] = b.rooms_file;
+    j["sampling_region"] = b.sampling_region;
     r["buildings"].push_back(j);
   }
   r["sampling"] = {{"count", s.sampling.count}, {"seed", s.sampling.seed}, {"clearance_m", s.sampling.clearance_m},
-                   {"random_yaw", s.sampling.random_yaw}};
+                   {"random_yaw", s.sampling.random_yaw}, {"region", s.sampling.region}};
   if (!s.sampling.region_kinds.empty()) r["sampling"]["region_kinds"] = s.sampling.region_kinds;
   r["scoring"] = {{"recall_thresholds_m", s.scoring.recall_thresholds_m},
                   {"combined_threshold_m", s.scoring.combined_threshold_m},
@@ -728,6 +749,7 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
         spec.seed = b.at("seed").get<std::uint64_t>();
       }
       if (b.contains("rooms")) spec.rooms_file = b.at("rooms").get<std::string>();
+      spec.sampling_region = b.value("sampling_region", std::string("uniform"));
       s.buildings.push_back(spec);
     }
     const Json& sm = resolved.at("sampling");
@@ -736,6 +758,7 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
     s.sampling.clearance_m = sm.at("clearance_m").get<double>();
     s.sampling.random_yaw = sm.at("random_yaw").get<bool>();
     if (sm.contains("region_kinds")) s.sampling.region_kinds = sm.at("region_kinds").get<std::vector<std::string>>();
+    s.sampling.region = sm.value("region", std::string(s.sampling.region_kinds.empty() ? "uniform" : "kinds"));
     const Json& sc = resolved.at("scoring");
     s.scoring.recall_thresholds_m = sc.at("recall_thresholds_m").get<std::vector<double>>();
     s.scoring.combined_threshold_m = sc.at("combined_threshold_m").get<double>();
@@ -782,12 +805,12 @@ Scenario load_scenario(const std::string& path, const std::string& source_root) 
   return parse_scenario(text, path, base, source_root);
 }
 
-std::vector<std::vector<Vec2>> load_room_polygons(const std::string& path, const std::vector<std::string>& kinds) {
+std::vector<Room> load_rooms_file(const std::string& path) {
   const nlohmann::json j = nlohmann::json::parse(read_text_file(path), nullptr, false);
   if (j.is_discarded() || !j.is_object() || !j.contains("rooms") || !j["rooms"].is_array()) {
     throw InputError(path + ": not a rooms file (expected an object with a \"rooms\" array)");
   }
-  std::vector<std::vector<Vec2>> out;
+  std::vector<Room> out;
   std::size_t index = 0;
   for (const auto& room : j["rooms"]) {
     const std::string where = path + ": rooms[" + std::to_string(index++) + "]";
@@ -795,16 +818,17 @@ std::vector<std::vector<Vec2>> load_room_polygons(const std::string& path, const
         !room["polygon"].is_array()) {
       throw InputError(where + ": expected \"kind\" (string) and \"polygon\" (array of [x, y])");
     }
-    if (std::find(kinds.begin(), kinds.end(), room["kind"].get<std::string>()) == kinds.end()) continue;
-    std::vector<Vec2> poly;
+    Room r;
+    r.kind = room["kind"].get<std::string>();
+    if (room.contains("id") && room["id"].is_string()) r.id = room["id"].get<std::string>();
     for (const auto& p : room["polygon"]) {
       if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
         throw InputError(where + ": polygon points must be [x, y] numbers");
       }
-      poly.emplace_back(p[0].get<double>(), p[1].get<double>());
+      r.polygon_m.emplace_back(p[0].get<double>(), p[1].get<double>());
     }
-    if (poly.size() < 3) throw InputError(where + ": polygon with fewer than 3 points");
-    out.push_back(std::move(poly));
+    if (r.polygon_m.size() < 3) throw InputError(where + ": polygon with fewer than 3 points");
+    out.push_back(std::move(r));
   }
   return out;
 }

@@ -84,13 +84,75 @@ TEST(Sampling, SamplingRegions) {
   EXPECT_FALSE(point_in_polygon(l_shape, {-0.1, 0.5}));
   // Only the east room (x > 5) of the asymmetric plan.
   const FloorPlan plan = test::asymmetric_floor();
-  const std::vector<std::vector<Vec2>> east = {{{5, 0}, {12, 0}, {12, 5}, {5, 5}}};
-  for (const Pose2& p : sample_observation_poses(plan, 30, 4, 0, 0.3, 0.1, east)) {
+  const std::vector<Room> east = {{"e", "lobby", {{5, 0}, {12, 0}, {12, 5}, {5, 5}}, {}}};
+  for (const Pose2& p : sample_observation_poses(plan, 30, 4, 0, 0.3, 0.1, east, {"transitional"})) {
     EXPECT_GT(p.x_m, 5.3);
     EXPECT_LT(p.y_m, 4.7);
   }
-  const std::vector<std::vector<Vec2>> nowhere = {{{20, 20}, {21, 20}, {21, 21}}};
-  EXPECT_THROW(sample_observation_poses(plan, 3, 4, 0, 0.3, 0.1, nowhere), InputError);
+  const std::vector<Room> nowhere = {{"n", "lobby", {{20, 20}, {21, 20}, {21, 21}}, {}}};
+  EXPECT_THROW(sample_observation_poses(plan, 3, 4, 0, 0.3, 0.1, nowhere, {"lobby"}), InputError);
+  // Nested labels: a circulation outline around the whole plan and an office inside it. The
+  // office's cells belong to the office (the smallest room), so no transitional point lands there.
+  const std::vector<Room> nested = {{"level", "circulation", {{-1, -1}, {20, -1}, {20, 20}, {-1, 20}}, {}},
+                                    {"o", "office", {{5, 0}, {12, 0}, {12, 5}, {5, 5}}, {}}};
+  int in_office = 0;
+  for (const Pose2& p : sample_observation_poses(plan, 60, 4, 0, 0.3, 0.1, nested, {"transitional"})) {
+    if (p.x_m > 5.0 && p.x_m < 12.0 && p.y_m > 0.0 && p.y_m < 5.0) ++in_office;
+  }
+  EXPECT_EQ(in_office, 0);
+  // Without kinds every free cell counts, the office included.
+  in_office = 0;
+  for (const Pose2& p : sample_observation_poses(plan, 60, 4, 0, 0.3, 0.1, nested)) {
+    if (p.x_m > 5.0 && p.x_m < 12.0 && p.y_m > 0.0 && p.y_m < 5.0) ++in_office;
+  }
+  EXPECT_GT(in_office, 0);
+}
+
+// The default is the PALMS+ sec. 4.4 protocol: points in transitional spaces when the plan has
+// room labels (generated buildings, shipped plans); a plan without labels is sampled uniformly
+// and the resolved configuration says so; sampling.region: uniform asks for the whole free space.
+TEST(Sampling, TransitionalByDefault) {
+  const std::string yaml = R"(
+buildings: [{generate: office, seed: 3}, floorplans/buildings/office.json, floorplans/buildings/two_rooms.json]
+sampling: {count: 10, seed: 5}
+observation: {source: perfect}
+matchers: {kernel: {matcher: kernel}}
+)";
+  const Scenario s = parse_scenario(yaml, "default.yaml", ".", FLOORCAST_SOURCE_DIR);
+  EXPECT_EQ(s.sampling.region, "transitional");
+  ASSERT_EQ(s.buildings.size(), 3u);
+  EXPECT_EQ(s.buildings[0].sampling_region, "transitional");
+  EXPECT_EQ(s.buildings[1].sampling_region, "transitional");
+  EXPECT_EQ(s.buildings[2].sampling_region, "uniform_unlabelled");
+  EXPECT_EQ(s.resolved["buildings"][2]["sampling_region"], "uniform_unlabelled");
+  const ScenarioRunner runner(s);
+  const GeneratedBuilding office = generate_building(Archetype::kOffice, 3);
+  for (const WorkUnit& u : enumerate_units(s)) {
+    if (u.building > 1) continue;
+    const Pose2 p = runner.run_unit(u, nullptr).truth;
+    const int k = room_at(office.rooms, p.position_m());
+    if (u.building == 0) {
+      ASSERT_GE(k, 0) << u.id;
+      EXPECT_TRUE(is_transitional_kind(office.rooms[static_cast<std::size_t>(k)].kind)) << u.id;
+    }
+  }
+  const std::string uniform = R"(
+buildings: [{generate: office, seed: 3}]
+sampling: {count: 40, seed: 5, region: uniform}
+matchers: {kernel: {matcher: kernel}}
+)";
+  const Scenario su = parse_scenario(uniform, "uniform.yaml", ".", FLOORCAST_SOURCE_DIR);
+  EXPECT_EQ(su.buildings[0].sampling_region, "uniform");
+  const ScenarioRunner ru(su);
+  int outside_transitional = 0;
+  for (const WorkUnit& u : enumerate_units(su)) {
+    const int k = room_at(office.rooms, ru.run_unit(u, nullptr).truth.position_m());
+    if (k < 0 || !is_transitional_kind(office.rooms[static_cast<std::size_t>(k)].kind)) ++outside_transitional;
+  }
+  EXPECT_GT(outside_transitional, 10);  // offices are most of an office building's floor
+  EXPECT_THROW(parse_scenario("buildings: [{generate: office}]\nsampling: {region: kinds}\nmatchers: {k: {matcher: kernel}}\n",
+                              "bad.yaml", ".", FLOORCAST_SOURCE_DIR),
+               InputError);
 }
 
 // sampling.region_kinds: every observation point of a generated office lies in one of its
@@ -104,6 +166,7 @@ matchers: {kernel: {matcher: kernel}}
 )";
   const Scenario s = parse_scenario(yaml, "regions.yaml", ".", FLOORCAST_SOURCE_DIR);
   ASSERT_EQ(s.sampling.region_kinds, std::vector<std::string>{"hallway"});
+  EXPECT_EQ(s.sampling.region, "kinds");
   const GeneratedBuilding office = generate_building(Archetype::kOffice, 3);
   std::vector<std::vector<Vec2>> hallways;
   for (const GeneratedRoom& r : office.rooms)
@@ -117,7 +180,7 @@ matchers: {kernel: {matcher: kernel}}
     EXPECT_TRUE(inside) << u.id << " at " << p.x_m << ", " << p.y_m;
   }
   const std::string no_rooms = R"(
-buildings: [floorplans/buildings/apartment.json]
+buildings: [floorplans/buildings/two_rooms.json]
 sampling: {count: 2, region_kinds: [hallway]}
 matchers: {kernel: {matcher: kernel}}
 )";

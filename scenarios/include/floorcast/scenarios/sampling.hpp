@@ -7,17 +7,21 @@
 
 #include "floorcast/core/types.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
-#include "floorcast/floorplans/rooms.hpp"  // point_in_polygon
+#include "floorcast/floorplans/rooms.hpp"
 
 namespace floorcast {
 
 /// N poses (position uniform over valid cells with at least clearance_m to the nearest blocked
 /// cell — walls, closed doors, glass, and every obstacle footprint whatever its height, since
-/// nobody stands inside furniture — and inside one of `regions` when given, jittered uniformly inside the cell; yaw uniform
-/// in [0, 2 pi)). Point i of plan p draws from its own stream seeded by (seed, plan_index, i):
-/// same seed -> same points. Throws InputError when no cell qualifies.
+/// nobody stands inside furniture — jittered uniformly inside the cell; yaw uniform in [0, 2 pi)).
+/// With `kinds` (the word "transitional" expands, rooms.hpp), only cells whose centre lies in a
+/// room of those kinds count, the room being the smallest of `rooms` containing it (room_at:
+/// an OSM level outline labelled "circulation" does not claim the offices inside it).
+/// Point i of plan p draws from its own stream seeded by (seed, plan_index, i): same seed -> same
+/// points. Throws InputError when no cell qualifies.
 std::vector<Pose2> sample_observation_poses(const FloorPlan& plan, int n, std::uint64_t seed, int plan_index,
                                             double clearance_m, double resolution_m = 0.1,
-                                            const std::vector<std::vector<Vec2>>& regions = {});
+                                            const std::vector<Room>& rooms = {},
+                                            const std::vector<std::string>& kinds = {});
 
 }  // namespace floorcast

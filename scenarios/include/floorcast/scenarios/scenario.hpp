@@ -33,6 +33,11 @@ struct BuildingSpec {
   /// Optional rooms file (`floorcast plan generate --rooms`) labelling the plan's rooms, for
   /// sampling.region_kinds; generated buildings carry their rooms themselves.
   std::string rooms_file;
+  /// Resolved at load: how this building's observation points are placed: "transitional"
+  /// (rooms of transitional kinds), "kinds" (rooms of sampling.region_kinds), "uniform" (asked
+  /// for), or "uniform_unlabelled" (sampling.region transitional, but the plan has no room labels:
+  /// the whole free space, stated in the resolved configuration and the summary).
+  std::string sampling_region;
 };
 
 /// Where observation points are placed (the same points in every sweep cell).
@@ -41,9 +46,15 @@ struct SamplingSpec {
   std::uint64_t seed = 1;         ///< sampling seed
   double clearance_m = 0.5;       ///< minimum distance from any wall/obstacle
   bool random_yaw = true;         ///< random true heading per point (else 0)
-  /// Sample only inside rooms of these kinds (e.g. the transitional spaces hallway, corridor,
-  /// lobby, atrium, lounge, hall, vestibule, as PALMS+ sec. 4.4 did); empty = the whole valid
-  /// area. Each building then needs room labels (generated, or a rooms file).
+  /// Where points go. "transitional" (default, the PALMS+ sec. 4.4 protocol): inside rooms of the
+  /// transitional kinds (rooms.hpp: hallways, corridors, lobbies, atria, ...) of plans with room
+  /// labels (generated buildings, plan files with "rooms", imported OSM/IMDF/GeoJSON plans, a
+  /// rooms file); a plan without labels is sampled uniformly, and the resolved configuration and
+  /// summary say so. "uniform": the whole free space. "kinds": rooms of region_kinds (labels
+  /// required). A point belongs to the smallest labelled room containing it (room_at).
+  std::string region = "transitional";
+  /// Room kinds for region "kinds" (giving region_kinds implies it; the word "transitional"
+  /// expands to the transitional kinds).
   std::vector<std::string> region_kinds;
 };
 
@@ -132,10 +143,10 @@ struct Scenario {
   std::string hash;                     ///< hex digest of `resolved`, identifies the run
 };
 
-/// Room polygons of the given kinds from a generator rooms file (`floorcast plan generate
-/// --rooms FILE`: {"rooms": [{"id", "kind", "polygon": [[x, y], ...]}, ...]}). Throws InputError
-/// naming the file and element when it is not one.
-std::vector<std::vector<Vec2>> load_room_polygons(const std::string& path, const std::vector<std::string>& kinds);
+/// The rooms of a generator rooms file (`floorcast plan generate --rooms FILE`:
+/// {"rooms": [{"id", "kind", "polygon": [[x, y], ...]}, ...]}). Throws InputError naming the file
+/// and element when it is not one.
+std::vector<Room> load_rooms_file(const std::string& path);
 
 /// Reads, validates and resolves a scenario file. Relative building paths are resolved against
 /// the scenario's folder, then the source tree root. Throws InputError naming file:line:col and
