@@ -63,7 +63,7 @@ void register_sim(CLI::App& root) {
 
   // ---- sim scan ----
   struct ScanOptions {
-    std::string plan, pose, sensor = "mono", setting = "full", out;
+    std::string plan, pose, sensor = "mono", setting = "full", out, depth_model, sensor_params;
     int center_view = 0;
     std::uint64_t seed = 0;
     double max_range_m = -1.0, scale_sigma = -1.0;
@@ -83,6 +83,12 @@ void register_sim(CLI::App& root) {
   scan->add_option("--seed", so->seed, "Random seed (sensor noise, clutter)")->capture_default_str();
   scan->add_option("--max-range", so->max_range_m, "Override the preset's maximum range, metres");
   scan->add_option("--scale-sigma", so->scale_sigma, "Override the mono per-view log scale sigma");
+  scan->add_option("--depth-model", so->depth_model,
+                   "Monocular error level of a published network (mono and phone sensors; default depth_pro)")
+      ->check(CLI::IsMember(mono_model_names()));
+  scan->add_option("--sensor-params", so->sensor_params,
+                   "JSON object of scan-parameter overrides, keys as in simulation.json's \"params\", e.g. "
+                   "'{\"sensor\": {\"mono\": {\"no_ground_prob\": 0.3}}}'");
   add_building_options(scan, so->building);
   scan->add_option("-o,--output", so->out, "Output scan folder")->required();
   scan->callback([so] {
@@ -94,6 +100,16 @@ void register_sim(CLI::App& root) {
     params.center_view = so->center_view;
     params.seed = so->seed;
     if (so->max_range_m >= 0.0) params.sensor.max_range_m = so->max_range_m;
+    if (!so->depth_model.empty()) params.sensor.mono = mono_model_preset(so->depth_model);
+    if (!so->sensor_params.empty()) {
+      nlohmann::json j;
+      try {
+        j = nlohmann::json::parse(so->sensor_params);
+      } catch (const std::exception& e) {
+        throw InputError(std::string("--sensor-params: not valid JSON: ") + e.what());
+      }
+      apply_scan_overrides(params, j, "--sensor-params");
+    }
     if (so->scale_sigma >= 0.0) params.sensor.mono.scale_sigma_ln = so->scale_sigma;
     validate_scan_params(params);
     BuildingOptions b = so->building;

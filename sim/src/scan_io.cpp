@@ -52,14 +52,24 @@ ordered_json params_json_impl(const ScanParams& p) {
                      {"low_range_fraction", l.low_range_fraction},
                      {"edge_threshold_rel", l.edge_threshold_rel}};
   const MonoModel& m = s.mono;
-  sensor["mono"] = {{"scale_sigma_ln", m.scale_sigma_ln},
+  sensor["mono"] = {{"model", m.model},
+                    {"scan_scale_mean_ln", m.scan_scale_mean_ln},
+                    {"scan_scale_sigma_ln", m.scan_scale_sigma_ln},
+                    {"scale_sigma_ln", m.scale_sigma_ln},
+                    {"shift_sigma_m", m.shift_sigma_m},
+                    {"compression_knee_m", m.compression_knee_m},
+                    {"compression_ceiling_m", m.compression_ceiling_m},
                     {"warp_sigma_ln", m.warp_sigma_ln},
                     {"warp_grid_x", m.warp_grid_x},
                     {"warp_grid_y", m.warp_grid_y},
                     {"noise_sigma_rel", m.noise_sigma_rel},
                     {"flying_pixel_prob", m.flying_pixel_prob},
                     {"flying_pixel_width_px", m.flying_pixel_width_px},
-                    {"edge_threshold_rel", m.edge_threshold_rel}};
+                    {"edge_threshold_rel", m.edge_threshold_rel},
+                    {"edge_bleed_px", m.edge_bleed_px},
+                    {"textureless_prob", m.textureless_prob},
+                    {"textureless_sigma_ln", m.textureless_sigma_ln},
+                    {"no_ground_prob", m.no_ground_prob}};
   sensor["tracker"] = {{"rotation_sigma_deg", s.tracker.rotation_sigma_deg},
                        {"translation_sigma_m", s.tracker.translation_sigma_m}};
   j["sensor"] = sensor;
@@ -116,10 +126,22 @@ ScanParams params_from_json_impl(const JsonReader& r) {
     lm.low_range_fraction = l.number("low_range_fraction", 0.0, 1.0);
     lm.edge_threshold_rel = l.number("edge_threshold_rel", 0.0, 10.0);
     const JsonReader m = s.object("mono");
-    m.only({"scale_sigma_ln", "warp_sigma_ln", "warp_grid_x", "warp_grid_y", "noise_sigma_rel", "flying_pixel_prob",
-            "flying_pixel_width_px", "edge_threshold_rel"});
+    m.only({"model", "scan_scale_mean_ln", "scan_scale_sigma_ln", "scale_sigma_ln", "shift_sigma_m",
+            "compression_knee_m", "compression_ceiling_m", "warp_sigma_ln", "warp_grid_x", "warp_grid_y",
+            "noise_sigma_rel", "flying_pixel_prob", "flying_pixel_width_px", "edge_threshold_rel", "edge_bleed_px",
+            "textureless_prob", "textureless_sigma_ln", "no_ground_prob"});
     MonoModel& mm = p.sensor.mono;
+    // Folders written before the network-shaped model (no "model" key) hold the former model:
+    // the components they do not list were off.
+    const bool former = !m.has("model");
+    mm.model = former ? "per_view_lognormal" : m.string("model");
+    if (mm.model.empty() || mm.model.size() > 64) m.fail_key("model", "must be a name of 1 to 64 characters");
+    mm.scan_scale_mean_ln = m.number_or("scan_scale_mean_ln", -2.0, 2.0, 0.0);
+    mm.scan_scale_sigma_ln = m.number_or("scan_scale_sigma_ln", 0.0, 2.0, 0.0);
     mm.scale_sigma_ln = m.number("scale_sigma_ln", 0.0, 2.0);
+    mm.shift_sigma_m = m.number_or("shift_sigma_m", 0.0, 5.0, 0.0);
+    mm.compression_knee_m = m.number_or("compression_knee_m", 0.0, 100.0, 0.0);
+    mm.compression_ceiling_m = m.number_or("compression_ceiling_m", 0.0, 1000.0, 0.0);
     mm.warp_sigma_ln = m.number("warp_sigma_ln", 0.0, 1.0);
     mm.warp_grid_x = static_cast<int>(m.integer("warp_grid_x", 2, 32));
     mm.warp_grid_y = static_cast<int>(m.integer("warp_grid_y", 2, 32));
@@ -127,6 +149,18 @@ ScanParams params_from_json_impl(const JsonReader& r) {
     mm.flying_pixel_prob = m.number("flying_pixel_prob", 0.0, 1.0);
     mm.flying_pixel_width_px = static_cast<int>(m.integer("flying_pixel_width_px", 1, 16));
     mm.edge_threshold_rel = m.number("edge_threshold_rel", 0.0, 10.0);
+    mm.edge_bleed_px = m.has("edge_bleed_px") ? static_cast<int>(m.integer("edge_bleed_px", 0, 16)) : 0;
+    mm.textureless_prob = m.number_or("textureless_prob", 0.0, 1.0, 0.0);
+    mm.textureless_sigma_ln = m.number_or("textureless_sigma_ln", 0.0, 2.0, 0.0);
+    mm.no_ground_prob = m.number_or("no_ground_prob", 0.0, 1.0, 0.0);
+    if (!former) {
+      // A current file lists every key: a missing one is an error, not a silent default.
+      for (const char* key : {"scan_scale_mean_ln", "scan_scale_sigma_ln", "shift_sigma_m", "compression_knee_m",
+                              "compression_ceiling_m", "edge_bleed_px", "textureless_prob", "textureless_sigma_ln",
+                              "no_ground_prob"}) {
+        if (!m.has(key)) m.fail_key(key, "missing");
+      }
+    }
     const JsonReader t = s.object("tracker");
     t.only({"rotation_sigma_deg", "translation_sigma_m"});
     p.sensor.tracker.rotation_sigma_deg = t.number("rotation_sigma_deg", 0.0, 45.0);
@@ -158,6 +192,9 @@ std::string simulation_json_text(const SimulatedScan& sim) {
                            {"yaw_rad", sim.truth.T_world_scan.yaw_rad}};
   truth["camera_height_m"] = sim.truth.camera_height_m;
   truth["view_depth_scale"] = sim.truth.view_depth_scale;
+  truth["scan_depth_scale"] = sim.truth.scan_depth_scale;
+  truth["view_depth_shift_m"] = sim.truth.view_depth_shift_m;
+  truth["view_floor_masked"] = sim.truth.view_floor_masked;
   ordered_json trues = ordered_json::array();
   for (const Eigen::Isometry3d& T : sim.truth.T_scan_camera_true) trues.push_back(pose_matrix_json(T));
   truth["T_scan_camera_true"] = trues;
@@ -203,7 +240,8 @@ std::optional<SimulationRecord> load_simulation_record(const std::string& dir, s
   if (setting != sim.params.setting) r.fail_key("setting", "differs from params.setting");
 
   const JsonReader t = r.object("ground_truth");
-  t.only({"T_world_scan", "camera_height_m", "view_depth_scale", "T_scan_camera_true"});
+  t.only({"T_world_scan", "camera_height_m", "view_depth_scale", "scan_depth_scale", "view_depth_shift_m",
+          "view_floor_masked", "T_scan_camera_true"});
   const JsonReader p = t.object("T_world_scan");
   p.only({"x_m", "y_m", "yaw_rad"});
   sim.truth.T_world_scan.x_m = p.number("x_m", -1e5, 1e5);
@@ -216,6 +254,20 @@ std::optional<SimulationRecord> load_simulation_record(const std::string& dir, s
     if (!(scales[k] > 0.0)) t.fail_key("view_depth_scale[" + std::to_string(k) + "]", "must be positive");
   }
   sim.truth.view_depth_scale = scales;
+  // Written since the network-shaped monocular model; absent in older folders (no shift, no
+  // shared scale, no masked floors then).
+  sim.truth.scan_depth_scale = t.number_or("scan_depth_scale", 1e-6, 1e6, 1.0);
+  sim.truth.view_depth_shift_m =
+      t.has("view_depth_shift_m") ? t.numbers("view_depth_shift_m", static_cast<int>(n)) : std::vector<double>(n, 0.0);
+  sim.truth.view_floor_masked.assign(n, false);
+  if (t.has("view_floor_masked")) {
+    const nlohmann::json& masked = t.raw("view_floor_masked");
+    if (!masked.is_array() || masked.size() != n) t.fail_key("view_floor_masked", "expected one boolean per view");
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!masked[k].is_boolean()) t.fail_key("view_floor_masked[" + std::to_string(k) + "]", "expected true or false");
+      sim.truth.view_floor_masked[k] = masked[k].get<bool>();
+    }
+  }
   const nlohmann::json& trues = t.raw("T_scan_camera_true");
   if (!trues.is_array() || trues.size() != n) t.fail_key("T_scan_camera_true", "expected one 4x4 matrix per view");
   for (std::size_t k = 0; k < trues.size(); ++k) {
@@ -257,6 +309,20 @@ void check_override_keys(const nlohmann::json& base, const nlohmann::json& overr
 }  // namespace
 
 void apply_scan_overrides(ScanParams& params, const nlohmann::json& overrides, const std::string& source) {
+  // sensor.mono.model selects a preset of the monocular error model first; the other keys of the
+  // same overrides then change single values of it, whatever their order.
+  if (overrides.is_object() && overrides.contains("sensor") && overrides["sensor"].is_object() &&
+      overrides["sensor"].contains("mono") && overrides["sensor"]["mono"].is_object() &&
+      overrides["sensor"]["mono"].contains("model")) {
+    const nlohmann::json& name = overrides["sensor"]["mono"]["model"];
+    const std::string key = "sensor.mono.model";
+    if (!name.is_string()) throw ParameterError(source + ": " + key + ": expected a string", key);
+    try {
+      params.sensor.mono = mono_model_preset(name.get<std::string>());
+    } catch (const InputError& e) {
+      throw ParameterError(source + ": " + key + ": " + e.what(), key);
+    }
+  }
   nlohmann::json j = scan_params_to_json(params);
   check_override_keys(j, overrides, source, "");
   j.merge_patch(overrides);

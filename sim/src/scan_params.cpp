@@ -63,6 +63,55 @@ ScanParams scan_preset(const std::string& name) {
   throw InputError("unknown sensor preset \"" + name + "\" (known: " + known + ")");
 }
 
+const std::vector<std::string>& mono_model_names() {
+  static const std::vector<std::string> names{"depth_pro", "unidepth_v2", "metric3d_v2", "depth_anything_v2",
+                                              "per_view_lognormal"};
+  return names;
+}
+
+MonoModel mono_model_preset(const std::string& name) {
+  // Image-level log scale error sigma_img from the network's zero-shot delta1 on iBims-1 (the
+  // whole error taken as log-normal: sigma_total = ln 1.25 / Phi^-1((1 + delta1) / 2)) minus a
+  // within-image part of 0.06 (warp, texture-less faces, noise), split evenly (in variance)
+  // between the scan-shared and the per-view scale. Numbers and sources: sim/README.md.
+  const auto image_level = [](MonoModel& m, double per_part_sigma_ln) {
+    m.scan_scale_sigma_ln = per_part_sigma_ln;
+    m.scale_sigma_ln = per_part_sigma_ln;
+  };
+  MonoModel m;  // the member initialisers are "depth_pro"
+  m.model = name;
+  if (name == "depth_pro") return m;
+  if (name == "unidepth_v2") {
+    image_level(m, 0.070);
+    m.edge_bleed_px = 2;
+    return m;
+  }
+  if (name == "metric3d_v2") {
+    image_level(m, 0.152);
+    m.edge_bleed_px = 3;
+    return m;
+  }
+  if (name == "depth_anything_v2") {
+    image_level(m, 0.142);
+    m.edge_bleed_px = 2;
+    m.compression_knee_m = 10.0;
+    m.compression_ceiling_m = 20.0;
+    return m;
+  }
+  if (name == "per_view_lognormal") {
+    m.scan_scale_sigma_ln = 0.0;
+    m.scale_sigma_ln = 0.12;
+    m.shift_sigma_m = 0.0;
+    m.edge_bleed_px = 0;
+    m.textureless_prob = 0.0;
+    m.no_ground_prob = 0.0;
+    return m;
+  }
+  std::string known;
+  for (const std::string& n : mono_model_names()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError("unknown monocular depth model \"" + name + "\" (known: " + known + ")");
+}
+
 const char* sensor_kind_name(SensorKind kind) {
   switch (kind) {
     case SensorKind::kPerfect: return "perfect";
@@ -174,6 +223,18 @@ void validate_scan_params(const ScanParams& p) {
   require(finite_in(m.flying_pixel_prob, 0.0, 1.0), "mono flying_pixel_prob must be in [0, 1]");
   require(m.flying_pixel_width_px >= 1 && m.flying_pixel_width_px <= 16, "mono flying_pixel_width_px must be in [1, 16]");
   require(finite_in(m.edge_threshold_rel, 0.0, 10.0), "mono edge_threshold_rel must be in [0, 10]");
+  require(std::isfinite(m.scan_scale_mean_ln) && std::abs(m.scan_scale_mean_ln) <= 2.0,
+          "mono scan_scale_mean_ln must be in [-2, 2]");
+  require(finite_in(m.scan_scale_sigma_ln, 0.0, 2.0), "mono scan_scale_sigma_ln must be in [0, 2]");
+  require(finite_in(m.shift_sigma_m, 0.0, 5.0), "mono shift_sigma_m must be in [0, 5]");
+  require(finite_in(m.compression_knee_m, 0.0, 100.0) && finite_in(m.compression_ceiling_m, 0.0, 1000.0),
+          "mono compression_knee_m must be in [0, 100] and compression_ceiling_m in [0, 1000]");
+  require(m.compression_knee_m > 0.0 ? m.compression_ceiling_m > m.compression_knee_m : m.compression_ceiling_m == 0.0,
+          "mono compression_ceiling_m must exceed compression_knee_m (both 0 = off)");
+  require(m.edge_bleed_px >= 0 && m.edge_bleed_px <= 16, "mono edge_bleed_px must be in [0, 16]");
+  require(finite_in(m.textureless_prob, 0.0, 1.0), "mono textureless_prob must be in [0, 1]");
+  require(finite_in(m.textureless_sigma_ln, 0.0, 2.0), "mono textureless_sigma_ln must be in [0, 2]");
+  require(finite_in(m.no_ground_prob, 0.0, 1.0), "mono no_ground_prob must be in [0, 1]");
   require(finite_in(s.tracker.rotation_sigma_deg, 0.0, 45.0) && finite_in(s.tracker.translation_sigma_m, 0.0, 5.0),
           "tracker noise must be in [0, 45] deg and [0, 5] m");
   require(p.center_view >= 0 && p.center_view < g.num_views, "center_view must be a view index in [0, num_views)");

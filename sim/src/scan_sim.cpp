@@ -30,6 +30,7 @@ struct ViewJob {
   cv::Mat cos_inc;  ///< CV_32F |cos| of the incidence angle at the returned surface
   cv::Mat glass;    ///< CV_8U 255 where glass affected the value
   cv::Mat first;    ///< CV_32F first-surface depth (only with keep_true_depth)
+  cv::Mat surface;  ///< CV_32S triangle that produced the depth, -1 = none (mono model only)
 };
 
 struct Tracer {
@@ -41,6 +42,7 @@ struct Tracer {
     float depth = 0.0f;
     float cos_inc = 0.0f;
     bool glass = false;
+    int triangle = -1;  ///< the surface that produced the depth
   };
 
   bool is_glass(int tri) const { return scene.mesh().labels[static_cast<std::size_t>(tri)] == MeshLabel::kGlass; }
@@ -94,6 +96,7 @@ struct Tracer {
       if (out == Outcome::kReturn) {
         r.depth = t;
         r.cos_inc = cos_incidence(tri, d, d_len);
+        r.triangle = tri;
         return finish(r, d_len);
       }
       if (out == Outcome::kReflect) {
@@ -101,6 +104,7 @@ struct Tracer {
         const Eigen::Vector3f& n = scene.normals()[static_cast<std::size_t>(tri)];
         r.depth = t + h.t;
         r.cos_inc = cos_incidence(h.triangle, d - 2.0f * n.dot(d) * n, d_len);
+        r.triangle = h.triangle;
         return finish(r, d_len);
       }
       // Through: skip faces we leave (a pane's back face), stop at the next surface we enter.
@@ -113,6 +117,7 @@ struct Tracer {
       if (!is_glass(h.triangle)) {
         r.depth = h.t;
         r.cos_inc = cos_incidence(h.triangle, d, d_len);
+        r.triangle = h.triangle;
         return finish(r, d_len);
       }
       // Another pane: decide again.
@@ -244,6 +249,7 @@ void trace_views(const RayScene& scene, const ScanParams& params, const CameraIn
         // An opaque surface or a glass return.
         r.depth = h.tfar;
         r.glass = glass;
+        r.triangle = tri;
         if (need_incidence) {
           const Eigen::Vector3f d = h.direction();
           const float d_len = d.norm();
@@ -276,6 +282,7 @@ void trace_views(const RayScene& scene, const ScanParams& params, const CameraIn
         job.clean.ptr<float>(v)[u] = r.depth;
         if (need_incidence) job.cos_inc.ptr<float>(v)[u] = r.cos_inc;
         job.glass.ptr<unsigned char>(v)[u] = r.glass ? 255 : 0;
+        if (!job.surface.empty()) job.surface.ptr<int>(v)[u] = r.depth > 0.0f ? r.triangle : -1;
         if (keep_first) {
           float f = rays[i].hit() ? rays[i].tfar : 0.0f;
           const double range_m = static_cast<double>(f) * rays[i].direction().norm();
@@ -390,13 +397,136 @@ Spline1D catmull_rom(int size, int n) {
   return sp;
 }
 
-double mono_view_scale(const ScanParams& params, int view_index) {
-  const CounterRng rng(params.seed, kRngViewScale, static_cast<std::uint64_t>(view_index));
-  return std::exp(params.sensor.mono.scale_sigma_ln * rng.normal(0));
+/// What the monocular model draws once per view (and once per scan, shared by the views).
+struct MonoViewDraws {
+  double scale = 1.0;    ///< scan-shared scale times the view's own
+  double shift_m = 0.0;
+  bool floor_masked = false;
+};
+
+double mono_scan_scale(const ScanParams& params) {
+  const MonoModel& m = params.sensor.mono;
+  const CounterRng rng(params.seed, kRngScanScale);
+  return std::exp(m.scan_scale_mean_ln + m.scan_scale_sigma_ln * rng.normal(0));
 }
 
-void apply_mono(const ScanParams& params, const CameraIntrinsics& K, const ViewJob& job, double scale,
-                DepthView& out) {
+MonoViewDraws mono_view_draws(const ScanParams& params, int view_index, double scan_scale) {
+  const MonoModel& m = params.sensor.mono;
+  const auto k = static_cast<std::uint64_t>(view_index);
+  MonoViewDraws d;
+  d.scale = scan_scale * std::exp(m.scale_sigma_ln * CounterRng(params.seed, kRngViewScale, k).normal(0));
+  d.shift_m = m.shift_sigma_m * CounterRng(params.seed, kRngViewShift, k).normal(0);
+  d.floor_masked = m.no_ground_prob > 0.0 && CounterRng(params.seed, kRngNoGround, k).uniform(0) < m.no_ground_prob;
+  return d;
+}
+
+/// Identity of the planar face a wall or closed-door triangle lies on (quantised unit normal and
+/// plane offset, so the triangles of one face share it); 0 for every other label.
+std::vector<std::uint64_t> wall_face_keys(const Mesh& mesh) {
+  std::vector<std::uint64_t> keys(mesh.num_triangles(), 0);
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if (mesh.labels[i] != MeshLabel::kWall && mesh.labels[i] != MeshLabel::kDoorClosed) continue;
+    const Eigen::Vector3f n = mesh.normal(i);
+    const Eigen::Vector3f& a = mesh.vertices_m[static_cast<std::size_t>(mesh.triangles[i][0])];
+    const auto q = [](double v, double step) { return static_cast<std::uint64_t>(std::llround(v / step) + (1LL << 40)); };
+    std::uint64_t h = mix64(q(n.x(), 1e-3));
+    h = mix64(h ^ q(n.y(), 1e-3));
+    h = mix64(h ^ q(n.z(), 1e-3));
+    h = mix64(h ^ q(n.dot(a), 0.01));
+    keys[i] = h | 1;  // never 0
+  }
+  return keys;
+}
+
+/// Soft compression beyond the knee towards the ceiling (identity below the knee; 0 = off).
+inline float compress_depth(float z, float knee, float ceiling) {
+  if (knee <= 0.0f || z <= knee) return z;
+  const float span = ceiling - knee;
+  return knee + span * std::tanh((z - knee) / span);
+}
+
+/// Stage 1 of the monocular model on one view: floor masking, texture-less faces, compression.
+cv::Mat mono_surface_stage(const ScanParams& params, const ViewJob& job, const MonoViewDraws& draws,
+                           const std::vector<MeshLabel>& labels, const std::vector<std::uint64_t>& face_keys) {
+  const MonoModel& m = params.sensor.mono;
+  const bool textureless = m.textureless_prob > 0.0;
+  const bool per_surface = !job.surface.empty() && (textureless || draws.floor_masked);
+  const bool compress = m.compression_knee_m > 0.0;
+  if (!per_surface && !compress) return job.clean;  // shared, not copied: later stages only read it
+  cv::Mat out(job.clean.size(), CV_32F);
+  const CounterRng face_rng(params.seed, kRngTextureless, static_cast<std::uint64_t>(job.view_index));
+  const float knee = static_cast<float>(m.compression_knee_m), ceiling = static_cast<float>(m.compression_ceiling_m);
+  tbb::parallel_for(tbb::blocked_range<int>(0, job.clean.rows), [&](const tbb::blocked_range<int>& rows) {
+    for (int v = rows.begin(); v != rows.end(); ++v) {
+      const float* z = job.clean.ptr<float>(v);
+      const int* tri = per_surface ? job.surface.ptr<int>(v) : nullptr;
+      float* dst = out.ptr<float>(v);
+      for (int u = 0; u < job.clean.cols; ++u) {
+        float d = z[u];
+        if (d > 0.0f && tri && tri[u] >= 0) {
+          const auto t = static_cast<std::size_t>(tri[u]);
+          if (draws.floor_masked && labels[t] == MeshLabel::kFloor) {
+            d = 0.0f;
+          } else if (textureless && face_keys[t] != 0) {
+            const CounterRng face = face_rng.child(face_keys[t]);
+            if (face.uniform(0) < m.textureless_prob) d *= static_cast<float>(std::exp(m.textureless_sigma_ln * face.normal(1)));
+          }
+        }
+        dst[u] = compress ? compress_depth(d, knee, ceiling) : d;
+      }
+    }
+  });
+  return out;
+}
+
+/// Edge bleeding: pixels within `width` (Chebyshev) of a depth edge take the mean inverse depth of
+/// the valid pixels of their (2 width + 1)^2 window. Per-pixel sums in a fixed order: the same
+/// bytes at any thread count.
+cv::Mat bleed_edges(const cv::Mat& depth, int width, float threshold) {
+  const int H = depth.rows, W = depth.cols;
+  cv::Mat edge = cv::Mat::zeros(H, W, CV_8U);
+  for (int v = 0; v < H; ++v) {
+    const float* row = depth.ptr<float>(v);
+    const float* down = v + 1 < H ? depth.ptr<float>(v + 1) : nullptr;
+    unsigned char* e = edge.ptr<unsigned char>(v);
+    unsigned char* e_down = down ? edge.ptr<unsigned char>(v + 1) : nullptr;
+    for (int u = 0; u < W; ++u) {
+      const float z = row[u];
+      if (z <= 0.0f) continue;
+      const auto jump = [&](float q) { return q > 0.0f && std::abs(q - z) > threshold * std::min(q, z); };
+      if (u + 1 < W && jump(row[u + 1])) e[u] = e[u + 1] = 255;
+      if (down && jump(down[u])) e[u] = e_down[u] = 255;
+    }
+  }
+  cv::Mat band;
+  cv::dilate(edge, band, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * width + 1, 2 * width + 1)));
+  cv::Mat out = depth.clone();
+  tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+    for (int v = rows.begin(); v != rows.end(); ++v) {
+      const unsigned char* b = band.ptr<unsigned char>(v);
+      float* dst = out.ptr<float>(v);
+      for (int u = 0; u < W; ++u) {
+        if (!b[u] || depth.ptr<float>(v)[u] <= 0.0f) continue;
+        double inv = 0.0;
+        int count = 0;
+        for (int y = std::max(0, v - width); y <= std::min(H - 1, v + width); ++y) {
+          const float* src = depth.ptr<float>(y);
+          for (int x = std::max(0, u - width); x <= std::min(W - 1, u + width); ++x) {
+            if (src[x] > 0.0f) {
+              inv += 1.0 / src[x];
+              ++count;
+            }
+          }
+        }
+        dst[u] = static_cast<float>(count / inv);
+      }
+    }
+  });
+  return out;
+}
+
+void apply_mono(const ScanParams& params, const CameraIntrinsics& K, const ViewJob& job, const MonoViewDraws& draws,
+                const std::vector<MeshLabel>& labels, const std::vector<std::uint64_t>& face_keys, DepthView& out) {
   const MonoModel& m = params.sensor.mono;
   const int W = K.width_px, H = K.height_px;
   // Low-frequency warp: zero-mean (in log) random grid, exponentiated, upsampled with
@@ -416,19 +546,49 @@ void apply_mono(const ScanParams& params, const CameraIntrinsics& K, const ViewJ
   }
   const Spline1D su = catmull_rom(W, gx), sv = catmull_rom(H, gy);
 
+  // What the network believes the surfaces are: floor masking, texture-less faces, compression.
+  const cv::Mat surfaces = mono_surface_stage(params, job, draws, labels, face_keys);
+
+  // Flying pixels at depth edges (random, per pixel).
+  const float threshold = static_cast<float>(m.edge_threshold_rel);
+  cv::Mat edged = surfaces;
+  if (m.flying_pixel_prob > 0.0) {
+    edged = surfaces.clone();
+    const CounterRng fly_rng(params.seed, kRngFlying, static_cast<std::uint64_t>(job.view_index));
+    const int width = m.flying_pixel_width_px;
+    tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
+      for (int v = rows.begin(); v != rows.end(); ++v) {
+        const float* clean = surfaces.ptr<float>(v);
+        const float* up = v > 0 ? surfaces.ptr<float>(v - 1) : nullptr;
+        const float* down = v + 1 < H ? surfaces.ptr<float>(v + 1) : nullptr;
+        float* dst = edged.ptr<float>(v);
+        for (int u = 0; u < W; ++u) {
+          const float z = clean[u];
+          if (z <= 0.0f) continue;
+          // Cheap test against the 4-neighbours first; the full search only near edges.
+          auto jump = [&](float q) { return q > 0.0f && std::abs(q - z) > threshold * std::min(q, z); };
+          bool edge = (u > 0 && jump(clean[u - 1])) || (u + 1 < W && jump(clean[u + 1])) || (up && jump(up[u])) ||
+                      (down && jump(down[u]));
+          float other = z;
+          if (edge || width > 1) edge = max_edge_jump(surfaces, u, v, width, threshold, other) > threshold;
+          if (!edge) continue;
+          const CounterRng rng = fly_rng.child(static_cast<std::uint64_t>(v) * W + u);
+          if (rng.uniform(0) < m.flying_pixel_prob) dst[u] = z + static_cast<float>(rng.uniform(1)) * (other - z);
+        }
+      }
+    });
+  }
+  // Smearing across the edges.
+  const cv::Mat bled = m.edge_bleed_px > 0 ? bleed_edges(edged, m.edge_bleed_px, threshold) : edged;
+
   out.depth_m.create(H, W, CV_32F);
   const CounterRng view_rng(params.seed, kRngPixelNoise, static_cast<std::uint64_t>(job.view_index));
-  const CounterRng fly_rng(params.seed, kRngFlying, static_cast<std::uint64_t>(job.view_index));
-  const float threshold = static_cast<float>(m.edge_threshold_rel);
-  const bool flying = m.flying_pixel_prob > 0.0;
-  const int width = m.flying_pixel_width_px;
-  const float scale_f = static_cast<float>(scale), sigma_f = static_cast<float>(m.noise_sigma_rel);
+  const float scale_f = static_cast<float>(draws.scale), shift_f = static_cast<float>(draws.shift_m);
+  const float sigma_f = static_cast<float>(m.noise_sigma_rel);
   tbb::parallel_for(tbb::blocked_range<int>(0, H), [&](const tbb::blocked_range<int>& rows) {
     std::vector<float> noise;
     for (int v = rows.begin(); v != rows.end(); ++v) {
-      const float* clean = job.clean.ptr<float>(v);
-      const float* up = v > 0 ? job.clean.ptr<float>(v - 1) : nullptr;
-      const float* down = v + 1 < H ? job.clean.ptr<float>(v + 1) : nullptr;
+      const float* src = bled.ptr<float>(v);
       // This row's warp control values along x, then 4 weights per pixel.
       float row_ctrl[32];
       for (int i = 0; i < gx; ++i) {
@@ -445,29 +605,15 @@ void apply_mono(const ScanParams& params, const CameraIntrinsics& K, const ViewJ
                                   noise[static_cast<std::size_t>(u)], noise[static_cast<std::size_t>(u) + 1]);
       }
       for (int u = 0; u < W; ++u) {
-        const float z = clean[u];
-        if (z <= 0.0f) {
+        const float zf = src[u];
+        if (zf <= 0.0f) {
           dst[u] = 0.0f;
           continue;
-        }
-        const std::uint64_t pixel = static_cast<std::uint64_t>(v) * W + u;
-        float zf = z;
-        if (flying) {
-          // Cheap test against the 4-neighbours first; the full search only near edges.
-          auto jump = [&](float q) { return q > 0.0f && std::abs(q - z) > threshold * std::min(q, z); };
-          bool edge = (u > 0 && jump(clean[u - 1])) || (u + 1 < W && jump(clean[u + 1])) || (up && jump(up[u])) ||
-                      (down && jump(down[u]));
-          float other = z;
-          if (edge || width > 1) edge = max_edge_jump(job.clean, u, v, width, threshold, other) > threshold;
-          if (edge) {
-            const CounterRng rng = fly_rng.child(pixel);
-            if (rng.uniform(0) < m.flying_pixel_prob) zf = z + static_cast<float>(rng.uniform(1)) * (other - z);
-          }
         }
         const auto& wu = su.w[static_cast<std::size_t>(u)];
         const auto& iu = su.idx[static_cast<std::size_t>(u)];
         const float warp = wu[0] * row_ctrl[iu[0]] + wu[1] * row_ctrl[iu[1]] + wu[2] * row_ctrl[iu[2]] + wu[3] * row_ctrl[iu[3]];
-        const float noisy = scale_f * warp * zf * (1.0f + sigma_f * noise[static_cast<std::size_t>(u)]);
+        const float noisy = (scale_f * warp * zf + shift_f) * (1.0f + sigma_f * noise[static_cast<std::size_t>(u)]);
         dst[u] = noisy > 0.0f ? noisy : 0.0f;
       }
     }
@@ -503,6 +649,10 @@ std::vector<ViewJob> make_jobs(const Pose2& T_world_scan, const ScanParams& para
     // Every pixel is written by the tracer: no need to clear.
     job.clean.create(K.height_px, K.width_px, CV_32F);
     if (params.sensor.kind == SensorKind::kLidar) job.cos_inc.create(K.height_px, K.width_px, CV_32F);
+    const MonoModel& m = params.sensor.mono;
+    if (params.sensor.kind == SensorKind::kMono && (m.textureless_prob > 0.0 || m.no_ground_prob > 0.0)) {
+      job.surface.create(K.height_px, K.width_px, CV_32S);
+    }
     job.glass.create(K.height_px, K.width_px, CV_8U);
     if (keep_first) job.first.create(K.height_px, K.width_px, CV_32F);
   }
@@ -574,8 +724,14 @@ SimulatedScan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, co
   std::vector<ViewJob> jobs = make_jobs(T_world_scan, params, K, true, options.keep_true_depth);
   trace_views(scene, params, K, jobs, options.keep_true_depth);
 
+  const bool mono = params.sensor.kind == SensorKind::kMono;
+  const double scan_scale = mono ? mono_scan_scale(params) : 1.0;
+  const std::vector<std::uint64_t> face_keys =
+      mono && params.sensor.mono.textureless_prob > 0.0 ? wall_face_keys(scene.mesh()) : std::vector<std::uint64_t>{};
+
   SimulatedScan scan;
   scan.scan.sensor = params.preset;
+  scan.truth.scan_depth_scale = scan_scale;
   scan.params = params;
   scan.truth.T_world_scan = T_world_scan;
   scan.truth.camera_height_m = g.camera_height_m;
@@ -586,7 +742,7 @@ SimulatedScan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, co
     const Eigen::Isometry3d T_true = view_pose(g, job.view_index);
     view.T_scan_camera = tracker_pose(params, job.view_index, T_true);
     view.glass_mask = job.glass;
-    double scale = 1.0;
+    MonoViewDraws draws;
     switch (params.sensor.kind) {
       case SensorKind::kPerfect:
         view.depth_m = job.clean;
@@ -595,12 +751,14 @@ SimulatedScan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, co
         apply_lidar(params, K, job, view);
         break;
       case SensorKind::kMono:
-        scale = mono_view_scale(params, job.view_index);
-        apply_mono(params, K, job, scale, view);
+        draws = mono_view_draws(params, job.view_index, scan_scale);
+        apply_mono(params, K, job, draws, scene.mesh().labels, face_keys, view);
         break;
     }
     scan.truth.T_scan_camera_true.push_back(T_true);
-    scan.truth.view_depth_scale.push_back(scale);
+    scan.truth.view_depth_scale.push_back(draws.scale);
+    scan.truth.view_depth_shift_m.push_back(draws.shift_m);
+    scan.truth.view_floor_masked.push_back(draws.floor_masked);
     if (options.keep_true_depth) scan.truth.depth_m.push_back(job.first);
     scan.scan.views.push_back(std::move(view));
   }

@@ -242,6 +242,7 @@ TEST(ScanGlass, PerPaneDecisionIsCoherentAcrossTheView) {
 TEST(SensorMono, ViewScaleErrorMatchesSigma) {
   const RayScene scene(extrude_plan(test::box_room(6.0, 4.0, 0.2)));
   ScanParams p = scan_preset("mono");
+  p.sensor.mono = mono_model_preset("per_view_lognormal");  // the components tested here alone
   p.geometry.num_views = 360;
   p.geometry.view_step_deg = 1.0;
   p.geometry.width_px = 8;
@@ -280,6 +281,7 @@ TEST(SensorMono, ViewScaleErrorMatchesSigma) {
 TEST(SensorMono, WarpIsSmoothAndNoiseMatchesSigma) {
   const RayScene scene(extrude_plan(test::box_room(6.0, 4.0, 0.2)));
   ScanParams p = scan_preset("mono");
+  p.sensor.mono = mono_model_preset("per_view_lognormal");  // the components tested here alone
   p.geometry.num_views = 2;
   p.geometry.width_px = 160;
   p.geometry.height_px = 120;
@@ -325,6 +327,7 @@ TEST(SensorMono, FlyingPixelsOnlyAtDepthEdges) {
   plan.obstacles.push_back({"pillar", ObstacleKind::kPillar, {3.0, 3.0}, {0.6, 0.6}, 0.0, 3.0});
   const RayScene scene(extrude_plan(plan));
   ScanParams p = scan_preset("mono");
+  p.sensor.mono = mono_model_preset("per_view_lognormal");  // the components tested here alone
   p.geometry.num_views = 1;
   p.geometry.width_px = 200;
   p.geometry.height_px = 150;

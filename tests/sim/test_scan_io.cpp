@@ -197,6 +197,38 @@ TEST_F(ScanIo, SensorOnlyFolderNeedsOnlyViewsIntrinsicsAndPoses) {
 }
 
 // Wave-1 folders (scan.json version 1 with the simulator's fields inside) still load.
+TEST_F(ScanIo, FoldersFromBeforeTheNetworkShapedMonoModelLoadAsTheFormerModel) {
+  const SimulatedScan sim = make_scan("mono");
+  save_simulated_scan(dir_.string(), sim);
+  EXPECT_EQ(load_simulated_scan(dir_.string()).truth.view_depth_shift_m, sim.truth.view_depth_shift_m);
+  EXPECT_EQ(load_simulated_scan(dir_.string()).truth.view_floor_masked, sim.truth.view_floor_masked);
+  EXPECT_EQ(load_simulated_scan(dir_.string()).truth.scan_depth_scale, sim.truth.scan_depth_scale);
+  // A current file must list every key of the model.
+  edit_json([](nlohmann::json& j) { j["params"]["sensor"]["mono"].erase("shift_sigma_m"); }, "simulation.json");
+  expect_sim_error("params.sensor.mono.shift_sigma_m: missing");
+  // The former files had none of the new keys: they were off.
+  edit_json(
+      [](nlohmann::json& j) {
+        for (const char* k : {"model", "scan_scale_mean_ln", "scan_scale_sigma_ln", "compression_knee_m",
+                              "compression_ceiling_m", "edge_bleed_px", "textureless_prob", "textureless_sigma_ln",
+                              "no_ground_prob"}) {
+          j["params"]["sensor"]["mono"].erase(k);
+        }
+        for (const char* k : {"scan_depth_scale", "view_depth_shift_m", "view_floor_masked"}) j["ground_truth"].erase(k);
+      },
+      "simulation.json");
+  const SimulatedScan old = load_simulated_scan(dir_.string());
+  EXPECT_EQ(old.params.sensor.mono.model, "per_view_lognormal");
+  EXPECT_EQ(old.params.sensor.mono.scan_scale_sigma_ln, 0.0);
+  EXPECT_EQ(old.params.sensor.mono.shift_sigma_m, 0.0);
+  EXPECT_EQ(old.params.sensor.mono.edge_bleed_px, 0);
+  EXPECT_EQ(old.params.sensor.mono.textureless_prob, 0.0);
+  EXPECT_EQ(old.params.sensor.mono.no_ground_prob, 0.0);
+  EXPECT_EQ(old.truth.scan_depth_scale, 1.0);
+  EXPECT_EQ(old.truth.view_depth_shift_m, std::vector<double>(sim.scan.views.size(), 0.0));
+  EXPECT_EQ(old.truth.view_floor_masked, std::vector<bool>(sim.scan.views.size(), false));
+}
+
 TEST_F(ScanIo, VersionOneFoldersStillLoad) {
   const SimulatedScan sim = make_scan("lidar");
   save_simulated_scan(dir_.string(), sim);

@@ -99,6 +99,11 @@ enum RngStream : std::uint64_t {
   kRngDropout = 7,
   kRngFlying = 8,
   kRngClutter = 9,
+  // Monocular depth model (sim/scan_sim.cpp).
+  kRngScanScale = 20,
+  kRngViewShift = 21,
+  kRngTextureless = 22,
+  kRngNoGround = 23,
 };
 
 }  // namespace floorcast

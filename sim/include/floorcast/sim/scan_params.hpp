@@ -57,20 +57,54 @@ struct LidarModel {
   double edge_threshold_rel = 0.05;  ///< depth jump (relative) that makes a depth edge
 };
 
-/// Monocular metric depth (foundation model): depth = lambda_view * exp(warp(u, v)) *
-/// true_depth * (1 + noise_sigma_rel * n), then flying pixels at depth edges.
+/// Monocular metric depth from a depth foundation model (Depth Pro, UniDepth, Metric3D, Depth
+/// Anything), error components as documented for such networks (sim/README.md, "mono"). Per view
+/// k and pixel p, with z the ray-cast depth after the glass outcome:
+///
+///   z1 = compress(z * t_k(face))          texture-less wall faces, compression at range
+///   z2 = bleed(flying(z1))                flying pixels and smearing across depth edges
+///   depth = (s_scan * s_k * warp_k(p) * z2 + shift_k) * (1 + noise_sigma_rel * n_p)
+///
+/// and, in views drawn as having no usable ground plane, no depth on the floor. The member
+/// initialisers are the "depth_pro" preset (mono_model_preset); every value is validated by
+/// validate_scan_params.
 struct MonoModel {
-  double scale_sigma_ln = 0.12;  ///< ln(lambda_view) ~ N(0, scale_sigma_ln^2), per view
+  /// Name of the preset these values started from (mono_model_preset). A label written next to
+  /// results; the values below are what is simulated.
+  std::string model = "depth_pro";
+  /// Shared by every view of one scan (same camera, same building): ln(s_scan) ~
+  /// N(scan_scale_mean_ln, scan_scale_sigma_ln^2), one draw per scan.
+  double scan_scale_mean_ln = 0.0;
+  double scan_scale_sigma_ln = 0.109;
+  double scale_sigma_ln = 0.109;  ///< per view: ln(s_k) ~ N(0, scale_sigma_ln^2)
+  double shift_sigma_m = 0.05;    ///< per view: additive shift_k ~ N(0, shift_sigma_m^2), metres
+  /// Compression at range (bounded network outputs, training depths mostly indoors): beyond the
+  /// knee, z -> knee + (ceiling - knee) * tanh((z - knee) / (ceiling - knee)) (slope 1 at the knee,
+  /// never reaching the ceiling). compression_knee_m = 0: off (then the ceiling must be 0 too).
+  double compression_knee_m = 0.0;
+  double compression_ceiling_m = 0.0;
   /// Smooth low-frequency warp: a warp_grid_x x warp_grid_y grid of N(0, warp_sigma_ln^2) log
   /// values (zero mean per view), exponentiated and upsampled over the image with Catmull-Rom
   /// splines (separable, C1), multiplied into the depth.
   double warp_sigma_ln = 0.05;
   int warp_grid_x = 3;
   int warp_grid_y = 3;
-  double noise_sigma_rel = 0.01;     ///< per-pixel relative Gaussian noise
+  double noise_sigma_rel = 0.01;     ///< per-pixel relative Gaussian noise (spatially white)
   double flying_pixel_prob = 0.5;    ///< probability that a depth-edge pixel becomes a flying pixel
   int flying_pixel_width_px = 1;     ///< how far from an edge (pixels) a pixel counts as on it
-  double edge_threshold_rel = 0.05;  ///< relative depth jump that makes a depth edge
+  double edge_threshold_rel = 0.05;  ///< relative depth jump between 4-neighbours that makes a depth edge
+  /// Edge bleeding: every pixel within edge_bleed_px (Chebyshev distance) of a depth edge takes
+  /// the mean inverse depth of the valid pixels in its (2 edge_bleed_px + 1)^2 window, a ramp
+  /// across the discontinuity (networks predict inverse depth and blur it across edges). 0 = off.
+  int edge_bleed_px = 1;
+  /// Texture-less walls: each wall or closed-door face (one plane) is, independently per view,
+  /// misjudged with probability textureless_prob; its depth is then multiplied by
+  /// exp(N(0, textureless_sigma_ln^2)).
+  double textureless_prob = 0.1;
+  double textureless_sigma_ln = 0.1;
+  /// Views without a usable ground plane (floor occluded, out of view or not trusted): with this
+  /// probability per view, the view has no depth on floor pixels.
+  double no_ground_prob = 0.1;
 };
 
 /// Pose-tracker noise on the reported view poses (the rendering uses the true poses).
@@ -114,6 +148,14 @@ struct ScanParams {
 /// Throws InputError for an unknown name.
 ScanParams scan_preset(const std::string& name);
 const std::vector<std::string>& scan_preset_names();
+
+/// Monocular error levels of published metric depth networks (sim/README.md lists the numbers
+/// and their sources): "depth_pro" (the MonoModel defaults), "unidepth_v2", "metric3d_v2",
+/// "depth_anything_v2", and "per_view_lognormal" (floorcast's former model: per-view scale only,
+/// sigma 0.12, no shared bias, shift, compression, bleeding or failures).
+/// Throws InputError for an unknown name.
+MonoModel mono_model_preset(const std::string& name);
+const std::vector<std::string>& mono_model_names();
 
 const char* sensor_kind_name(SensorKind kind);
 const char* scan_setting_name(ScanSetting setting);

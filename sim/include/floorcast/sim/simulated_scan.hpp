@@ -22,8 +22,13 @@ struct ScanTruth {
   double camera_height_m = 1.5;  ///< camera centre above the floor
   /// True camera poses in the scan frame (without tracker noise), one per view.
   std::vector<Eigen::Isometry3d> T_scan_camera_true;
-  /// Multiplicative depth scale applied to each view (monocular sensor model; 1 otherwise).
+  /// Multiplicative depth scale applied to each view: the scan-shared scale times the view's own
+  /// (monocular sensor model; 1 otherwise).
   std::vector<double> view_depth_scale;
+  double scan_depth_scale = 1.0;  ///< the scan-shared part of view_depth_scale (mono; 1 otherwise)
+  std::vector<double> view_depth_shift_m;  ///< additive depth shift of each view (mono; 0 otherwise)
+  /// Views whose floor pixels were given no depth (mono: no usable ground plane).
+  std::vector<bool> view_floor_masked;
   /// Optional (only when the simulation was asked to keep it; never written to files): per view,
   /// CV_32F z-depth of the first surface each ray met (glass counts as a surface), before any
   /// sensor effect; 0 = nothing within range.
