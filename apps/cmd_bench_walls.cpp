@@ -81,7 +81,7 @@ cv::Mat draw_scan_walls(const std::vector<Segment2>& truth, const std::vector<Se
                         const std::vector<Eigen::Vector2d>& band, double range_m, const SegmentAccuracyParams& ap,
                         const std::string& title) {
   const double px_per_m = 60.0, half = range_m + 0.5;
-  const int size = static_cast<int>(2.0 * half * px_per_m), top = 40;
+  const int size = static_cast<int>(2.0 * half * px_per_m), top = 58;
   cv::Mat img(size + top, size, CV_8UC3, cv::Scalar(255, 255, 255));
   const auto to_px = [&](const Vec2& p) {
     return cv::Point2d((p.x() + half) * px_per_m, top + (half - p.y()) * px_per_m);
@@ -113,9 +113,15 @@ cv::Mat draw_scan_walls(const std::vector<Segment2>& truth, const std::vector<Se
   cv::line(img, cv::Point(10, size + top - 15), cv::Point(10 + static_cast<int>(px_per_m), size + top - 15),
            cv::Scalar(0, 0, 0), 3);
   cv::putText(img, "1 m", cv::Point(14, size + top - 22), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1);
-  cv::putText(img, title, cv::Point(8, 18), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  // The title's lines (split at '\n'; a long plan name does not fit on one line of a 5 m picture).
+  std::istringstream title_lines(title);
+  std::string line;
+  for (int row = 0; std::getline(title_lines, line); ++row) {
+    cv::putText(img, line, cv::Point(8, 18 + 18 * row), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1,
+                cv::LINE_AA);
+  }
   cv::putText(img, "truth within range: green recovered, red missed; blue observed; grey LiDAR points +-0.2 m",
-              cv::Point(8, 34), cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
+              cv::Point(8, 52), cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
   return img;
 }
 
@@ -277,7 +283,7 @@ void register_bench_walls(CLI::App& root) {
             std::filesystem::create_directories(o->dump_dir);
             std::ostringstream title, file;
             title << std::fixed << std::setprecision(2) << plan.name << " #" << k << " " << c.label << " at ("
-                  << poses[k].x_m << ", " << poses[k].y_m << "): recall " << a.recall() << ", precision "
+                  << poses[k].x_m << ", " << poses[k].y_m << ")\nrecall " << a.recall() << ", precision "
                   << a.precision() << ", " << a.segments << " segments";
             file << o->dump_dir << "/plan" << pi << "_scan" << std::setw(3) << std::setfill('0') << k << "_" << c.label
                  << ".png";
