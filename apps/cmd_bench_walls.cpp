@@ -164,7 +164,7 @@ void register_bench_walls(CLI::App& root) {
                   "Range of the perfect observation the scan is compared with beyond the sensor's range, metres")
       ->capture_default_str()
       ->check(CLI::Range(0.5, 100.0));
-  cmd->add_option("--rooms", o->rooms, "Rooms file per plan (labels for --region-kinds), in --plan order");
+  cmd->add_option("--rooms", o->rooms, "Rooms file per plan (labels for --region-kinds, for plans without rooms), in --plan order");
   cmd->add_option("--region-kinds", o->region_kinds,
                   "Sample poses only inside rooms of these kinds (e.g. walkway corridor hallway lobby)");
   cmd->add_option("--config", o->configs,
@@ -209,8 +209,8 @@ void register_bench_walls(CLI::App& root) {
       }
       configs.push_back(std::move(c));
     }
-    if (!o->region_kinds.empty() && o->rooms.size() != o->plans.size()) {
-      throw InputError("bench walls: --region-kinds needs one --rooms file per --plan");
+    if (!o->rooms.empty() && o->rooms.size() != o->plans.size()) {
+      throw InputError("bench walls: --rooms needs one rooms file per --plan");
     }
     PerfectObservationParams pp;
     pp.max_range_m = range_m;
@@ -230,13 +230,13 @@ void register_bench_walls(CLI::App& root) {
       const RayScene scene(extrude_plan(plan));
       const PerfectObserver observer(plan, pp);
       const PerfectObserver observer_ref(plan, pp_ref);
-      const std::vector<std::vector<Vec2>> regions =
-          o->region_kinds.empty() ? std::vector<std::vector<Vec2>>{} : load_room_polygons(o->rooms[pi], o->region_kinds);
-      if (!o->region_kinds.empty() && regions.empty()) {
-        throw InputError(o->rooms[pi] + ": no room of the kinds given with --region-kinds");
+      const std::vector<Room> rooms = o->rooms.empty() ? plan.rooms : load_rooms_file(o->rooms[pi]);
+      if (!o->region_kinds.empty() && rooms.empty()) {
+        throw InputError(o->plans[pi] + ": --region-kinds needs room labels (the plan has none; give --rooms)");
       }
-      const std::vector<Pose2> poses =
-          sample_observation_poses(plan, o->points, o->seed, static_cast<int>(pi), o->clearance_m, 0.1, regions);
+      const std::vector<Pose2> poses = sample_observation_poses(plan, o->points, o->seed, static_cast<int>(pi),
+                                                                o->clearance_m, 0.1, o->region_kinds.empty() ? std::vector<Room>{} : rooms,
+                                                                o->region_kinds);
       for (std::size_t k = 0; k < poses.size(); ++k) {
         const std::vector<Segment2> truth = observer.observe(poses[k]).segments_m;
         std::vector<Segment2> truth_opaque;
