@@ -1,6 +1,14 @@
 #include "cli_common.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <iostream>
+#include <mutex>
+#include <thread>
 #include <cctype>
 #include <cmath>
 #include <iomanip>
@@ -111,6 +119,89 @@ void add_override(nlohmann::json& overrides, const std::string& text) {
 }
 
 void ensure_directory(const std::string& path) { create_directories_or_throw(path); }
+
+std::string duration_text(double s) {
+  if (!std::isfinite(s) || s < 0) return "--";
+  char buf[32];
+  const int total = static_cast<int>(std::lround(s));
+  if (total >= 3600) std::snprintf(buf, sizeof buf, "%dh%02dm", total / 3600, (total / 60) % 60);
+  else if (total >= 60) std::snprintf(buf, sizeof buf, "%dm%02ds", total / 60, total % 60);
+  else std::snprintf(buf, sizeof buf, "%ds", total);
+  return buf;
+}
+
+ProgressMeter::ProgressMeter(std::string what, bool quiet)
+    : what_(std::move(what)), quiet_(quiet), tty_(isatty(fileno(stderr)) != 0) {}
+
+void ProgressMeter::update(std::size_t done, std::size_t total, double elapsed_s, const std::string& note) {
+  if (quiet_) return;
+  const double eta = done > 0 ? elapsed_s / static_cast<double>(done) * static_cast<double>(total - std::min(done, total)) : NAN;
+  const std::string tail = note.empty() ? "" : " " + note;
+  if (tty_) {
+    const int width = 30;
+    const int filled = total ? static_cast<int>(width * std::min(done, total) / total) : width;
+    std::fprintf(stderr, "\r[%s%s] %zu/%zu %s%s  elapsed %s  ETA %s   ", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done, total, what_.c_str(), tail.c_str(),
+                 duration_text(elapsed_s).c_str(), duration_text(eta).c_str());
+    if (done >= total) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+    return;
+  }
+  const int decile = total ? static_cast<int>(10 * std::min(done, total) / total) : 10;
+  if (done == 0 || done >= total || decile > last_decile_ || elapsed_s - last_print_s_ >= 15.0) {
+    std::fprintf(stderr, "progress: %zu/%zu %s%s, elapsed %s, ETA %s\n", done, total, what_.c_str(), tail.c_str(),
+                 duration_text(elapsed_s).c_str(), duration_text(eta).c_str());
+    last_decile_ = decile;
+    last_print_s_ = elapsed_s;
+  }
+}
+
+struct Heartbeat::State {
+  std::string what;
+  std::mutex mutex;
+  std::condition_variable wake;
+  bool stop = false;
+  bool printed = false;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  std::thread thread;
+};
+
+Heartbeat::Heartbeat(std::string what, bool quiet) {
+  if (quiet) return;
+  state_ = std::make_unique<State>();
+  state_->what = std::move(what);
+  State* st = state_.get();
+  const double period = isatty(fileno(stderr)) ? 5.0 : 15.0;
+  st->thread = std::thread([st, period] {
+    std::unique_lock<std::mutex> lock(st->mutex);
+    double next = 3.0;
+    while (!st->stop) {
+      st->wake.wait_until(lock, st->start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                  std::chrono::duration<double>(next)));
+      if (st->stop) break;
+      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - st->start).count();
+      if (t >= next) {
+        std::cerr << st->what << "... " << duration_text(t) << "\n";
+        st->printed = true;
+        next = t + period;
+      }
+    }
+  });
+}
+
+Heartbeat::~Heartbeat() {
+  if (!state_) return;
+  {
+    std::lock_guard<std::mutex> lock(state_->mutex);
+    state_->stop = true;
+  }
+  state_->wake.notify_all();
+  state_->thread.join();
+  if (state_->printed) {
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - state_->start).count();
+    std::cerr << state_->what << ": done in " << duration_text(t) << "\n";
+  }
+}
 
 void write_json(const std::string& path, const nlohmann::ordered_json& json) {
   write_text_file_atomic(path, json.dump(2) + "\n");

@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <memory>
 #include <string>
 
 #include "floorcast/core/types.hpp"
@@ -38,6 +39,13 @@ void add_override(nlohmann::json& overrides, const std::string& text);
 /// Creates a directory (and parents); throws InputError naming it on failure.
 void ensure_directory(const std::string& path);
 
+/// Exit codes of every command (documented in the README, "Exit codes"):
+constexpr int kExitOk = 0;
+constexpr int kExitCheckFailed = 1;  ///< a verdict was negative: gate regression, compare-runs differ
+constexpr int kExitUsage = 2;        ///< bad command line or bad input (message names option/file/element)
+constexpr int kExitNoPose = 3;       ///< the method ran but produced no pose (empty posterior, no track)
+constexpr int kExitInternal = 4;     ///< a bug in floorcast (please report it)
+
 /// Thrown by a command to end with a specific exit status after printing its own message (e.g.
 /// a failed gate: 1). main() returns `code`.
 struct CommandExit {
@@ -48,6 +56,41 @@ struct CommandExit {
 /// with progress on stderr unless quiet, and writes and prints the report when every unit is
 /// done: the one experiment engine behind `run` and `compare-matchers`.
 void run_scenario(const Scenario& scenario, const std::string& out, int jobs, const std::string& shard, bool quiet);
+
+/// "12s", "3m05s", "1h02m"; "--" when unknown.
+std::string duration_text(double seconds);
+
+/// Progress of work with a known amount (units, observations, steps) on stderr: a bar with elapsed
+/// time and ETA on a terminal; plain lines every 10% or 15 s otherwise. Silent when quiet.
+class ProgressMeter {
+ public:
+  ProgressMeter(std::string what, bool quiet);
+  /// `done` of `total` finished after `elapsed_s`; `note` is appended (e.g. "(3 resumed)").
+  void update(std::size_t done, std::size_t total, double elapsed_s, const std::string& note = "");
+
+ private:
+  std::string what_;
+  bool quiet_;
+  bool tty_;
+  int last_decile_ = -1;
+  double last_print_s_ = -1.0;
+};
+
+/// For a stage whose length is not known in advance (building a matcher's distance volume,
+/// matching a large plan): while alive, prints "<what>... 5s" on stderr every 5 s (every 15 s when
+/// stderr is not a terminal) after the first 3 s, and "<what>: done in 12s" at the end if it
+/// printed anything. Silent when quiet.
+class Heartbeat {
+ public:
+  Heartbeat(std::string what, bool quiet);
+  ~Heartbeat();
+  Heartbeat(const Heartbeat&) = delete;
+  Heartbeat& operator=(const Heartbeat&) = delete;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 /// Writes pretty JSON (2-space indent, trailing newline) atomically.
 void write_json(const std::string& path, const nlohmann::ordered_json& json);

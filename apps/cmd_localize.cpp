@@ -9,7 +9,12 @@
 #include <sstream>
 
 #include "cli_common.hpp"
+#include "floorcast/core/file_io.hpp"
+#include "floorcast/core/depth_io.hpp"
+#include "floorcast/core/format.hpp"
 #include "floorcast/core/image_io.hpp"
+#include "floorcast/eval/trajectory_plot.hpp"
+#include "floorcast/core/hash.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/match/plan_raster.hpp"
@@ -40,7 +45,7 @@ LocalizationInput load_localization_input(const std::string& path, const Observe
     const fs::path obs = fs::path(path) / "observation.json";
     if (fs::exists(obs)) return {load_observation(obs.string()), "observation JSON", std::nullopt};
     if (fs::exists(fs::path(path) / "scan.json")) {
-      const Scan scan = load_scan(path);
+      const Scan scan = load_scan_for_observation(path, observe);
       const ObservationParams params = observation_params_from_cli(observe, &scan);
       const ObservationResult r = observe_scan(scan, params);
       return {observation_record(scan, path, r), "scan folder (observation module, " + r.diagnostics.path + ")",
@@ -50,6 +55,37 @@ LocalizationInput load_localization_input(const std::string& path, const Observe
   }
   if (!fs::exists(path, ec)) throw InputError(path + ": no such file or folder");
   return {load_observation(path), "observation JSON", std::nullopt};
+}
+
+/// What a path holds, for telling swapped arguments apart: "plan", "observation", "scan folder",
+/// "observation folder" or "" (unknown or unreadable: the loaders then say what is wrong).
+std::string input_kind(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    if (fs::exists(fs::path(path) / "scan.json", ec)) return "scan folder";
+    if (fs::exists(fs::path(path) / "observation.json", ec)) return "observation folder";
+    return "";
+  }
+  if (!fs::is_regular_file(path, ec) || fs::file_size(path, ec) > (64u << 20)) return "";
+  const nlohmann::json j = nlohmann::json::parse(read_text_file(path), nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return "";
+  if (j.value("format", std::string()) == "floorcast-observation") return "observation";
+  if (j.contains("walls") && j["walls"].is_array()) return "plan";
+  return "";
+}
+
+/// Refuses PLAN and OBS given the wrong way round with a message saying so.
+void check_argument_order(const std::string& plan, const std::string& obs) {
+  const std::string p = input_kind(plan), o = input_kind(obs);
+  if (!p.empty() && p != "plan") {
+    throw InputError("PLAN \"" + plan + "\" is " + (p == "observation" ? "an " : "a ") + p + (o == "plan" ? " and OBS \"" + obs + "\" is a floor plan" : "") +
+                     ": the order is `floorcast localize PLAN OBS` (did you swap them?)");
+  }
+  if (o == "plan") {
+    throw InputError("OBS \"" + obs + "\" is a floor plan, not an observation or scan folder: the order is `floorcast "
+                     "localize PLAN OBS`");
+  }
 }
 
 nlohmann::ordered_json hypothesis_json(const PoseHypothesis& h) {
@@ -68,9 +104,12 @@ void register_localize(CLI::App& root) {
     int top_k = 5;
     std::vector<std::string> params;
     ObserveCliOptions observe;
+    bool quiet = false;
   };
   auto o = std::make_shared<Options>();
-  auto* cmd = root.add_subcommand("localize", "Posterior over (x, y, yaw) for one observation; estimate.json, posterior.png");
+  auto* cmd = root.add_subcommand("localize",
+                                  "Posterior over (x, y, yaw) for one observation: estimate.json, posterior.png, posterior.npy "
+                                  "+ posterior_grid.json, observation_overlay.png");
   cmd->add_option("PLAN", o->plan, "Floor-plan JSON")->required();
   cmd->add_option("OBS", o->obs,
                  "Observation JSON (from `floorcast sim perfect`), or its folder, or a scan folder (`floorcast sim "
@@ -84,10 +123,24 @@ void register_localize(CLI::App& root) {
   cmd->add_option("--param", o->params, "Matcher parameter override KEY=VALUE (repeatable; keys as in estimate.json)");
   cmd->add_option("--top-k", o->top_k, "Modes to report (NMS 1 m, 30 deg)")->capture_default_str()->check(CLI::Range(1, 100));
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
+  cmd->add_flag("--quiet", o->quiet, "No progress output on stderr");
   add_observation_options(*cmd, o->observe);
   cmd->callback([o] {
+    check_argument_order(o->plan, o->obs);
     const FloorPlan plan = load_floor_plan(o->plan);
-    const LocalizationInput input = load_localization_input(o->obs, o->observe);
+    LocalizationInput input;
+    {
+      const Heartbeat hb("localize: reading the observation " + o->obs, o->quiet);
+      input = load_localization_input(o->obs, o->observe);
+    }
+    // An observation made in another building (or another version of this plan) localizes
+    // against the wrong map: say so, do not refuse (a plan may have been repaired since).
+    const std::string plan_hash_hex = hex64(plan_hash(plan));
+    if (auto it = input.record.metadata.find("plan_hash"); it != input.record.metadata.end() && it->second != plan_hash_hex) {
+      std::cerr << "floorcast: warning: " << o->obs << " was made on a plan with hash " << it->second << ", but "
+                << o->plan << " has hash " << plan_hash_hex
+                << " (another building or another version of the plan): the estimate may be meaningless\n";
+    }
     nlohmann::json overrides = nlohmann::json::object();
     for (const std::string& p : o->params) add_override(overrides, p);
     if (!o->orientations.empty()) {
@@ -98,8 +151,16 @@ void register_localize(CLI::App& root) {
       if (o->matcher != "ray") throw InputError("--rays applies to the ray matcher only");
       overrides["num_directions"] = o->rays;
     }
-    const std::unique_ptr<Matcher> matcher = make_matcher(o->matcher, plan, overrides);
-    const MatchResult result = matcher->match(input.record.observation);
+    std::unique_ptr<Matcher> matcher;
+    {
+      const Heartbeat hb("localize: preparing the " + o->matcher + " matcher on " + o->plan, o->quiet);
+      matcher = make_matcher(o->matcher, plan, overrides);
+    }
+    MatchResult result;
+    {
+      const Heartbeat hb("localize: matching", o->quiet);
+      result = matcher->match(input.record.observation);
+    }
     const Posterior& post = result.posterior;
     const PoseHypothesis best = post.argmax();
     const std::vector<PoseHypothesis> modes = post.top_k(o->top_k, 1.0, kPi / 6.0);
@@ -164,14 +225,67 @@ void register_localize(CLI::App& root) {
       t.yaw_rad = input.record.T_world_observer->yaw_rad;
       truth = t;
     }
-    const cv::Mat img =
-        render_posterior_heatmap(post, raster, truth, found ? std::optional<PoseHypothesis>(best) : std::nullopt);
+    HeatmapStyle style;
+    style.title = matcher->name() + " matcher: " +
+                  (!found ? std::string("no pose")
+                          : truth ? "error " + format_fixed(j["position_error_m"].get<double>(), 2) + " m, " +
+                                        format_fixed(j["yaw_error_deg"].get<double>(), 1) + " deg"
+                                  : "estimate " + format_pose(Pose2{best.x_m, best.y_m, best.yaw_rad}));
+    const cv::Mat img = render_posterior_heatmap(post, raster, truth,
+                                                 found ? std::optional<PoseHypothesis>(best) : std::nullopt, style);
+    // The posterior volume for numpy (yaw, y, x) with its grid, and the observation drawn over
+    // the plan at the true and the estimated pose.
+    {
+      std::vector<float> values;
+      values.reserve(static_cast<std::size_t>(post.num_slices()) * post.grid.width_px * post.grid.height_px);
+      for (const cv::Mat& slice : post.scores)
+        for (int r = 0; r < post.grid.height_px; ++r) values.insert(values.end(), slice.ptr<float>(r), slice.ptr<float>(r) + post.grid.width_px);
+      write_npy(o->out + "/posterior.npy", {static_cast<std::size_t>(post.num_slices()), static_cast<std::size_t>(post.grid.height_px),
+                                            static_cast<std::size_t>(post.grid.width_px)}, values);
+      nlohmann::ordered_json gj;
+      gj["file"] = "posterior.npy";
+      gj["axes"] = {"yaw", "y", "x"};
+      gj["shape"] = {post.num_slices(), post.grid.height_px, post.grid.width_px};
+      gj["dtype"] = "float32";
+      gj["origin_m"] = {post.grid.origin_x_m, post.grid.origin_y_m};
+      gj["resolution_m"] = post.grid.resolution_m_per_px;
+      std::vector<double> yaw_deg;
+      for (double y : post.yaw_rad) yaw_deg.push_back(y * 180.0 / kPi);
+      gj["yaw_deg"] = yaw_deg;
+      gj["cell_centre"] = "posterior[s, row, col] is the observer at x = origin_m[0] + (col + 0.5) * resolution_m, "
+                          "y = origin_m[1] + (row + 0.5) * resolution_m (row 0 = lowest y), heading yaw_deg[s]";
+      gj["values"] = "unnormalised scores >= 0, higher is better; all zero = no pose";
+      gj["matcher"] = matcher->name();
+      write_json(o->out + "/posterior_grid.json", gj);
+
+      std::vector<TrajectoryLayer> layers;
+      std::vector<MarkerLayer> markers;
+      auto segments_at = [&](const Pose2& T) {
+        std::vector<Vec2> pts;
+        for (const Segment2& sgm : input.record.observation.segments_m) {
+          pts.push_back(T.transform(sgm.a_m));
+          pts.push_back(T.transform(sgm.b_m));
+        }
+        return pts;
+      };
+      if (input.record.T_world_observer) {
+        layers.push_back({"observation at the true pose", segments_at(*input.record.T_world_observer), cv::Scalar(0, 160, 0), 3, true});
+        markers.push_back({"true pose", {input.record.T_world_observer->position_m()}, cv::Scalar(0, 160, 0), 7, true});
+      }
+      if (found) {
+        const Pose2 e{best.x_m, best.y_m, best.yaw_rad};
+        layers.push_back({"observation at the estimate", segments_at(e), cv::Scalar(0, 0, 220), 2, true});
+        markers.push_back({"estimate", {e.position_m()}, cv::Scalar(0, 0, 220), 7, true});
+      }
+      const cv::Mat overlay = draw_plan_with_trajectories(plan, layers, markers, style.title + " - observed segments");
+      write_png(o->out + "/observation_overlay.png", overlay);
+    }
     const std::string png = o->out + "/posterior.png";
     write_png(png, img);
 
     if (!found) {
       std::cout << matcher->name() << ": no pose (empty posterior: every cell scored 0) -> " << o->out << "\n";
-      throw CommandExit{3};
+      throw CommandExit{kExitNoPose};
     }
     std::cout << std::fixed << std::setprecision(2) << matcher->name() << ": x " << best.x_m << " m, y " << best.y_m
               << " m, yaw " << std::setprecision(1) << best.yaw_rad * 180.0 / kPi << " deg (score "

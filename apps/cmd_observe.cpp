@@ -1,4 +1,5 @@
 // `floorcast observe SCAN_DIR -o OBS.json`: the observation module on a scan folder.
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -9,11 +10,19 @@
 #include "cli_common.hpp"
 #include "floorcast/observe/observation_module.hpp"
 #include "floorcast/core/observation_io.hpp"
+#include "floorcast/core/depth_io.hpp"
+#include "floorcast/core/format.hpp"
+#include "floorcast/core/ply_io.hpp"
+#include "floorcast/eval/plot.hpp"
 #include "floorcast/core/scan_io.hpp"
 #include "floorcast/sim/scan_io.hpp"
 #include "observe_cli.hpp"
 
 namespace floorcast::cli {
+
+namespace {
+constexpr double kCloudVoxelM = 0.02;  // PLY clouds are voxelised: a scan has millions of pixels
+}  // namespace
 
 void add_observation_options(CLI::App& cmd, ObserveCliOptions& o) {
   cmd.add_option("--path", o.path, "Observation path: mono (PALMS+ depth -> Hough) or lidar (PALMS vertical planes)")
@@ -25,6 +34,31 @@ void add_observation_options(CLI::App& cmd, ObserveCliOptions& o) {
   cmd.add_flag("--mask-glass", o.mask_glass, "Drop glass-affected pixels (the PALMS+* setting)");
   cmd.add_option("--observe-params", o.params_file,
                  "JSON file of observation-module parameter overrides (keys as in the diagnostics' \"params\")");
+  cmd.add_option("--depth-dir", o.depth_dir,
+                 "Bring your own depth: one depth map per view made elsewhere (a depth network run offline) replaces "
+                 "the scan's depth; .npy/.tif/.exr in metres or 16-bit .png in millimetres, named after the view's "
+                 "colour image (view_000_rgb.npy), view_000.EXT or view_000_depth.EXT")
+      ->check(CLI::ExistingDirectory);
+  cmd.add_option("--depth-kind", o.depth_kind, "What the --depth-dir maps measure: z (depth along the optical axis) or range (distance from the camera)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"z", "range"}));
+  cmd.add_option("--depth-unit", o.depth_unit_m, "Metres per unit of 16-bit --depth-dir maps (PNG, TIFF, NPY uint16)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 1.0));
+}
+
+Scan load_scan_for_observation(const std::string& scan_dir, const ObserveCliOptions& o) {
+  ScanLoadOptions lo;
+  lo.require_depth = o.depth_dir.empty();
+  Scan scan = load_scan(scan_dir, lo);
+  if (o.depth_dir.empty()) return scan;
+  DepthFileOptions df;
+  df.kind = parse_depth_kind(o.depth_kind);
+  df.integer_unit_m = o.depth_unit_m;
+  const DepthDirectoryReport report = load_depth_directory(scan, o.depth_dir, df);
+  for (const std::string& r : report.repairs) std::cerr << "floorcast: repaired: " << r << "\n";
+  scan.sensor += (scan.sensor.empty() ? "" : ", ") + std::string("depth from ") + o.depth_dir;
+  return scan;
 }
 
 ObservationParams observation_params_from_cli(const ObserveCliOptions& o, const Scan* scan) {
@@ -70,6 +104,7 @@ ObservationRecord observation_record(const Scan& scan, const std::string& scan_d
   if (const std::optional<SimulationRecord> sim = load_simulation_record(scan_dir, scan.views.size())) {
     rec.T_world_observer = sim->truth.T_world_scan;
     rec.metadata["setting"] = scan_setting_name(sim->params.setting);
+    if (!sim->truth.plan_hash.empty()) rec.metadata["plan_hash"] = sim->truth.plan_hash;
   }
   rec.metadata["path"] = r.diagnostics.path;
   rec.metadata["scale_alignment"] = r.diagnostics.scale_alignment;
@@ -98,12 +133,60 @@ nlohmann::ordered_json observation_diagnostics_json(const ObservationParams& par
   return j;
 }
 
+void write_observation_clouds(const std::string& dir, const Scan& scan, const ObservationParams& params,
+                              const ObservationResult& r) {
+  ensure_directory(dir);
+  const bool lidar = params.path == ObservationPath::kLidar;
+  const BackProjectionResult bp =
+      back_project_scan(scan, lidar ? params.lidar.back_projection : params.back_projection);
+  const ObservationDiagnostics& d = r.diagnostics;
+  PlyCloud raw, scaled;
+  PointCloud3f scaled_all;
+  for (const ViewCloud& v : bp.views) {
+    const cv::Scalar c = series_colour(static_cast<std::size_t>(v.view_index));
+    const std::array<std::uint8_t, 3> rgb{static_cast<std::uint8_t>(c[2]), static_cast<std::uint8_t>(c[1]),
+                                          static_cast<std::uint8_t>(c[0])};
+    for (const Eigen::Vector3f& p : voxel_downsample(view_points_scan(v, 1.0), kCloudVoxelM)) {
+      raw.points_m.push_back(p);
+      raw.colours_rgb.push_back(rgb);
+    }
+    // The final scale of this view, when the module kept it (mono: relative x global; LiDAR: 1).
+    double scale = lidar ? 1.0 : -1.0;
+    for (std::size_t i = 0; i < d.views_used.size() && i < d.view_scales.size(); ++i)
+      if (d.views_used[i] == v.view_index) scale = d.view_scales[i];
+    if (scale <= 0.0) continue;
+    const PointCloud3f pts = view_points_scan(v, scale);
+    scaled_all.insert(scaled_all.end(), pts.begin(), pts.end());
+    for (const Eigen::Vector3f& p : voxel_downsample(pts, kCloudVoxelM)) {
+      scaled.points_m.push_back(p);
+      scaled.colours_rgb.push_back(rgb);
+    }
+  }
+  PlyCloud slice;
+  const double half = d.band_half_height_m > 0.0 ? d.band_half_height_m : params.slice.band_half_heights_m.front();
+  const double range = lidar ? params.lidar.max_range_m : params.slice.max_range_m;
+  for (const Eigen::Vector2d& q : slice_points(voxel_downsample(scaled_all, 0.01), half, range)) {
+    slice.points_m.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()), 0.0f);
+    slice.colours_rgb.push_back({40, 40, 40});
+  }
+  const std::vector<std::string> frame = {"floorcast observation-module cloud", "frame: scan (x heading, y left, z up, origin camera centre), metres"};
+  auto comments = [&frame](const std::string& what) {
+    std::vector<std::string> c = frame;
+    c.push_back(what);
+    return c;
+  };
+  write_ply(dir + "/back_projected.ply", raw, comments("back-projected depth at scale 1, coloured by view, voxel 0.02 m"));
+  write_ply(dir + "/scaled.ply", scaled, comments("each kept view at its final scale (scale alignment), voxel 0.02 m"));
+  write_ply(dir + "/slice.ply", slice, comments("band +-" + format_general(half, 3) + " m around camera height projected to z = 0 (observer frame)"));
+}
+
 namespace {
 
 void register_observe(CLI::App& root) {
   struct Options {
     std::string scan_dir, out;
     ObserveCliOptions obs;
+    std::string clouds;
     bool quiet = false;
   };
   auto o = std::make_shared<Options>();
@@ -111,12 +194,15 @@ void register_observe(CLI::App& root) {
       "observe", "Observation module: scan folder -> observed wall segments (observation JSON + diagnostics)");
   cmd->add_option("SCAN_DIR", o->scan_dir, "Scan folder (floorcast sim scan -o DIR)")->required();
   add_observation_options(*cmd, o->obs);
+  cmd->add_option("--clouds", o->clouds,
+                  "Folder for the module's point clouds as PLY (Open3D, CloudCompare): back_projected.ply, scaled.ply, "
+                  "slice.ply");
   cmd->add_option("-o,--output", o->out,
                   "Observation JSON to write; diagnostics (scales, ground, point counts, timings, parameters) "
                   "go next to it as <name>.diagnostics.json")
       ->required();
   cmd->callback([o] {
-    const Scan scan = load_scan(o->scan_dir);
+    const Scan scan = load_scan_for_observation(o->scan_dir, o->obs);
     const ObservationParams params = observation_params_from_cli(o->obs, &scan);
     const ObservationResult r = observe_scan(scan, params);
     const std::filesystem::path out(o->out);
@@ -125,6 +211,7 @@ void register_observe(CLI::App& root) {
     std::filesystem::path diag = out;
     diag.replace_extension(".diagnostics.json");
     write_json(diag.string(), observation_diagnostics_json(params, r));
+    if (!o->clouds.empty()) write_observation_clouds(o->clouds, scan, params, r);
     const ObservationDiagnostics& d = r.diagnostics;
     std::cout << std::fixed << std::setprecision(3) << "observe (" << d.path;
     if (params.path == ObservationPath::kMono) std::cout << ", scale " << d.scale_alignment;

@@ -35,47 +35,16 @@ class DirectorySink : public UnitSink {
   const Scenario& scenario_;
 };
 
-std::string duration_text(double s) {
-  if (!std::isfinite(s) || s < 0) return "--";
-  char buf[32];
-  const int total = static_cast<int>(std::lround(s));
-  if (total >= 3600) std::snprintf(buf, sizeof buf, "%dh%02dm", total / 3600, (total / 60) % 60);
-  else if (total >= 60) std::snprintf(buf, sizeof buf, "%dm%02ds", total / 60, total % 60);
-  else std::snprintf(buf, sizeof buf, "%ds", total);
-  return buf;
-}
-
-/// Progress bar with ETA on a terminal, plain lines (every 10% or 15 s) otherwise.
+/// Units of a scenario run: progress with ETA (cli::ProgressMeter).
 class ProgressPrinter {
  public:
-  explicit ProgressPrinter(bool quiet) : quiet_(quiet), tty_(isatty(fileno(stderr)) != 0) {}
+  explicit ProgressPrinter(bool quiet) : meter_("units", quiet) {}
   void operator()(const RunProgress& p) {
-    if (quiet_) return;
-    const double eta = p.finished > 0 ? p.elapsed_s / p.finished * (p.to_run - p.finished) : NAN;
-    if (tty_) {
-      const int width = 30;
-      const int filled = p.to_run ? static_cast<int>(width * p.finished / p.to_run) : width;
-      std::fprintf(stderr, "\r[%s%s] %zu/%zu units (%zu resumed)  elapsed %s  ETA %s   ",
-                   std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), p.finished, p.to_run,
-                   p.skipped, duration_text(p.elapsed_s).c_str(), duration_text(eta).c_str());
-      if (p.finished == p.to_run) std::fprintf(stderr, "\n");
-      std::fflush(stderr);
-      return;
-    }
-    const int decile = p.to_run ? static_cast<int>(10 * p.finished / p.to_run) : 10;
-    if (p.finished == 0 || p.finished == p.to_run || decile > last_decile_ || p.elapsed_s - last_print_s_ >= 15.0) {
-      std::fprintf(stderr, "progress: %zu/%zu units (%zu resumed), elapsed %s, ETA %s\n", p.finished, p.to_run,
-                   p.skipped, duration_text(p.elapsed_s).c_str(), duration_text(eta).c_str());
-      last_decile_ = decile;
-      last_print_s_ = p.elapsed_s;
-    }
+    meter_.update(p.finished, p.to_run, p.elapsed_s, "(" + std::to_string(p.skipped) + " resumed)");
   }
 
  private:
-  bool quiet_;
-  bool tty_;
-  int last_decile_ = -1;
-  double last_print_s_ = 0.0;
+  ProgressMeter meter_;
 };
 
 /// Reference-workload times recorded in run.json (one per run invocation / shard), and their
@@ -118,12 +87,8 @@ bool report_if_complete(const Scenario& s, const RunDirectory& dir, bool print_t
   return true;
 }
 
-/// The resolved scenario stored with a run (without the code-resolved parameter block).
-Scenario stored_scenario(const RunDirectory& dir) {
-  Json resolved = dir.read_resolved_config();
-  resolved.erase("resolved_parameters");
-  return scenario_from_resolved(resolved, (fs::path(dir.root()) / "resolved_config.json").string());
-}
+/// The resolved scenario stored with a run.
+Scenario stored_scenario(const RunDirectory& dir) { return dir.stored_scenario(); }
 
 }  // namespace
 
@@ -169,7 +134,7 @@ void register_run(CLI::App& root) {
   auto o = std::make_shared<RunOpts>();
   CLI::App* run = root.add_subcommand("run", "Run a scenario: simulate -> observe -> match -> score for every sweep cell");
   run->add_option("SCENARIO", o->scenario, "Scenario YAML file")->required();
-  run->add_option("-o,--out", o->out, "Run directory (resumes if it holds a run of the same configuration)")->required();
+  run->add_option("-o,--output", o->out, "Run directory (resumes if it holds a run of the same configuration)")->required();
   run->add_option("--jobs", o->jobs, "Concurrent work units (default: all cores)")->check(CLI::NonNegativeNumber);
   run->add_option("--shard", o->shard, "Run only shard I of N (0 <= I < N); combine shards with `floorcast merge`");
   run->add_flag("--quiet", o->quiet, "No progress output");
@@ -187,7 +152,7 @@ void register_merge(CLI::App& root) {
   auto o = std::make_shared<MergeOpts>();
   CLI::App* merge = root.add_subcommand("merge", "Combine shard run directories into one run and write its report");
   merge->add_option("DIRS", o->inputs, "Run directories of the shards")->required();
-  merge->add_option("-o,--out", o->out, "Merged run directory")->required();
+  merge->add_option("-o,--output", o->out, "Merged run directory")->required();
   merge->callback([o] {
     std::string hash;
     std::unique_ptr<Scenario> scenario;
@@ -213,14 +178,20 @@ void register_merge(CLI::App& root) {
       const RunDirectory dir(in);
       for (const UnitResult& u : dir.read_units(*scenario)) {
         if (out.has_unit(*scenario, u.unit)) {
-          const Json existing = Json::parse(read_text_file(out.unit_path(*scenario, u.unit)));
-          if (strip_timings(OJson(existing)).dump() != strip_timings(unit_to_json(u)).dump())
+          // Compare values, not text: the copy on disk may list keys in another order (a merged
+          // folder merged again, a unit written by another version).
+          const std::string path = out.unit_path(*scenario, u.unit);
+          const UnitResult existing = unit_from_json(Json::parse(read_text_file(path)), path);
+          if (Json(strip_timings(unit_to_json(existing))) != Json(strip_timings(unit_to_json(u))))
             throw InputError(in + ": unit " + u.unit.id + " differs from the copy already merged; the shards disagree");
           continue;
         }
         out.write_unit(*scenario, u);
         ++copied;
       }
+      // Merging the output folder into itself (again): its units are there, nothing else to copy.
+      std::error_code same_ec;
+      if (fs::equivalent(fs::path(in), fs::path(o->out), same_ec)) continue;
       const Json info = dir.read_run_info();
       if (info.contains("reference_s") && info["reference_s"].is_object())
         for (auto it = info["reference_s"].begin(); it != info["reference_s"].end(); ++it)
@@ -260,12 +231,13 @@ void register_gate(CLI::App& root) {
     };
     const Json summary = parse(o->summary);
     if (!summary.value("complete", false)) throw InputError(o->summary + ": not a complete run summary");
-    const GateOutcome g = evaluate_gate(summary, parse(o->baseline), o->baseline);
+    const Json baseline = parse(o->baseline);
+    const GateOutcome g = evaluate_gate(summary, baseline, o->baseline);
     for (const std::string& line : g.passes) std::cout << line << "\n";
     for (const std::string& line : g.failures) std::cout << "FAIL: " << line << "\n";
     if (!g.passed) {
       std::cerr << "floorcast gate: " << g.failures.size() << " check(s) failed against " << o->baseline << "\n";
-      throw CommandExit{1};
+      throw CommandExit{kExitCheckFailed};
     }
     std::cout << "gate passed (" << g.passes.size() << " checks)\n";
   });
@@ -286,7 +258,7 @@ void register_compare_runs(CLI::App& root) {
     const std::string hb = b.read_run_info().value("configuration_hash", std::string());
     if (ha != hb) {
       std::cout << "different configurations: " << ha << " vs " << hb << "\n";
-      throw CommandExit{1};
+      throw CommandExit{kExitCheckFailed};
     }
     const Scenario s = stored_scenario(a);
     std::map<std::string, std::string> units_a, units_b;
@@ -305,7 +277,7 @@ void register_compare_runs(CLI::App& root) {
     }
     if (differ > 0) {
       std::cout << differ << " of " << enumerate_units(s).size() << " units differ\n";
-      throw CommandExit{1};
+      throw CommandExit{kExitCheckFailed};
     }
     std::cout << "identical: " << units_a.size() << " units (timings excluded)\n";
   });

@@ -8,14 +8,19 @@
 #include <sstream>
 
 #include "cli_common.hpp"
+#include "floorcast/core/image_io.hpp"
+#include "floorcast/core/scan_io.hpp"
+#include "floorcast/eval/scan_sheet.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/sim/clutter.hpp"
+#include "floorcast/sim/gl_renderer.hpp"
 #include "floorcast/sim/gltf_io.hpp"
 #include "floorcast/sim/mesh.hpp"
 #include "floorcast/core/observation_io.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
 #include "floorcast/sim/scan_io.hpp"
 #include "floorcast/sim/scan_sim.hpp"
+#include "floorcast/core/hash.hpp"
 #include "floorcast/core/math.hpp"
 
 namespace floorcast::cli {
@@ -67,6 +72,8 @@ void register_sim(CLI::App& root) {
     int center_view = 0;
     std::uint64_t seed = 0;
     double max_range_m = -1.0, scale_sigma = -1.0;
+    bool rgb = false;
+    bool doors_open = false;
     BuildingOptions building;
   };
   auto so = std::make_shared<ScanOptions>();
@@ -89,11 +96,20 @@ void register_sim(CLI::App& root) {
   scan->add_option("--sensor-params", so->sensor_params,
                    "JSON object of scan-parameter overrides, keys as in simulation.json's \"params\", e.g. "
                    "'{\"sensor\": {\"mono\": {\"no_ground_prob\": 0.3}}}'");
+  scan->add_flag("--rgb", so->rgb,
+                 "Also render every view in colour (OpenGL through OSMesa, headless) from its true camera pose: "
+                 "view_NNN_rgb.png");
+  scan->add_flag("--doors-open", so->doors_open,
+                 "Open doors stay open as drawn (default, as `sim perfect` and the matchers' map: every door closed, "
+                 "PALMS+ 4.4)");
   add_building_options(scan, so->building);
   scan->add_option("-o,--output", so->out, "Output scan folder")->required();
   scan->callback([so] {
     const auto t0 = std::chrono::steady_clock::now();
-    const FloorPlan plan = load_floor_plan(so->plan);
+    const FloorPlan given = load_floor_plan(so->plan);
+    FloorPlan plan = given;
+    if (!so->doors_open)
+      for (Door& d : plan.doors) d.closed = true;  // the one door default: closed (see --doors-open)
     const Pose2 pose = parse_pose(so->pose);
     ScanParams params = scan_preset(so->sensor);
     parse_scan_setting(so->setting, params.setting);
@@ -118,8 +134,14 @@ void register_sim(CLI::App& root) {
     check_observer_pose(full, pose, so->plan);
     const RayScene scene(extrude_plan(full, extrusion(b)));
     const auto t1 = std::chrono::steady_clock::now();
-    const SimulatedScan sim = simulate_scan(scene, pose, params);
+    SimulatedScan sim = simulate_scan(scene, pose, params);
+    sim.truth.plan_hash = hex64(plan_hash(given));
     const auto t2 = std::chrono::steady_clock::now();
+    double rgb_s = 0.0;
+    if (so->rgb) {
+      GlRenderer gl(scene.mesh(), params.geometry.width_px, params.geometry.height_px);
+      rgb_s = render_scan_colour(gl, sim);
+    }
     save_simulated_scan(so->out, sim);
     const Scan& s = sim.scan;
     long returns = 0, pixels = 0, glass = 0;
@@ -134,7 +156,9 @@ void register_sim(CLI::App& root) {
               << "% returns, " << 100.0 * glass / std::max(1L, pixels) << "% glass-affected; "
               << (full.obstacles.size() - plan.obstacles.size()) << " clutter items; scene "
               << std::chrono::duration<double, std::milli>(t1 - t0).count() << " ms, render "
-              << std::chrono::duration<double, std::milli>(t2 - t1).count() << " ms -> " << so->out << "\n";
+              << std::chrono::duration<double, std::milli>(t2 - t1).count() << " ms";
+    if (so->rgb) std::cout << ", colour " << 1e3 * rgb_s << " ms";
+    std::cout << " -> " << so->out << "\n";
   });
 
   // ---- sim perfect ----
@@ -152,7 +176,9 @@ void register_sim(CLI::App& root) {
       ->capture_default_str()
       ->check(CLI::Range(0, 100000));
   perfect->add_option("--range", po->range_m, "Maximum range, metres")->capture_default_str()->check(CLI::Range(0.01, 1e4));
-  perfect->add_flag("--doors-open", po->doors_open, "Open doors stay open (default: all doors closed, PALMS+ 4.4)");
+  perfect->add_flag("--doors-open", po->doors_open,
+                    "Open doors stay open as drawn (default, as `sim scan` and the matchers' map: every door closed, "
+                    "PALMS+ 4.4)");
   perfect->add_option("-o,--output", po->out, "Output folder (writes observation.json)")->required();
   perfect->callback([po] {
     const FloorPlan plan = load_floor_plan(po->plan);
@@ -170,6 +196,7 @@ void register_sim(CLI::App& root) {
     rec.source = "perfect";
     rec.T_world_observer = pose;
     rec.metadata["plan"] = po->plan;
+    rec.metadata["plan_hash"] = hex64(plan_hash(plan));
     rec.metadata["doors_closed"] = params.blocking.open_doors_block ? "true" : "false";
     rec.metadata["cut_height_m"] = std::to_string(params.blocking.cut_height_m);
     ensure_directory(po->out);
@@ -178,6 +205,40 @@ void register_sim(CLI::App& root) {
     std::cout << "perfect: " << rec.observation.segments_m.size() << " visible segments, "
               << rec.observation.ray_ranges_m.size() << " rays within " << params.max_range_m << " m at "
               << format_pose(pose) << " -> " << path << "\n";
+  });
+
+  // ---- sim preview ----
+  struct PreviewOptions {
+    std::string scan_dir, out;
+    int columns = ScanSheetStyle{}.columns;
+    int tile_width = ScanSheetStyle{}.tile_width_px;
+  };
+  auto pv = std::make_shared<PreviewOptions>();
+  auto* preview = sim.add_subcommand("preview", "Contact sheet of a scan folder: every view's colour image and depth map (PNG)");
+  preview->add_option("SCAN_DIR", pv->scan_dir, "Scan folder")->required()->check(CLI::ExistingDirectory);
+  preview->add_option("--columns", pv->columns, "Views per row")->capture_default_str()->check(CLI::Range(1, 64));
+  preview->add_option("--tile-width", pv->tile_width, "Width of each view in the sheet, pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(32, 2048));
+  preview->add_option("-o,--output", pv->out, "Output PNG")->required();
+  preview->callback([pv] {
+    ScanLoadOptions lo;
+    lo.require_depth = false;
+    lo.load_rgb = true;
+    const Scan scan = load_scan(pv->scan_dir, lo);
+    ScanSheetStyle style;
+    style.columns = pv->columns;
+    style.tile_width_px = pv->tile_width;
+    const DepthView& v0 = scan.views.front();
+    const std::string title = std::filesystem::path(pv->scan_dir).filename().string() + ": " +
+                              (scan.sensor.empty() ? std::string("scan") : scan.sensor) + ", " +
+                              std::to_string(scan.views.size()) + " views, " + std::to_string(v0.intrinsics.width_px) +
+                              "x" + std::to_string(v0.intrinsics.height_px);
+    const cv::Mat sheet = draw_scan_contact_sheet(scan, title, style);
+    const std::filesystem::path parent = std::filesystem::path(pv->out).parent_path();
+    if (!parent.empty()) ensure_directory(parent.string());
+    write_png(pv->out, sheet);
+    std::cout << "preview: " << scan.views.size() << " views -> " << pv->out << " (" << sheet.cols << "x" << sheet.rows << " px)\n";
   });
 
   // ---- sim extrude ----
@@ -201,11 +262,13 @@ void register_sim(CLI::App& root) {
     b.clutter_seed = eo->seed;
     const FloorPlan full = plan_with_clutter(plan, b, {});
     const Mesh mesh = extrude_plan(full, extrusion(b));
-    std::map<std::string, std::string> meta{{"plan", eo->plan},
-                                            {"wall_height_m", std::to_string(b.wall_height_m)},
-                                            {"door_height_m", std::to_string(b.door_height_m)},
-                                            {"clutter_density", std::to_string(b.clutter_density)},
-                                            {"seed", std::to_string(eo->seed)}};
+    const nlohmann::json meta{{"plan", eo->plan},
+                              {"plan_hash", hex64(plan_hash(plan))},
+                              {"wall_height_m", b.wall_height_m},
+                              {"door_height_m", b.door_height_m},
+                              {"clutter_density", b.clutter_density},
+                              {"seed", eo->seed},
+                              {"frame", "vertices: floorcast world (x, y plan metres, z up); root node rotates to y up"}};
     const std::filesystem::path parent = std::filesystem::path(eo->out).parent_path();
     if (!parent.empty()) ensure_directory(parent.string());
     save_mesh_glb(eo->out, mesh, meta);

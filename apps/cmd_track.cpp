@@ -2,6 +2,7 @@
 // recording in the same layout): the first observation's posterior starts a tracker (PALMS
 // particle filter or F3Loc histogram filter), the odometry moves it, later observations update it.
 // Writes estimate.tum, errors.csv, metrics.json and track.png.
+#include <chrono>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -34,6 +35,7 @@ void register_track(CLI::App& root) {
     std::vector<std::string> params, matcher_params;
     std::uint64_t seed = 1;
     ObserveCliOptions observe;
+    bool quiet = false;
   };
   auto o = std::make_shared<Options>();
   auto* cmd = root.add_subcommand("track", "Sequential localization of a walk folder: estimate.tum, errors.csv, metrics.json, track.png");
@@ -49,8 +51,13 @@ void register_track(CLI::App& root) {
   cmd->add_option("--matcher-param", o->matcher_params, "Matcher parameter override KEY=VALUE (repeatable)");
   cmd->add_option("--seed", o->seed, "Tracker seed")->capture_default_str();
   add_observation_options(*cmd, o->observe);
+  cmd->add_flag("--quiet", o->quiet, "No progress output on stderr");
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
   cmd->callback([o] {
+    if (!o->observe.depth_dir.empty()) {
+      throw InputError("--depth-dir applies to one scan (observe, localize); a walk's scans keep their depth maps in "
+                       "their own folders");
+    }
     const FloorPlan plan = load_floor_plan(o->plan);
     const WalkRecord walk = load_walk(o->walk);
     if (walk.observations.empty()) throw InputError(o->walk + ": the walk has no observation to start from");
@@ -75,17 +82,22 @@ void register_track(CLI::App& root) {
     };
     const int first = by_step.begin()->first;
     int updates = 0;
+    ProgressMeter progress("observations", o->quiet);
+    const auto t_start = std::chrono::steady_clock::now();
     const TrackRun run = run_tracker(*tracker, walk.odometry.steps, first, [&](int step) -> std::optional<Posterior> {
       auto it = by_step.find(step);
       if (it == by_step.end()) return std::nullopt;
       ++updates;
-      return matcher->match(observation_at(*it->second)).posterior;
+      std::optional<Posterior> post = matcher->match(observation_at(*it->second)).posterior;
+      progress.update(static_cast<std::size_t>(updates), by_step.size(),
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
+      return post;
     });
     ensure_directory(o->out);
     if (!run.started) {
       std::cout << tracker->name() << ": no track: " << run.failure << "\n";
       write_json(o->out + "/metrics.json", {{"started", false}, {"failure", run.failure}});
-      throw CommandExit{3};
+      throw CommandExit{kExitNoPose};
     }
 
     // Errors against the truth, the estimate trajectory, metrics.

@@ -13,16 +13,19 @@ int main(int argc, char** argv) {
   floorcast::cli::register_all(app);
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::Success& e) {  // --help, --version
     return app.exit(e);
+  } catch (const CLI::ParseError& e) {  // a usage error: one exit code (README, "Exit codes")
+    (void)app.exit(e);
+    return floorcast::cli::kExitUsage;
   } catch (const floorcast::cli::CommandExit& e) {
     return e.code;
   } catch (const floorcast::InputError& e) {
     std::cerr << "floorcast: error: " << e.what() << "\n";
-    return 2;
+    return floorcast::cli::kExitUsage;
   } catch (const std::exception& e) {
     std::cerr << "floorcast: internal error: " << e.what() << "\n";
-    return 1;
+    return floorcast::cli::kExitInternal;
   }
   return 0;
 }

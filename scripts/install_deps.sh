@@ -9,6 +9,8 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libtbb-dev libfftw3-dev liblbfgspp-dev
   libnanoflann-dev libpugixml-dev libpng-dev
+  libtiff-dev libopenexr-dev
+  chromium
 )
 
 missing=()

@@ -18,11 +18,7 @@ using nlohmann::ordered_json;
 
 constexpr double kDepthUnitM = 0.001;
 
-std::string view_file(std::size_t k, const char* what) {
-  std::ostringstream s;
-  s << "view_" << std::setw(3) << std::setfill('0') << k << "_" << what << ".png";
-  return s.str();
-}
+std::string view_file(std::size_t k, const char* what) { return scan_view_file(k, what); }
 
 cv::Mat read_png(const std::string& path, int expected_type, int width, int height, const std::string& what) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": " + what + " image missing");
@@ -38,7 +34,35 @@ cv::Mat read_png(const std::string& path, int expected_type, int width, int heig
   return m;
 }
 
+/// A colour image as 8-bit BGR: grey and BGRA files are converted (8-bit only).
+cv::Mat read_colour(const std::string& path, int width, int height) {
+  const cv::Mat m = read_image(path);
+  if (m.depth() != CV_8U || (m.channels() != 1 && m.channels() != 3 && m.channels() != 4)) {
+    throw InputError(path + ": colour image must be 8-bit grey, BGR or BGRA (got type " + std::to_string(m.type()) + ")");
+  }
+  if (m.cols != width || m.rows != height) {
+    throw InputError(path + ": colour image is " + std::to_string(m.cols) + "x" + std::to_string(m.rows) +
+                     " but the intrinsics say " + std::to_string(width) + "x" + std::to_string(height));
+  }
+  if (m.channels() == 3) return m;
+  cv::Mat bgr(m.rows, m.cols, CV_8UC3);
+  if (m.channels() == 1) {
+    const int from_to[] = {0, 0, 0, 1, 0, 2};
+    cv::mixChannels(&m, 1, &bgr, 1, from_to, 3);
+  } else {
+    const int from_to[] = {0, 0, 1, 1, 2, 2};
+    cv::mixChannels(&m, 1, &bgr, 1, from_to, 3);
+  }
+  return bgr;
+}
+
 }  // namespace
+
+std::string scan_view_file(std::size_t k, const std::string& kind) {
+  std::ostringstream s;
+  s << "view_" << std::setw(3) << std::setfill('0') << k << "_" << kind << ".png";
+  return s.str();
+}
 
 std::string scan_json_text(const Scan& scan) {
   ordered_json j;
@@ -58,7 +82,8 @@ std::string scan_json_text(const Scan& scan) {
                         {"fx_px", v.intrinsics.fx_px},       {"fy_px", v.intrinsics.fy_px},
                         {"cx_px", v.intrinsics.cx_px},       {"cy_px", v.intrinsics.cy_px}};
     jv["T_scan_camera"] = pose_matrix_json(v.T_scan_camera);
-    jv["depth"] = view_file(k, "depth");
+    if (!v.depth_m.empty()) jv["depth"] = view_file(k, "depth");
+    if (!v.rgb.empty()) jv["rgb"] = view_file(k, "rgb");
     if (!v.glass_mask.empty()) jv["glass_mask"] = view_file(k, "glass");
     if (!v.confidence.empty()) jv["confidence"] = view_file(k, "confidence");
     views.push_back(jv);
@@ -72,6 +97,16 @@ void save_scan(const std::string& dir, const Scan& scan) {
   for (std::size_t k = 0; k < scan.views.size(); ++k) {
     const DepthView& v = scan.views[k];
     const std::string where = dir + ": views[" + std::to_string(k) + "]";
+    if (!v.rgb.empty()) {
+      if (v.rgb.type() != CV_8UC3 || v.rgb.cols != v.intrinsics.width_px || v.rgb.rows != v.intrinsics.height_px) {
+        throw InputError(where + ": colour image must be CV_8UC3 of the intrinsics' size");
+      }
+      write_png(dir + "/" + view_file(k, "rgb"), v.rgb);
+    }
+    if (v.depth_m.empty()) {
+      if (v.rgb.empty()) throw InputError(where + ": a view needs a depth or a colour image");
+      continue;
+    }
     if (v.depth_m.type() != CV_32F || v.depth_m.cols != v.intrinsics.width_px ||
         v.depth_m.rows != v.intrinsics.height_px) {
       throw InputError(where + ": depth must be CV_32F of the intrinsics' size");
@@ -103,7 +138,7 @@ void save_scan(const std::string& dir, const Scan& scan) {
   write_text_file_atomic(dir + "/scan.json", scan_json_text(scan));
 }
 
-Scan load_scan(const std::string& dir) {
+Scan load_scan(const std::string& dir, const ScanLoadOptions& options) {
   const std::string json_path = dir + "/scan.json";
   if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": not a scan folder (no such directory)");
   if (!std::filesystem::is_regular_file(json_path)) throw InputError(json_path + ": missing (not a scan folder?)");
@@ -134,7 +169,7 @@ Scan load_scan(const std::string& dir) {
   if (!jviews.is_array() || jviews.empty()) r.fail_key("views", "expected a non-empty array");
   for (std::size_t k = 0; k < jviews.size(); ++k) {
     const JsonReader v(jviews[k], json_path, "views[" + std::to_string(k) + "]");
-    v.only({"view_index", "intrinsics", "T_scan_camera", "depth", "glass_mask", "confidence"});
+    v.only({"view_index", "intrinsics", "T_scan_camera", "depth", "glass_mask", "confidence", "rgb"});
     DepthView view;
     view.view_index = v.has("view_index") ? static_cast<int>(v.integer("view_index", 0, 100000)) : static_cast<int>(k);
     const JsonReader in = v.object("intrinsics");
@@ -154,8 +189,22 @@ Scan load_scan(const std::string& dir) {
       }
       return dir + "/" + name;
     };
-    const cv::Mat mm = read_png(file("depth"), CV_16U, W, H, "depth");
-    mm.convertTo(view.depth_m, CV_32F, unit);
+    if (v.has("depth")) {
+      const cv::Mat mm = read_png(file("depth"), CV_16U, W, H, "depth");
+      mm.convertTo(view.depth_m, CV_32F, unit);
+    } else if (options.require_depth) {
+      v.fail_key("depth", "missing (a scan without depth images needs depth maps from elsewhere: floorcast observe "
+                          "SCAN_DIR --depth-dir DIR)");
+    }
+    if (v.has("rgb")) {
+      const std::string path = file("rgb");
+      view.rgb_file = v.string("rgb");
+      if (options.load_rgb) {
+        view.rgb = read_colour(path, W, H);
+      } else if (!std::filesystem::is_regular_file(path)) {
+        throw InputError(path + ": colour image missing");
+      }
+    }
     if (v.has("glass_mask")) view.glass_mask = read_png(file("glass_mask"), CV_8U, W, H, "glass mask");
     if (v.has("confidence")) {
       view.confidence = read_png(file("confidence"), CV_8U, W, H, "confidence");

@@ -43,8 +43,24 @@ GateOutcome evaluate_gate(const Json& summary, const Json& baseline, const std::
   GateOutcome out;
   if (!baseline.is_object()) throw InputError(baseline_source + ": baseline must be a JSON object");
   for (auto it = baseline.begin(); it != baseline.end(); ++it) {
-    if (it.key() != "description" && it.key() != "checks" && it.key() != "timing_ratios" && it.key() != "scenario")
+    if (it.key() != "description" && it.key() != "checks" && it.key() != "timing_ratios" && it.key() != "scenario" &&
+        it.key() != "scenario_hash")
       throw InputError(baseline_source + ": unknown key \"" + it.key() + "\"");
+  }
+  // Floors hold for the configuration they were measured with: refuse any other.
+  if (baseline.contains("scenario_hash")) {
+    if (!baseline["scenario_hash"].is_string()) throw InputError(baseline_source + ": \"scenario_hash\" must be a string");
+    const std::string want = baseline["scenario_hash"].get<std::string>();
+    const std::string have = summary.is_object() && summary.contains("hash") && summary["hash"].is_string()
+                                 ? summary["hash"].get<std::string>()
+                                 : std::string();
+    if (want != have) {
+      throw InputError("the summary's scenario hash " + (have.empty() ? std::string("(none)") : have) +
+                       " differs from the hash " + want + " that " + baseline_source +
+                       " was measured with: the run used another configuration (the scenario file or a parameter "
+                       "default changed). Re-measure, review the floors, then set \"scenario_hash\" to " +
+                       (have.empty() ? std::string("the new hash") : "\"" + have + "\""));
+    }
   }
   auto fail = [&out](const std::string& s) {
     out.passed = false;

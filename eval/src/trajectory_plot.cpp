@@ -26,7 +26,11 @@ cv::Mat draw_plan_with_trajectories(const FloorPlan& plan, const std::vector<Tra
       const cv::Point2d q = pi.world_to_pixel(p);
       pts.emplace_back(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y)));
     }
-    if (pts.size() >= 2) cv::polylines(img, pts, false, l.colour, l.thickness_px, cv::LINE_AA);
+    if (l.segments) {
+      for (std::size_t i = 0; i + 1 < pts.size(); i += 2) cv::line(img, pts[i], pts[i + 1], l.colour, l.thickness_px, cv::LINE_AA);
+    } else if (pts.size() >= 2) {
+      cv::polylines(img, pts, false, l.colour, l.thickness_px, cv::LINE_AA);
+    }
   }
   for (const MarkerLayer& m : markers) {
     for (const Vec2& p : m.points_m) {

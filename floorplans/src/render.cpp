@@ -2,6 +2,8 @@
 // coordinates) built from the plan, then drawn by OpenCV or written as SVG.
 #include "floorcast/floorplans/render.hpp"
 
+#include "floorcast/floorplans/figure.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -70,15 +72,6 @@ std::string printable(const std::string& s) {
   std::string out;
   for (unsigned char c : s) out += (c >= 32 && c < 127) ? static_cast<char>(c) : '?';
   return out;
-}
-
-double nice_scale_length_m(double max_m) {
-  const double nice[] = {1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000};
-  double best = 1.0;
-  for (double n : nice) {
-    if (n <= max_m) best = n;
-  }
-  return best;
 }
 
 }  // namespace
@@ -271,7 +264,7 @@ Scene build_scene(const FloorPlan& plan, const RenderOptions& o) {
   const double y_bar = header + map_h_d + 18.0;
   double x_legend = 10.0;
   if (o.draw_scale_bar) {
-    const double len_m = nice_scale_length_m(std::max(1.0, 0.3 * sc.width / s));
+    const double len_m = figure::nice_scale_length_m(std::max(1.0, 0.3 * sc.width / s));
     const double len_px = len_m * s;
     const double x0 = 10.0;
     for (int k = 0; k < 4; ++k) {

@@ -143,9 +143,16 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
   }
 
   std::map<std::string, std::map<std::string, std::vector<double>>> cdf_by_cell;  // cell -> label -> errors
-  // Pooled per axis value for accuracy-vs-axis plots: key -> value text -> label -> records.
-  std::map<std::string, std::map<std::string, std::map<std::string, std::vector<SingleShotRecord>>>> per_axis;
-  std::map<std::string, std::vector<std::string>> axis_order;
+  // Pooled per axis value for accuracy-vs-axis plots (one per sweep axis; zipped keys form one
+  // axis): axis -> value text -> label -> records.
+  std::vector<std::map<std::string, std::map<std::string, std::vector<SingleShotRecord>>>> per_axis(scenario.sweep_axes.size());
+  std::vector<std::vector<std::string>> axis_order(scenario.sweep_axes.size());
+  auto axis_text = [&scenario](std::size_t a, const CellSpec& cell) {
+    std::string t;
+    for (const std::string& k : scenario.sweep_axes[a])
+      t += (t.empty() ? "" : " / ") + (cell.axes.contains(k) ? axis_value_text(cell.axes.at(k)) : std::string("?"));
+    return t;
+  };
 
   const ScoringParams& sp = scenario.scoring;
   const std::string combined = "recall_" + threshold_name(sp.combined_threshold_m) + "_" +
@@ -177,11 +184,11 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
         gj[label] = summary_json(s);
         if (g == "all") {
           for (const auto& r : recs) cdf_by_cell[cell.id][label].push_back(r.position_error_m);
-          for (auto it = cell.axes.begin(); it != cell.axes.end(); ++it) {
-            const std::string vt = axis_value_text(it.value());
-            auto& order = axis_order[it.key()];
+          for (std::size_t a = 0; a < scenario.sweep_axes.size(); ++a) {
+            const std::string vt = axis_text(a, cell);
+            auto& order = axis_order[a];
             if (std::find(order.begin(), order.end(), vt) == order.end()) order.push_back(vt);
-            auto& bucket = per_axis[it.key()][vt][label];
+            auto& bucket = per_axis[a][vt][label];
             bucket.insert(bucket.end(), recs.begin(), recs.end());
           }
         }
@@ -398,7 +405,7 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
     for (const auto& [label, recs] : by_tracker) {
       std::size_t steps = 0;
       for (const SequentialRecord& r : recs) steps = std::max(steps, r.position_error_m.size());
-      PlotSeries e{label, {}, {}}, w{label, {}, {}};
+      PlotSeries e{label, {}, {}, {}, {}}, w{label, {}, {}, {}, {}};
       for (std::size_t k = 0; k < steps; ++k) {
         std::vector<double> at;
         double within = 0.0;
@@ -421,28 +428,32 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
     rep.plots.emplace_back("tracking_error_" + cell_id + ".png", draw_line_plot(err));
     rep.plots.emplace_back("tracking_success_" + cell_id + ".png", draw_line_plot(ok));
   }
-  for (const auto& [key, values] : per_axis) {
+  for (std::size_t a = 0; a < per_axis.size(); ++a) {
+    if (axis_order[a].size() < 2) continue;  // an axis with one value shows nothing
+    std::string key;
+    for (const std::string& k : scenario.sweep_axes[a]) key += (key.empty() ? "" : " / ") + k;
     LinePlot p;
-    p.title = "Recall " + combined.substr(7) + " vs " + key;
+    p.title = "Recall " + combined.substr(7) + " vs " + key + " (all buildings, 95% bootstrap intervals)";
     p.x_label = key;
     p.y_label = "recall";
     p.y_min = 0.0;
     p.y_max = 1.0;
     p.draw_markers = true;
-    p.x_categories = axis_order[key];
-    ScoringParams no_ci = sp;
-    no_ci.bootstrap_resamples = 0;
+    p.x_categories = axis_order[a];
     for (const std::string& label : labels) {
       PlotSeries s;
       s.label = label;
       for (std::size_t i = 0; i < p.x_categories.size(); ++i) {
-        const auto& recs = values.at(p.x_categories[i]).at(label);
+        const auto& recs = per_axis[a].at(p.x_categories[i]).at(label);
+        const MetricValue v = summarize_single_shot(recs, sp).values.at(combined);
         s.x.push_back(static_cast<double>(i));
-        s.y.push_back(summarize_single_shot(recs, no_ci).values.at(combined).value);
+        s.y.push_back(v.value);
+        s.y_low.push_back(v.has_ci ? v.ci_low : NAN);
+        s.y_high.push_back(v.has_ci ? v.ci_high : NAN);
       }
       p.series.push_back(std::move(s));
     }
-    std::string file = "accuracy_vs_" + key + ".png";
+    std::string file = "accuracy_vs_" + scenario.sweep_axes[a].front() + ".png";
     for (char& c : file)
       if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-')) c = '_';
     rep.plots.emplace_back(file, draw_line_plot(p));

@@ -62,6 +62,12 @@ void RunDirectory::open(const Scenario& scenario, const OJson& resolved_full) {
 Json RunDirectory::read_run_info() const { return read_json(fs::path(root_) / "run.json"); }
 Json RunDirectory::read_resolved_config() const { return read_json(fs::path(root_) / "resolved_config.json"); }
 
+Scenario RunDirectory::stored_scenario() const {
+  Json resolved = read_resolved_config();
+  resolved.erase("resolved_parameters");
+  return scenario_from_resolved(resolved, (fs::path(root_) / "resolved_config.json").string());
+}
+
 void RunDirectory::update_run_info(const std::string& key, const Json& value) const {
   const fs::path p = fs::path(root_) / "run.json";
   OJson info = OJson::parse(read_text_file(p.string()));

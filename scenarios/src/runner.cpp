@@ -1,5 +1,7 @@
 #include "floorcast/scenarios/runner.hpp"
 
+#include "floorcast/core/format.hpp"
+
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -72,6 +74,16 @@ struct ScenarioRunner::Impl {
   static std::string observer_key(std::size_t b, const ObservationSpec& o) {
     return std::to_string(b) + "|" + o.perfect.to_json().dump();
   }
+  /// The sensor parameters of a unit's scan at `step`: scans are seeded by (observation seed,
+  /// building, point, step), so every cell sees the same realisation and step 0 is the single-shot
+  /// observation.
+  static ScanParams unit_scan_params(const CellSpec& cell, const WorkUnit& unit, int step) {
+    ScanParams params = cell.observation.scan;
+    std::uint64_t key = mix64((static_cast<std::uint64_t>(unit.building) << 32) ^ static_cast<std::uint64_t>(unit.point));
+    if (step > 0) key = mix64(key ^ (0x5e9ULL + static_cast<std::uint64_t>(step)));
+    params.seed = mix64(cell.observation.seed ^ key);
+    return params;
+  }
 };
 
 ScenarioRunner::ScenarioRunner(const Scenario& scenario, const std::function<void(const std::string&)>& log)
@@ -142,6 +154,26 @@ ScenarioRunner::ScenarioRunner(const Scenario& scenario, const std::function<voi
 
 ScenarioRunner::~ScenarioRunner() = default;
 
+SimulatedScan ScenarioRunner::unit_scan(const WorkUnit& unit, int step) const {
+  const Impl& d = *impl_;
+  const CellSpec& cell = d.scenario.cells.at(static_cast<std::size_t>(unit.cell));
+  if (cell.observation.source != ObservationSource::kScan) {
+    throw InputError("cell " + cell.id + " makes perfect observations: it has no scans");
+  }
+  const Impl::Building& building = d.buildings.at(static_cast<std::size_t>(unit.building));
+  const Pose2& truth = building.poses.at(static_cast<std::size_t>(unit.point));
+  return simulate_scan(*building.scene, truth, Impl::unit_scan_params(cell, unit, step));
+}
+
+const FloorPlan& ScenarioRunner::building_plan(int b) const { return impl_->buildings.at(static_cast<std::size_t>(b)).plan; }
+const std::vector<Pose2>& ScenarioRunner::building_points(int b) const {
+  return impl_->buildings.at(static_cast<std::size_t>(b)).poses;
+}
+const Mesh* ScenarioRunner::building_mesh(int b) const {
+  const auto& scene = impl_->buildings.at(static_cast<std::size_t>(b)).scene;
+  return scene ? &scene->mesh() : nullptr;
+}
+
 const OJson& ScenarioRunner::resolved_full() const { return impl_->scenario.resolved; }
 
 UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) const {
@@ -170,12 +202,8 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
       r.timings_s["observe"] += seconds_since(t0);
       if (info) (*info)["source"] = "perfect";
     } else {
-      ScanParams params = cell.observation.scan;
-      std::uint64_t key = mix64((static_cast<std::uint64_t>(b) << 32) ^ static_cast<std::uint64_t>(unit.point));
-      if (step > 0) key = mix64(key ^ (0x5e9ULL + static_cast<std::uint64_t>(step)));
-      params.seed = mix64(cell.observation.seed ^ key);
       const auto t0 = Clock::now();
-      const Scan scan = simulate_scan(*building.scene, pose, params).scan;
+      const Scan scan = simulate_scan(*building.scene, pose, Impl::unit_scan_params(cell, unit, step)).scan;
       r.timings_s["simulate"] += seconds_since(t0);
       const ObservationResult obs = observe_scan(scan, cell.observation.observe);
       r.timings_s["observe"] += obs.total_s;
@@ -231,7 +259,13 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
       const std::optional<PoseHypothesis> best = mr.has_pose() ? std::optional<PoseHypothesis>(mr.estimate()) : std::nullopt;
       const cv::Mat raster = rasterize_occupancy(building.plan, mr.posterior.grid, BlockingOptions{});
       const PoseHypothesis truth{r.truth.x_m, r.truth.y_m, r.truth.yaw_rad, 0.0};
-      const cv::Mat img = render_posterior_heatmap(mr.posterior, raster, truth, o.ok ? best : std::nullopt);
+      HeatmapStyle style;
+      style.title = unit.id + ", " + m.label + ": " +
+                    (o.ok ? "error " + format_fixed(o.estimate.position_error_m, 2) + " m, " +
+                                format_fixed(o.estimate.yaw_error_deg, 1) + " deg"
+                          : std::string("no pose"));
+      const cv::Mat img = render_posterior_heatmap(mr.posterior, raster, truth,
+                                                   o.ok ? best : std::nullopt, style);
       std::string name = unit.id + "_" + m.label + ".png";
       for (char& c : name) if (c == '/') c = '_';
       images->write_image("heatmaps/" + name, img);

@@ -621,8 +621,10 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
 
   std::vector<Axis> axes;
   if (root.contains("sweep")) axes = parse_sweep(root.at("sweep"), chk, base_matchers);
-  for (const auto& a : axes)
+  for (const auto& a : axes) {
     for (const auto& k : a.keys) s.sweep_keys.push_back(k);
+    s.sweep_axes.push_back(a.keys);
+  }
 
   // Cartesian product over axes, first axis slowest.
   std::size_t total = 1;
@@ -705,6 +707,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
     }
   }
   r["sweep_keys"] = s.sweep_keys;
+  r["sweep_axes"] = s.sweep_axes;
   r["cells"] = OJson::array();
   for (std::size_t ci = 0; ci < s.cells.size(); ++ci) {
     const CellSpec& c = s.cells[ci];
@@ -779,12 +782,20 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
       }
     }
     s.sweep_keys = resolved.at("sweep_keys").get<std::vector<std::string>>();
+    if (resolved.contains("sweep_axes")) {
+      s.sweep_axes = resolved.at("sweep_axes").get<std::vector<std::vector<std::string>>>();
+    } else {  // written before axes were recorded: one axis per key
+      for (const std::string& k : s.sweep_keys) s.sweep_axes.push_back({k});
+    }
     int index = 0;
     for (const Json& c : resolved.at("cells")) {
       CellSpec cell;
       cell.index = index++;
       cell.id = c.at("id").get<std::string>();
-      cell.axes = c.at("axes");
+      // The axes in the scenario's order (the stored JSON may have sorted them), as a run has them.
+      cell.axes = OJson::object();
+      for (const std::string& k : s.sweep_keys)
+        if (c.at("axes").contains(k)) cell.axes[k] = c.at("axes").at(k);
       cell.observation = parse_observation(c.at("observation"), chk, "observation", s.shared, nullptr);
       cell.matchers = parse_matchers(c.at("matchers"), chk, s.shared);
       cell.sequential = parse_sequential(c, chk, cell.matchers);

@@ -3,6 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -113,7 +114,7 @@ class AccessorReader {
 
 }  // namespace
 
-void save_mesh_glb(const std::string& path, const Mesh& mesh, const std::map<std::string, std::string>& metadata) {
+void save_mesh_glb(const std::string& path, const Mesh& mesh, const nlohmann::json& metadata) {
   if (mesh.labels.size() != mesh.triangles.size() || mesh.part_ids.size() != mesh.triangles.size()) {
     throw InputError(path + ": mesh labels/part ids do not match its triangles");
   }
@@ -124,10 +125,12 @@ void save_mesh_glb(const std::string& path, const Mesh& mesh, const std::map<std
   std::vector<unsigned char>& buf = model.buffers[0].data;
   tinygltf::Scene scene;
   scene.name = "building";
+  std::vector<int> children;
 
   for (int li = 0; li < kNumMeshLabels; ++li) {
     const MeshLabel label = static_cast<MeshLabel>(li);
     std::vector<float> pos;
+    std::vector<float> nrm;
     std::vector<float> part;
     std::vector<std::uint32_t> idx;
     std::array<float, 3> lo{std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
@@ -135,7 +138,10 @@ void save_mesh_glb(const std::string& path, const Mesh& mesh, const std::map<std
     std::array<float, 3> hi{-lo[0], -lo[1], -lo[2]};
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
       if (mesh.labels[t] != label) continue;
+      Eigen::Vector3f n = mesh.normal(t);
+      if (!n.allFinite() || n.norm() < 0.5f) n = Eigen::Vector3f::UnitZ();  // degenerate: any unit normal
       for (int k = 0; k < 3; ++k) {
+        nrm.insert(nrm.end(), {n.x(), n.y(), n.z()});
         const Eigen::Vector3f& v = mesh.vertices_m[static_cast<std::size_t>(mesh.triangles[t][k])];
         for (int c = 0; c < 3; ++c) {
           pos.push_back(v[c]);
@@ -152,6 +158,8 @@ void save_mesh_glb(const std::string& path, const Mesh& mesh, const std::map<std
                                         TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC3);
     model.accessors[static_cast<std::size_t>(a_pos)].minValues = {lo[0], lo[1], lo[2]};
     model.accessors[static_cast<std::size_t>(a_pos)].maxValues = {hi[0], hi[1], hi[2]};
+    const int a_nrm = add_view_accessor(model, append(buf, nrm), nrm.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER,
+                                        TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_VEC3);
     const int a_part = add_view_accessor(model, append(buf, part), part.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER,
                                          TINYGLTF_COMPONENT_TYPE_FLOAT, nv, TINYGLTF_TYPE_SCALAR);
     const int a_idx = add_view_accessor(model, append(buf, idx), idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
@@ -167,6 +175,7 @@ void save_mesh_glb(const std::string& path, const Mesh& mesh, const std::map<std
     model.materials.push_back(mat);
     tinygltf::Primitive prim;
     prim.attributes["POSITION"] = a_pos;
+    prim.attributes["NORMAL"] = a_nrm;
     prim.attributes["_PART_ID"] = a_part;
     prim.indices = a_idx;
     prim.material = static_cast<int>(model.materials.size() - 1);
@@ -179,10 +188,28 @@ void save_mesh_glb(const std::string& path, const Mesh& mesh, const std::map<std
     node.name = mesh_label_name(label);
     node.mesh = static_cast<int>(model.meshes.size() - 1);
     model.nodes.push_back(node);
-    scene.nodes.push_back(static_cast<int>(model.nodes.size() - 1));
+    children.push_back(static_cast<int>(model.nodes.size() - 1));
   }
+  // Root: floorcast's world is z up, glTF's y up: -90 degrees about x maps +z to +y.
+  tinygltf::Node root;
+  root.name = "building";
+  root.rotation = {-std::sqrt(0.5), 0.0, 0.0, std::sqrt(0.5)};
+  root.children = children;
+  tinygltf::Value::Object root_extras;
+  root_extras["frame"] = tinygltf::Value(std::string("children in floorcast's world frame (x, y plan metres, z up); this node rotates it to glTF's y up"));
+  root.extras = tinygltf::Value(root_extras);
+  model.nodes.push_back(root);
+  scene.nodes.push_back(static_cast<int>(model.nodes.size() - 1));
+  if (!metadata.is_object()) throw InputError(path + ": glTF metadata must be a JSON object");
   tinygltf::Value::Object extras;
-  for (const auto& [k, v] : metadata) extras[k] = tinygltf::Value(v);
+  for (auto it = metadata.begin(); it != metadata.end(); ++it) {
+    const nlohmann::json& v = it.value();
+    if (v.is_string()) extras[it.key()] = tinygltf::Value(v.get<std::string>());
+    else if (v.is_boolean()) extras[it.key()] = tinygltf::Value(v.get<bool>());
+    else if (v.is_number_integer()) extras[it.key()] = tinygltf::Value(static_cast<int>(v.get<long long>()));
+    else if (v.is_number()) extras[it.key()] = tinygltf::Value(v.get<double>());
+    else throw InputError(path + ": glTF metadata \"" + it.key() + "\" must be a string, number or boolean");
+  }
   scene.extras = tinygltf::Value(extras);
   model.scenes.push_back(scene);
   model.defaultScene = 0;
@@ -193,7 +220,7 @@ void save_mesh_glb(const std::string& path, const Mesh& mesh, const std::map<std
   write_text_file_atomic(path, out.str());
 }
 
-Mesh load_mesh_glb(const std::string& path, std::map<std::string, std::string>* metadata) {
+Mesh load_mesh_glb(const std::string& path, nlohmann::json* metadata) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
   const std::string bytes = read_text_file(path);
   if (bytes.size() < 12 || bytes.compare(0, 4, "glTF") != 0) throw InputError(path + ": not a binary glTF (.glb) file");
@@ -255,11 +282,14 @@ Mesh load_mesh_glb(const std::string& path, std::map<std::string, std::string>* 
     }
   }
   if (metadata) {
-    metadata->clear();
+    *metadata = nlohmann::json::object();
     if (!model.scenes.empty() && model.scenes[0].extras.IsObject()) {
       for (const std::string& k : model.scenes[0].extras.Keys()) {
         const tinygltf::Value& v = model.scenes[0].extras.Get(k);
         if (v.IsString()) (*metadata)[k] = v.Get<std::string>();
+        else if (v.IsBool()) (*metadata)[k] = v.Get<bool>();
+        else if (v.IsInt()) (*metadata)[k] = v.Get<int>();
+        else if (v.IsNumber()) (*metadata)[k] = v.GetNumberAsDouble();
       }
     }
   }

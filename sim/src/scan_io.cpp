@@ -198,6 +198,7 @@ std::string simulation_json_text(const SimulatedScan& sim) {
   ordered_json trues = ordered_json::array();
   for (const Eigen::Isometry3d& T : sim.truth.T_scan_camera_true) trues.push_back(pose_matrix_json(T));
   truth["T_scan_camera_true"] = trues;
+  if (!sim.truth.plan_hash.empty()) truth["plan_hash"] = sim.truth.plan_hash;
   j["ground_truth"] = truth;
   j["params"] = scan_params_to_json(sim.params);
   return j.dump(2) + "\n";
@@ -241,7 +242,8 @@ std::optional<SimulationRecord> load_simulation_record(const std::string& dir, s
 
   const JsonReader t = r.object("ground_truth");
   t.only({"T_world_scan", "camera_height_m", "view_depth_scale", "scan_depth_scale", "view_depth_shift_m",
-          "view_floor_masked", "T_scan_camera_true"});
+          "view_floor_masked", "T_scan_camera_true", "plan_hash"});
+  if (t.has("plan_hash")) sim.truth.plan_hash = t.string("plan_hash");
   const JsonReader p = t.object("T_world_scan");
   p.only({"x_m", "y_m", "yaw_rad"});
   sim.truth.T_world_scan.x_m = p.number("x_m", -1e5, 1e5);

@@ -33,7 +33,7 @@ TEST(Plot, CdfSeriesAreMonotoneAndDrawnInTheirColours) {
 TEST(Plot, CategoricalAxis) {
   LinePlot p;
   p.x_categories = {"full", "partial", "single"};
-  p.series = {{"kernel", {0, 1, 2}, {0.9, 0.6, 0.3}}};
+  p.series = {{"kernel", {0, 1, 2}, {0.9, 0.6, 0.3}, {}, {}}};
   p.draw_markers = true;
   const cv::Mat img = draw_line_plot(p);
   EXPECT_GT(count_colour(img, series_colour(0)), 50);

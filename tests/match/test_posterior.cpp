@@ -148,6 +148,7 @@ TEST(Posterior, HeatmapImage) {
   truth.y_m = 2.0 + 3.05;
   HeatmapStyle style;
   style.pixels_per_cell = 4;
+  style.decorations = false;
   const cv::Mat img = render_posterior_heatmap(p, raster, truth, p.argmax(), style);
   ASSERT_EQ(img.type(), CV_8UC3);
   EXPECT_EQ(img.cols, 240);
@@ -158,6 +159,81 @@ TEST(Posterior, HeatmapImage) {
   // Wrong raster size is refused.
   EXPECT_THROW(render_posterior_heatmap(p, cv::Mat::zeros(3, 3, CV_8U), std::nullopt, std::nullopt),
                std::invalid_argument);
+}
+
+/// Pixels of `img` (BGR) within `tol` of `colour`.
+int count_colour(const cv::Mat& img, const cv::Vec3b& colour, int tol = 10) {
+  int n = 0;
+  for (int r = 0; r < img.rows; ++r)
+    for (int c = 0; c < img.cols; ++c) {
+      const cv::Vec3b v = img.at<cv::Vec3b>(r, c);
+      n += std::abs(v[0] - colour[0]) <= tol && std::abs(v[1] - colour[1]) <= tol && std::abs(v[2] - colour[2]) <= tol;
+    }
+  return n;
+}
+
+TEST(Posterior, HeatmapDecorations) {
+  Posterior p = make_posterior(2, 40, 60);
+  p.scores[1].at<float>(30, 10) = 1.0f;
+  p.scores[0].at<float>(20, 40) = 0.3f;
+  const cv::Mat raster = cv::Mat::zeros(40, 60, CV_8U);
+  PoseHypothesis truth;
+  truth.x_m = -1.0 + 1.05;
+  truth.y_m = 2.0 + 3.05;
+  HeatmapStyle style;
+  style.title = "test heatmap";
+  const cv::Mat img = render_posterior_heatmap(p, raster, truth, p.argmax(), style);
+  HeatmapStyle bare = style;
+  bare.decorations = false;
+  const cv::Mat map = render_posterior_heatmap(p, raster, truth, p.argmax(), bare);
+  // Title band above, colour bar beside, scale bar and legend below the map.
+  EXPECT_GT(img.rows, map.rows + 60);
+  EXPECT_GT(img.cols, map.cols + 100);
+  // The colour bar shows the whole colour map: its lowest (dark blue) and highest (dark red) ends.
+  cv::Mat turbo;
+  cv::Mat ends = (cv::Mat_<std::uint8_t>(1, 2) << 0, 255);
+  cv::applyColorMap(ends, turbo, cv::COLORMAP_TURBO);
+  EXPECT_GT(count_colour(img, turbo.at<cv::Vec3b>(0, 0), 6), 20);
+  EXPECT_GT(count_colour(img, turbo.at<cv::Vec3b>(0, 1), 6), 20);
+  // Markers: truth green and estimate red, sized to the picture (a ring of radius >= 6 px).
+  EXPECT_GT(count_colour(map, cv::Vec3b(0, 170, 0), 40), 30);
+  EXPECT_GT(count_colour(map, cv::Vec3b(0, 0, 230), 40), 30);
+}
+
+TEST(Posterior, HeatmapEmptyPosteriorBanner) {
+  const Posterior p = make_posterior(2, 40, 60);  // every score 0
+  const cv::Mat raster = cv::Mat::zeros(40, 60, CV_8U);
+  HeatmapStyle bare;
+  bare.decorations = false;
+  const cv::Mat img = render_posterior_heatmap(p, raster, std::nullopt, std::nullopt, bare);
+  // A red banner across the middle instead of a blank grey map.
+  const cv::Mat middle = img.row(img.rows / 2);
+  int reddish = 0;
+  for (int c = 0; c < middle.cols; ++c) {
+    const cv::Vec3b v = middle.at<cv::Vec3b>(0, c);
+    reddish += v[2] > v[0] + 60 || (v[0] > 200 && v[1] > 200 && v[2] > 200 && v != cv::Vec3b(235, 235, 235));
+  }
+  EXPECT_GT(reddish, middle.cols / 2);
+}
+
+TEST(Posterior, HeatmapInsetForLargePlans) {
+  // 200 m x 100 m at 0.5 m cells: the whole plan fits 1600 px at 4 px/cell = 8 px/m (< 12): inset.
+  Posterior p = make_posterior(1, 200, 400);
+  p.grid.resolution_m_per_px = 0.5;
+  p.scores[0].at<float>(100, 200) = 1.0f;
+  const cv::Mat raster = cv::Mat::zeros(200, 400, CV_8U);
+  PoseHypothesis truth;
+  truth.x_m = p.grid.cell_center_m(100, 202).x();
+  truth.y_m = p.grid.cell_center_m(100, 202).y();
+  const PoseHypothesis est = p.argmax();
+  HeatmapStyle style;
+  const cv::Mat with_inset = render_posterior_heatmap(p, raster, truth, est, style);
+  style.inset_min_plan_m = 1e9;
+  const cv::Mat without = render_posterior_heatmap(p, raster, truth, est, style);
+  EXPECT_GT(with_inset.cols, without.cols + 150);  // the inset panel
+  // The inset's frame on the map is magenta.
+  EXPECT_GT(count_colour(with_inset, cv::Vec3b(255, 0, 255), 30), 40);
+  EXPECT_EQ(count_colour(without, cv::Vec3b(255, 0, 255), 30), 0);
 }
 
 }  // namespace

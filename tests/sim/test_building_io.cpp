@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
+#include "floorcast/core/file_io.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/sim/clutter.hpp"
@@ -26,13 +28,39 @@ fs::path temp_path(const std::string& name) {
 TEST(Gltf, RoundTripKeepsTrianglesLabelsPartsAndGeometry) {
   const Mesh mesh = extrude_plan(test::feature_plan());
   const fs::path path = temp_path("building.glb");
-  save_mesh_glb(path.string(), mesh, {{"plan", "features"}, {"seed", "7"}});
-  std::map<std::string, std::string> meta;
+  save_mesh_glb(path.string(), mesh, {{"plan", "features"}, {"seed", 7}, {"wall_height_m", 3.0}, {"clutter", false}});
+  nlohmann::json meta;
   const Mesh back = load_mesh_glb(path.string(), &meta);
+  const std::string bytes = read_text_file(path.string());
   fs::remove(path);
   ASSERT_EQ(back.num_triangles(), mesh.num_triangles());
+  // Metadata keep their types: numbers as numbers, not strings.
   EXPECT_EQ(meta.at("plan"), "features");
-  EXPECT_EQ(meta.at("seed"), "7");
+  EXPECT_TRUE(meta.at("seed").is_number_integer());
+  EXPECT_EQ(meta.at("seed").get<int>(), 7);
+  EXPECT_TRUE(meta.at("wall_height_m").is_number());
+  EXPECT_DOUBLE_EQ(meta.at("wall_height_m").get<double>(), 3.0);
+  EXPECT_EQ(meta.at("clutter"), false);
+  // The JSON chunk: a y-up root node (-90 deg about x) over the label nodes, NORMAL attributes.
+  const std::uint32_t json_len = static_cast<std::uint8_t>(bytes[12]) | static_cast<std::uint8_t>(bytes[13]) << 8 |
+                                 static_cast<std::uint8_t>(bytes[14]) << 16 | static_cast<std::uint32_t>(static_cast<std::uint8_t>(bytes[15])) << 24;
+  const nlohmann::json gltf = nlohmann::json::parse(bytes.substr(20, json_len));
+  const nlohmann::json& scene = gltf["scenes"][0];
+  ASSERT_EQ(scene["nodes"].size(), 1u);
+  const nlohmann::json& root = gltf["nodes"][scene["nodes"][0].get<int>()];
+  EXPECT_EQ(root["name"], "building");
+  EXPECT_NEAR(root["rotation"][0].get<double>(), -std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(root["rotation"][3].get<double>(), std::sqrt(0.5), 1e-12);
+  EXPECT_EQ(root["children"].size(), gltf["meshes"].size());
+  EXPECT_TRUE(scene["extras"]["seed"].is_number());
+  for (const nlohmann::json& m : gltf["meshes"]) {
+    const nlohmann::json& attrs = m["primitives"][0]["attributes"];
+    ASSERT_TRUE(attrs.contains("NORMAL"));
+    const nlohmann::json& acc = gltf["accessors"][attrs["NORMAL"].get<int>()];
+    EXPECT_EQ(acc["type"], "VEC3");
+    EXPECT_EQ(acc["componentType"], 5126);
+    EXPECT_EQ(acc["count"], gltf["accessors"][attrs["POSITION"].get<int>()]["count"]);
+  }
   for (int l = 0; l < kNumMeshLabels; ++l) {
     EXPECT_EQ(back.count(static_cast<MeshLabel>(l)), mesh.count(static_cast<MeshLabel>(l)));
   }

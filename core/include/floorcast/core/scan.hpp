@@ -40,6 +40,11 @@ struct DepthView {
   cv::Mat glass_mask;
   /// Optional CV_8U ARKit-style confidence 0 (low) .. 2 (high); empty for sensors without one.
   cv::Mat confidence;
+  /// Optional CV_8UC3 colour image (BGR, OpenCV's order) of the same camera and size; localization
+  /// never needs it (depth networks run on it offline). Empty when absent or not loaded.
+  cv::Mat rgb;
+  /// Name of the colour image inside its scan folder when the scan was read from one ("" else).
+  std::string rgb_file;
 };
 
 struct Scan {

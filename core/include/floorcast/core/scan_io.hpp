@@ -6,6 +6,10 @@
 //   DIR/view_000_depth.png      16-bit depth in depth units (default millimetres), 0 = no return
 //   DIR/view_000_glass.png      optional 8-bit mask, 255 = value affected by glass
 //   DIR/view_000_confidence.png optional 8-bit confidence 0..2
+//   DIR/view_000_rgb.png        optional 8-bit colour image (what a depth network would look at)
+//
+// Only views, intrinsics and poses are required: a folder of colour images whose depth comes from
+// elsewhere (a depth network run offline, `floorcast observe --depth-dir`) has no "depth" entries.
 //
 // A simulator may put more files beside these (sim writes simulation.json with the ground truth);
 // this reader never needs them. Depth is quantised to the depth unit on save (round to nearest;
@@ -26,11 +30,23 @@ constexpr int kScanFormatVersion = 2;
 /// Writes a scan into `dir` (created if missing). Throws InputError on failure.
 void save_scan(const std::string& dir, const Scan& scan);
 
+struct ScanLoadOptions {
+  /// Every view must have a depth image (false: views without one get an empty depth_m, to be
+  /// filled from elsewhere, e.g. load_depth_directory).
+  bool require_depth = true;
+  /// Decode the colour images into DepthView::rgb (otherwise only their presence is checked).
+  bool load_rgb = false;
+};
+
 /// Reads and validates a scan folder. Only views, intrinsics and poses are required. Throws
 /// InputError naming the file, the element and the reason (missing or malformed files and
 /// fields, unknown keys, image sizes or types that do not match the intrinsics, non-finite or
 /// absurd numbers, non-rigid poses).
-Scan load_scan(const std::string& dir);
+Scan load_scan(const std::string& dir, const ScanLoadOptions& options = {});
+
+/// File name of view k's image of `kind` ("depth", "glass", "confidence", "rgb"):
+/// "view_000_depth.png", ...
+std::string scan_view_file(std::size_t k, const std::string& kind);
 
 /// The scan.json text of a scan (what save_scan writes next to the images).
 std::string scan_json_text(const Scan& scan);

@@ -2,6 +2,7 @@
 //
 // Baseline file (JSON):
 //   {"description": "...",
+//    "scenario_hash": "0123abcd...",   // the summary's "hash": `floorcast gate` refuses any other
 //    "checks": [{"pointer": "/cells/0/groups/all/kernel/recall_1m_30deg", "min": 0.8},
 //               {"pointer": "/cells/0/groups/all/kernel/median_position_error_m", "max": 0.5}],
 //    "timing_ratios": [{"name": "kernel / reference",
@@ -26,7 +27,9 @@ struct GateOutcome {
 };
 
 /// Evaluates every check; a pointer missing from the summary is a failure (never skipped).
-/// Throws InputError for a malformed baseline (naming `baseline_source` and the entry).
+/// Throws InputError for a malformed baseline (naming `baseline_source` and the entry) and when
+/// the baseline names a scenario_hash other than the summary's "hash" (floors measured on another
+/// configuration say nothing about this one).
 GateOutcome evaluate_gate(const nlohmann::json& summary, const nlohmann::json& baseline,
                           const std::string& baseline_source);
 

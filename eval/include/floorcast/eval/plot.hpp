@@ -14,6 +14,10 @@ struct PlotSeries {
   std::string label;
   std::vector<double> x;
   std::vector<double> y;
+  /// Optional interval per point (e.g. bootstrap 95%), drawn as error bars (categorical axes) or a
+  /// shaded band (numeric axes); empty = none, NaN entries = none for that point.
+  std::vector<double> y_low;
+  std::vector<double> y_high;
 };
 
 struct LinePlot {
@@ -26,14 +30,17 @@ struct LinePlot {
   double x_max = std::numeric_limits<double>::quiet_NaN();
   double y_min = std::numeric_limits<double>::quiet_NaN();
   double y_max = std::numeric_limits<double>::quiet_NaN();
-  /// Categorical x axis: when non-empty, x values are indices into these labels.
+  /// Categorical x axis: when non-empty, x values are indices into these labels. Categories are
+  /// drawn as points with error bars, series side by side, never joined by lines (the order of
+  /// categories means nothing).
   std::vector<std::string> x_categories;
   bool draw_markers = false;
   int width_px = 900;
   int height_px = 560;
 };
 
-/// Renders a line plot (axes, ticks, grid, legend) as a BGR image.
+/// Renders a line plot (axes, ticks, grid, legend, intervals) as a BGR image. The title is shrunk
+/// to fit the width; long category labels are shrunk or slanted to fit their slot.
 cv::Mat draw_line_plot(const LinePlot& plot);
 
 /// Empirical CDF of errors per method, clipped at x_max: fraction of observations with error

@@ -17,6 +17,9 @@ struct TrajectoryLayer {
   std::vector<Vec2> points_m;
   cv::Scalar colour;
   int thickness_px = 2;
+  /// Points taken in pairs (a0, b0, a1, b1, ...) as separate segments (e.g. observed walls)
+  /// instead of one polyline.
+  bool segments = false;
 };
 
 struct MarkerLayer {

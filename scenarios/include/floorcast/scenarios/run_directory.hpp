@@ -41,6 +41,10 @@ class RunDirectory {
   /// Adds a key to run.json (e.g. the reference workload time of this run).
   void update_run_info(const std::string& key, const nlohmann::json& value) const;
 
+  /// The scenario stored with the run (resolved_config.json without the code-resolved parameter
+  /// block), as `merge`, `compare-runs` and `report` rebuild it.
+  Scenario stored_scenario() const;
+
   const std::string& root() const { return root_; }
 
  private:

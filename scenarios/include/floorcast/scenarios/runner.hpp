@@ -15,6 +15,8 @@
 #include <string>
 
 #include "floorcast/scenarios/units.hpp"
+#include "floorcast/sim/mesh.hpp"
+#include "floorcast/sim/simulated_scan.hpp"
 
 namespace floorcast {
 
@@ -68,6 +70,15 @@ class ScenarioRunner {
 
   /// One unit (exposed for tests). Heatmaps for sampled points go to `images` when given.
   UnitResult run_unit(const WorkUnit& unit, UnitSink* images) const;
+
+  /// The simulated scan a unit observes at `step` (0 = its single-shot observation), exactly as
+  /// run_unit makes it (same seed). Throws InputError for a cell with perfect observations.
+  SimulatedScan unit_scan(const WorkUnit& unit, int step = 0) const;
+  /// Building b as the runner uses it: its plan (loaded or generated), its observation points and
+  /// its 3D mesh (only when some cell simulates scans; null otherwise).
+  const FloorPlan& building_plan(int b) const;
+  const std::vector<Pose2>& building_points(int b) const;
+  const Mesh* building_mesh(int b) const;
 
  private:
   /// Sequential scenarios: the walk from the unit's start, its odometry and observations, every

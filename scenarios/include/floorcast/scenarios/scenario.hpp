@@ -134,7 +134,10 @@ struct Scenario {
   SharedParams shared;
   /// Sequential scenarios: the sequential metrics' settings (scoring.sequential).
   SequentialScoring sequential_scoring;
-  std::vector<std::string> sweep_keys;  ///< sweep axes in file order
+  std::vector<std::string> sweep_keys;  ///< sweep keys in file order
+  /// The sweep's axes in file order, each the keys that vary together (zipped); one key each in
+  /// the mapping form. Reports draw one accuracy plot per axis.
+  std::vector<std::vector<std::string>> sweep_axes;
   std::vector<CellSpec> cells;          ///< Cartesian product of the axes (one cell without a sweep)
   /// The whole resolved configuration: the scenario as written with every default filled in,
   /// plus per cell the complete parameters of every stage (perfect observer or sensor and

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "floorcast/core/scan.hpp"
@@ -33,6 +34,9 @@ struct ScanTruth {
   /// CV_32F z-depth of the first surface each ray met (glass counts as a surface), before any
   /// sensor effect; 0 = nothing within range.
   std::vector<cv::Mat> depth_m;
+  /// hex64(plan_hash(plan)) of the plan as given to the simulator (before clutter or door
+  /// changes), so a localizer can tell when it is handed another plan; "" when unknown.
+  std::string plan_hash;
 };
 
 struct SimulatedScan {

@@ -1,0 +1,109 @@
+// Dataset export of a scenario's scans: the F3Loc map and poses agree with each other, every
+// scan folder reads back, the TUM RGB-D side files list every view.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "floorcast/core/file_io.hpp"
+#include "floorcast/core/image_io.hpp"
+#include "floorcast/core/scan_io.hpp"
+#include "floorcast/core/trajectory_io.hpp"
+#include "floorcast/scenarios/dataset_export.hpp"
+
+namespace floorcast {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::vector<double>> numbers_per_line(const std::string& path) {
+  std::vector<std::vector<double>> out;
+  std::istringstream in(read_text_file(path));
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream f(line);
+    std::vector<double> v;
+    double x;
+    while (f >> x) v.push_back(x);
+    out.push_back(v);
+  }
+  return out;
+}
+
+TEST(DatasetExport, F3LocMapPosesDepthsAndScanFolders) {
+  const std::string yaml =
+      "name: export-test\n"
+      "buildings: [floorplans/buildings/two_rooms.json]\n"
+      "sampling: {count: 2, seed: 4, clearance_m: 0.5}\n"
+      "observation: {source: scan, sensor: mono, setting: partial, seed: 2}\n"
+      "matchers: {kernel: {matcher: kernel}}\n";
+  const Scenario s = parse_scenario(yaml, "export-test.yaml", FLOORCAST_SOURCE_DIR, FLOORCAST_SOURCE_DIR);
+  const fs::path out = fs::temp_directory_path() / "floorcast_export_test";
+  fs::remove_all(out);
+  DatasetExportOptions o;
+  o.map_resolution_m = 0.02;
+  const DatasetExportReport r = export_scenario_dataset(s, out.string(), o);
+  EXPECT_EQ(r.scans, 2u);
+  EXPECT_EQ(r.images, 6u);  // partial: 3 views per scan
+  const fs::path root = out / "c000" / "two_rooms";
+  const cv::Mat map = read_image((root / "map.png").string());
+  ASSERT_EQ(map.type(), CV_8U);
+  EXPECT_GT(cv::countNonZero(map == 0), 100);    // walls
+  EXPECT_GT(cv::countNonZero(map == 255), 1000);  // free space
+  // map.yaml's transform and poses.txt put every camera on a free pixel of map.png.
+  const auto poses = numbers_per_line((root / "poses.txt").string());
+  ASSERT_EQ(poses.size(), 6u);
+  for (const auto& p : poses) {
+    ASSERT_EQ(p.size(), 3u);
+    const int col = static_cast<int>(std::floor(p[0] / 0.02 + map.cols / 2.0));
+    const int row = static_cast<int>(std::floor(p[1] / 0.02 + map.rows / 2.0));
+    ASSERT_TRUE(col >= 0 && row >= 0 && col < map.cols && row < map.rows);
+    EXPECT_EQ(map.at<std::uint8_t>(row, col), 255);
+  }
+  const auto depths = numbers_per_line((root / "depth40.txt").string());
+  ASSERT_EQ(depths.size(), 6u);
+  for (const auto& d : depths) {
+    ASSERT_EQ(d.size(), 40u);
+    for (double v : d) EXPECT_TRUE(v > 0.1 && v < 20.0) << v;
+  }
+  for (int i = 0; i < 6; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "rgb/%05d.png", i);
+    EXPECT_EQ(read_image((root / name).string()).type(), CV_8UC3);
+  }
+  EXPECT_EQ(load_tum((root / "scans.tum").string()).size(), 2u);
+  // Each scan folder reads back (with colour) and carries labels, intrinsics, TUM RGB-D lists.
+  for (const char* p : {"p0000", "p0001"}) {
+    const fs::path sdir = root / "scans" / p;
+    ScanLoadOptions lo;
+    lo.load_rgb = true;
+    const Scan scan = load_scan(sdir.string(), lo);
+    ASSERT_EQ(scan.views.size(), 3u);
+    EXPECT_FALSE(scan.views[0].rgb.empty());
+    const cv::Mat label = read_image((sdir / "view_000_label.png").string());
+    EXPECT_EQ(label.type(), CV_8U);
+    EXPECT_GT(cv::countNonZero(label == 0), 100);  // walls are seen
+    EXPECT_EQ(numbers_per_line((sdir / "groundtruth.txt").string()).size(), 3u);
+    EXPECT_EQ(numbers_per_line((sdir / "groundtruth.txt").string())[0].size(), 8u);
+    const nlohmann::json intr = nlohmann::json::parse(read_text_file((sdir / "intrinsics.json").string()));
+    EXPECT_EQ(intr.size(), 3u);
+    EXPECT_DOUBLE_EQ(intr[0]["K"][0][0].get<double>(), scan.views[0].intrinsics.fx_px);
+    EXPECT_TRUE(fs::exists(sdir / "truth.json"));
+    EXPECT_TRUE(fs::exists(sdir / "rgb.txt"));
+  }
+  EXPECT_TRUE(fs::exists(out / "README.md"));
+  fs::remove_all(out);
+}
+
+TEST(DatasetExport, PerfectObservationScenarioHasNothingToExport) {
+  const std::string yaml =
+      "name: perfect\nbuildings: [floorplans/buildings/two_rooms.json]\nsampling: {count: 1}\n"
+      "matchers: {kernel: {matcher: kernel}}\n";
+  const Scenario s = parse_scenario(yaml, "perfect.yaml", FLOORCAST_SOURCE_DIR, FLOORCAST_SOURCE_DIR);
+  EXPECT_THROW(export_scenario_dataset(s, (fs::temp_directory_path() / "floorcast_export_none").string(), {}), InputError);
+}
+
+}  // namespace
+}  // namespace floorcast
