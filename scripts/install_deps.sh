@@ -10,6 +10,7 @@ PACKAGES=(
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libtbb-dev libfftw3-dev liblbfgspp-dev
   libnanoflann-dev libpugixml-dev libpng-dev
   libtiff-dev libopenexr-dev
+  python3-dev python3-numpy python3-pybind11 pybind11-dev python3-pytest
   chromium
 )
 

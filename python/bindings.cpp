@@ -1,0 +1,485 @@
+// Python bindings of floorcast (pybind11 + numpy): load or generate a plan, simulate a scan (with
+// colour views), bring your own depth, observe, run any matcher and get the posterior as a numpy
+// array and the estimate as a dict, run a scenario. Arrays are copied in and out (no aliasing of
+// C++ memory). Images: depth float32 (H, W) metres; colour uint8 (H, W, 3) in RGB order (numpy,
+// PIL, matplotlib); masks uint8 (H, W).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "../apps/cli_common.hpp"
+#include "floorcast/core/depth_io.hpp"
+#include "floorcast/core/file_io.hpp"
+#include "floorcast/core/hash.hpp"
+#include "floorcast/core/math.hpp"
+#include "floorcast/core/observation_io.hpp"
+#include "floorcast/core/scan_io.hpp"
+#include "floorcast/floorplans/generate.hpp"
+#include "floorcast/floorplans/io.hpp"
+#include "floorcast/floorplans/render.hpp"
+#include "floorcast/match/matcher.hpp"
+#include "floorcast/observe/observation_module.hpp"
+#include "floorcast/scenarios/scenario.hpp"
+#include "floorcast/sim/gl_renderer.hpp"
+#include "floorcast/sim/mesh.hpp"
+#include "floorcast/sim/perfect_observation.hpp"
+#include "floorcast/sim/scan_io.hpp"
+#include "floorcast/sim/scan_sim.hpp"
+
+namespace py = pybind11;
+using floorcast::InputError;
+
+namespace floorcast {
+namespace {
+
+// ---- JSON <-> Python (through the json module: exact, no hand-written walker) ----
+py::object to_python(const nlohmann::ordered_json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+nlohmann::json from_python(const py::object& o) {
+  if (o.is_none()) return nlohmann::json::object();
+  const std::string text = py::module_::import("json").attr("dumps")(o).cast<std::string>();
+  return nlohmann::json::parse(text);
+}
+
+// ---- cv::Mat <-> numpy (copies) ----
+py::array mat_to_array(const cv::Mat& m, bool bgr_to_rgb = false) {
+  if (m.empty()) return py::array();
+  std::vector<py::ssize_t> shape{m.rows, m.cols};
+  if (m.channels() > 1) shape.push_back(m.channels());
+  py::array out;
+  switch (m.depth()) {
+    case CV_8U: out = py::array(py::dtype::of<std::uint8_t>(), shape); break;
+    case CV_16U: out = py::array(py::dtype::of<std::uint16_t>(), shape); break;
+    case CV_32F: out = py::array(py::dtype::of<float>(), shape); break;
+    case CV_64F: out = py::array(py::dtype::of<double>(), shape); break;
+    default: throw InputError("cannot convert an image of OpenCV type " + std::to_string(m.type()) + " to numpy");
+  }
+  const std::size_t row = static_cast<std::size_t>(m.cols) * m.elemSize();
+  auto* dst = static_cast<std::uint8_t*>(out.mutable_data());
+  for (int r = 0; r < m.rows; ++r) std::memcpy(dst + r * row, m.ptr(r), row);
+  if (bgr_to_rgb && m.channels() == 3) {
+    for (std::size_t i = 0; i < m.total(); ++i) std::swap(dst[3 * i], dst[3 * i + 2]);
+  }
+  return out;
+}
+
+cv::Mat array_to_mat(const py::array& a, const std::string& what, int want_depth, int want_channels, bool rgb_to_bgr = false) {
+  py::array c;
+  if (want_depth == CV_32F) c = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+  else if (want_depth == CV_8U) c = py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>::ensure(a);
+  if (!c) throw InputError(what + ": cannot convert to a numeric array");
+  const int nd = static_cast<int>(c.ndim());
+  const int channels = nd == 3 ? static_cast<int>(c.shape(2)) : 1;
+  if ((nd != 2 && nd != 3) || channels != want_channels) {
+    throw InputError(what + ": expected shape (H, W" + (want_channels > 1 ? ", " + std::to_string(want_channels) : std::string()) + ")");
+  }
+  cv::Mat m(static_cast<int>(c.shape(0)), static_cast<int>(c.shape(1)), CV_MAKETYPE(want_depth, channels));
+  std::memcpy(m.data, c.data(), m.total() * m.elemSize());
+  if (rgb_to_bgr && channels == 3)
+    for (std::size_t i = 0; i < m.total(); ++i) std::swap(m.data[3 * i], m.data[3 * i + 2]);
+  return m;
+}
+
+py::array matrix4(const Eigen::Isometry3d& T) {
+  py::array_t<double> out({4, 4});
+  auto v = out.mutable_unchecked<2>();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) v(r, c) = T.matrix()(r, c);
+  return out;
+}
+
+Eigen::Isometry3d isometry(const py::array& a) {
+  const auto m = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
+  if (!m || m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw InputError("T_scan_camera: expected a 4x4 array");
+  Eigen::Matrix4d M;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) M(r, c) = m.at(r, c);
+  Eigen::Isometry3d T;
+  T.matrix() = M;
+  return T;
+}
+
+Pose2 pose_from(const py::object& o) {
+  const auto v = o.cast<std::vector<double>>();
+  if (v.size() != 3) throw InputError("pose: expected (x_m, y_m, yaw_deg)");
+  return {v[0], v[1], v[2] * kPi / 180.0};
+}
+
+py::dict pose_dict(const Pose2& p) {
+  py::dict d;
+  d["x_m"] = p.x_m;
+  d["y_m"] = p.y_m;
+  d["yaw_deg"] = p.yaw_rad * 180.0 / kPi;
+  return d;
+}
+
+// ---- Python-side objects ----
+struct PyPlan {
+  FloorPlan plan;
+  std::string source;
+};
+
+struct PyScan {
+  Scan scan;
+  std::optional<ScanTruth> truth;
+};
+
+struct PyObservation {
+  ObservationRecord record;
+  nlohmann::ordered_json diagnostics;
+};
+
+struct PyMatch {
+  Posterior posterior;
+  PoseHypothesis best;
+  std::vector<PoseHypothesis> top_k;
+  double match_s = 0.0;
+  double precompute_s = 0.0;
+  nlohmann::ordered_json parameters;
+  std::string matcher;
+  std::optional<Pose2> truth;
+};
+
+py::dict hypothesis_dict(const PoseHypothesis& h, const std::optional<Pose2>& truth) {
+  py::dict d;
+  d["x_m"] = h.x_m;
+  d["y_m"] = h.y_m;
+  d["yaw_deg"] = h.yaw_rad * 180.0 / kPi;
+  d["score"] = h.score;
+  if (truth) {
+    d["position_error_m"] = std::hypot(h.x_m - truth->x_m, h.y_m - truth->y_m);
+    d["yaw_error_deg"] = angle_distance_rad(h.yaw_rad, truth->yaw_rad) * 180.0 / kPi;
+  }
+  return d;
+}
+
+py::dict grid_dict(const GridSpec& g, const std::vector<double>& yaw_rad) {
+  py::dict d;
+  d["origin_m"] = py::make_tuple(g.origin_x_m, g.origin_y_m);
+  d["resolution_m"] = g.resolution_m_per_px;
+  d["shape"] = py::make_tuple(static_cast<int>(yaw_rad.size()), g.height_px, g.width_px);
+  d["axes"] = py::make_tuple("yaw", "y", "x");
+  d["cell_centre"] = "x = origin_x + (col + 0.5) * resolution, y = origin_y + (row + 0.5) * resolution";
+  std::vector<double> deg;
+  for (double y : yaw_rad) deg.push_back(y * 180.0 / kPi);
+  d["yaw_deg"] = deg;
+  return d;
+}
+
+}  // namespace
+}  // namespace floorcast
+
+PYBIND11_MODULE(_floorcast, m) {
+  using namespace floorcast;
+  m.doc() = "floorcast: floor-plan-based indoor localization test-bed (PALMS / PALMS+ family)";
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+
+  // ---- plans ----
+  py::class_<PyPlan>(m, "Plan", "A floor plan (walls, doors, windows, obstacles), world metres, y up")
+      .def_property_readonly("name", [](const PyPlan& p) { return p.plan.name; })
+      .def_property_readonly("source", [](const PyPlan& p) { return p.source; })
+      .def_property_readonly("hash", [](const PyPlan& p) { return hex64(plan_hash(p.plan)); })
+      .def("info", [](const PyPlan& p) {
+        py::dict d;
+        d["name"] = p.plan.name;
+        d["walls"] = p.plan.walls.size();
+        d["doors"] = p.plan.doors.size();
+        d["windows"] = p.plan.windows.size();
+        d["obstacles"] = p.plan.obstacles.size();
+        const Eigen::Vector4d e = drawing_extent_m(p.plan);
+        d["bounds_m"] = py::make_tuple(e[0], e[1], e[2], e[3]);
+        d["hash"] = hex64(plan_hash(p.plan));
+        return d;
+      }, "Counts, bounding box (xmin, ymin, xmax, ymax) and hash")
+      .def("to_json", [](const PyPlan& p) { return floor_plan_to_json(p.plan); }, "The plan in floorcast's JSON format")
+      .def("render", [](const PyPlan& p, double px_per_m) {
+        RenderOptions o;
+        o.px_per_m = px_per_m;
+        return mat_to_array(render_plan(p.plan, o).bgr, true);
+      }, py::arg("px_per_m") = 20.0, "The plan drawn for people: uint8 (H, W, 3) RGB")
+      .def("__repr__", [](const PyPlan& p) {
+        return "<floorcast.Plan '" + p.plan.name + "': " + std::to_string(p.plan.walls.size()) + " walls>";
+      });
+  m.def("load_plan", [](const std::string& path) { return PyPlan{load_floor_plan(path), path}; }, py::arg("path"),
+        "Reads a floor-plan JSON file (validated; repairs reported by the loader)");
+  m.def("generate_plan", [](const std::string& archetype, std::uint64_t seed) {
+    return PyPlan{generate_building(parse_archetype(archetype), seed).plan, "generated " + archetype + " seed " + std::to_string(seed)};
+  }, py::arg("archetype"), py::arg("seed") = 0, "A procedural building: apartment, office, campus or angled");
+
+  // ---- scans ----
+  py::class_<DepthView>(m, "View", "One view of a scan: depth, optional colour and masks, intrinsics, pose")
+      .def_property("depth", [](const DepthView& v) { return mat_to_array(v.depth_m); },
+                    [](DepthView& v, const py::object& o) {
+                      if (o.is_none()) {  // no depth: a colour-only view (depth made elsewhere)
+                        v.depth_m.release();
+                        v.glass_mask.release();
+                        v.confidence.release();
+                        return;
+                      }
+                      cv::Mat d = array_to_mat(o.cast<py::array>(), "depth", CV_32F, 1);
+                      if (d.cols != v.intrinsics.width_px || d.rows != v.intrinsics.height_px)
+                        throw InputError("depth: shape must be (height_px, width_px) of the intrinsics");
+                      v.depth_m = d;
+                      v.glass_mask.release();
+                      v.confidence.release();
+                    }, "float32 (H, W) z-depth in metres, 0 = no return (settable: bring your own depth; None removes it)")
+      .def_property("rgb", [](const DepthView& v) { return mat_to_array(v.rgb, true); },
+                    [](DepthView& v, const py::array& a) { v.rgb = array_to_mat(a, "rgb", CV_8U, 3, true); },
+                    "uint8 (H, W, 3) RGB colour image, or an empty array")
+      .def_property_readonly("glass_mask", [](const DepthView& v) { return mat_to_array(v.glass_mask); })
+      .def_property_readonly("confidence", [](const DepthView& v) { return mat_to_array(v.confidence); })
+      .def_property_readonly("view_index", [](const DepthView& v) { return v.view_index; })
+      .def_property_readonly("intrinsics", [](const DepthView& v) {
+        py::dict d;
+        d["width_px"] = v.intrinsics.width_px;
+        d["height_px"] = v.intrinsics.height_px;
+        d["fx_px"] = v.intrinsics.fx_px;
+        d["fy_px"] = v.intrinsics.fy_px;
+        d["cx_px"] = v.intrinsics.cx_px;
+        d["cy_px"] = v.intrinsics.cy_px;
+        return d;
+      })
+      .def_property("T_scan_camera", [](const DepthView& v) { return matrix4(v.T_scan_camera); },
+                    [](DepthView& v, const py::array& a) { v.T_scan_camera = isometry(a); },
+                    "4x4 camera pose in the scan frame (OpenCV camera: x right, y down, z forward)");
+  py::class_<PyScan>(m, "Scan", "A rotating scan: views (depth, colour, intrinsics, poses) and, when simulated, its truth")
+      .def_property_readonly("views", [](PyScan& s) {
+        py::list l;
+        for (DepthView& v : s.scan.views) l.append(py::cast(&v, py::return_value_policy::reference_internal, py::cast(&s)));
+        return l;
+      })
+      .def_property_readonly("sensor", [](const PyScan& s) { return s.scan.sensor; })
+      .def_property_readonly("truth", [](const PyScan& s) -> py::object {
+        if (!s.truth) return py::none();
+        py::dict d = pose_dict(s.truth->T_world_scan);
+        d["camera_height_m"] = s.truth->camera_height_m;
+        d["view_depth_scale"] = s.truth->view_depth_scale;
+        return d;
+      }, "Ground-truth pose (x_m, y_m, yaw_deg) of a simulated scan, else None")
+      .def("save", [](const PyScan& s, const std::string& dir) { save_scan(dir, s.scan); }, py::arg("dir"),
+           "Writes a scan folder (scan.json, 16-bit depth PNGs, colour PNGs) that `floorcast observe` reads")
+      .def("__len__", [](const PyScan& s) { return s.scan.views.size(); })
+      .def("__repr__", [](const PyScan& s) {
+        return "<floorcast.Scan " + s.scan.sensor + ": " + std::to_string(s.scan.views.size()) + " views>";
+      });
+  m.def("simulate_scan", [](const PyPlan& plan, const py::object& pose_deg, const std::string& sensor, const std::string& setting,
+                            std::uint64_t seed, bool rgb, bool doors_open, const py::object& params) {
+    const Pose2 pose = pose_from(pose_deg);
+    ScanParams p = scan_preset(sensor);
+    if (!parse_scan_setting(setting, p.setting)) throw InputError("setting \"" + setting + "\": expected full, partial or single");
+    p.seed = seed;
+    if (!params.is_none()) apply_scan_overrides(p, from_python(params), "params");
+    validate_scan_params(p);
+    FloorPlan world = plan.plan;
+    if (!doors_open)
+      for (Door& d : world.doors) d.closed = true;
+    check_observer_pose(world, pose, plan.source);
+    PyScan out;
+    SimulatedScan sim;
+    {
+      py::gil_scoped_release release;
+      const RayScene scene(extrude_plan(world));
+      sim = simulate_scan(scene, pose, p);
+      if (rgb) {
+        GlRenderer gl(scene.mesh(), p.geometry.width_px, p.geometry.height_px);
+        render_scan_colour(gl, sim);
+      }
+    }
+    sim.truth.plan_hash = hex64(plan_hash(plan.plan));
+    out.scan = std::move(sim.scan);
+    out.truth = std::move(sim.truth);
+    return out;
+  }, py::arg("plan"), py::arg("pose"), py::arg("sensor") = "mono", py::arg("setting") = "full", py::arg("seed") = 0,
+     py::arg("rgb") = false, py::arg("doors_open") = false, py::arg("params") = py::none(),
+     "Simulates a rotating scan at pose (x_m, y_m, yaw_deg) with a sensor preset (perfect, lidar, mono, phone); "
+     "rgb=True renders colour views (OpenGL, headless). params: nested dict of sensor overrides "
+     "(e.g. {'sensor': {'mono': {'scale_sigma_ln': 0.2}}}). Doors closed unless doors_open, as `floorcast sim scan`.");
+  m.def("read_depth", [](const std::string& path, double integer_unit_m) {
+    DepthFileOptions o;
+    o.integer_unit_m = integer_unit_m;
+    return mat_to_array(read_depth_file(path, o));
+  }, py::arg("path"), py::arg("integer_unit_m") = 0.001,
+     "Reads a depth map (.npy, .tif/.tiff, .exr in metres; 16-bit .png in integer_unit_m) as float32 (H, W) metres");
+  m.def("write_depth", [](const std::string& path, const py::array& depth, double integer_unit_m) {
+    DepthFileOptions o;
+    o.integer_unit_m = integer_unit_m;
+    write_depth_file(path, array_to_mat(depth, "depth", CV_32F, 1), o);
+  }, py::arg("path"), py::arg("depth"), py::arg("integer_unit_m") = 0.001,
+     "Writes float32 (H, W) metres as .npy, float .tif/.tiff or .exr, or 16-bit .png");
+  m.def("load_scan", [](const std::string& dir, const std::optional<std::string>& depth_dir, const std::string& depth_kind,
+                        bool rgb) {
+    ScanLoadOptions lo;
+    lo.require_depth = !depth_dir;
+    lo.load_rgb = rgb;
+    PyScan out;
+    out.scan = load_scan(dir, lo);
+    if (depth_dir) {
+      DepthFileOptions o;
+      o.kind = parse_depth_kind(depth_kind);
+      (void)load_depth_directory(out.scan, *depth_dir, o);
+    }
+    if (auto sim = load_simulation_record(dir, out.scan.views.size())) out.truth = sim->truth;
+    return out;
+  }, py::arg("dir"), py::arg("depth_dir") = py::none(), py::arg("depth_kind") = "z", py::arg("rgb") = true,
+     "Reads a scan folder; depth_dir replaces its depth by depth maps made elsewhere (.npy/.tif/.exr metres, 16-bit .png mm)");
+
+  // ---- observations ----
+  py::class_<PyObservation>(m, "Observation", "Observed wall segments (observer frame: x ahead, y left, metres) and rays")
+      .def_property_readonly("segments", [](const PyObservation& o) {
+        py::array_t<double> a({static_cast<py::ssize_t>(o.record.observation.segments_m.size()), py::ssize_t{4}});
+        auto v = a.mutable_unchecked<2>();
+        for (std::size_t i = 0; i < o.record.observation.segments_m.size(); ++i) {
+          const Segment2& s = o.record.observation.segments_m[i];
+          v(i, 0) = s.a_m.x();
+          v(i, 1) = s.a_m.y();
+          v(i, 2) = s.b_m.x();
+          v(i, 3) = s.b_m.y();
+        }
+        return a;
+      }, "float64 (N, 4): ax, ay, bx, by")
+      .def_property_readonly("ray_ranges", [](const PyObservation& o) { return py::array(py::cast(o.record.observation.ray_ranges_m)); })
+      .def_property_readonly("max_range_m", [](const PyObservation& o) { return o.record.observation.max_range_m; })
+      .def_property_readonly("truth", [](const PyObservation& o) -> py::object {
+        return o.record.T_world_observer ? py::object(pose_dict(*o.record.T_world_observer)) : py::none();
+      })
+      .def_property_readonly("diagnostics", [](const PyObservation& o) { return to_python(o.diagnostics); })
+      .def("save", [](const PyObservation& o, const std::string& path) { save_observation(path, o.record); }, py::arg("path"))
+      .def("__repr__", [](const PyObservation& o) {
+        return "<floorcast.Observation: " + std::to_string(o.record.observation.segments_m.size()) + " segments>";
+      });
+  m.def("perfect_observation", [](const PyPlan& plan, const py::object& pose_deg, int rays, double range_m, bool doors_open) {
+    const Pose2 pose = pose_from(pose_deg);
+    check_observer_pose(plan.plan, pose, plan.source);
+    PerfectObservationParams p;
+    p.num_rays = rays;
+    p.max_range_m = range_m;
+    p.blocking.open_doors_block = !doors_open;
+    const PerfectObserver observer(plan.plan, p);
+    PyObservation o;
+    o.record.observation = observer.observe(pose);
+    o.record.source = "perfect";
+    o.record.T_world_observer = pose;
+    o.record.metadata["plan_hash"] = hex64(plan_hash(plan.plan));
+    o.diagnostics = {{"params", p.to_json()}};
+    return o;
+  }, py::arg("plan"), py::arg("pose"), py::arg("rays") = PerfectObservationParams{}.num_rays,
+     py::arg("range_m") = PerfectObservationParams{}.max_range_m, py::arg("doors_open") = false,
+     "The exact visible wall surfaces within range (PALMS+ sec. 4.4 proxy; doors closed unless doors_open)");
+  m.def("observe", [](const PyScan& scan, const std::optional<std::string>& path, const std::optional<std::string>& scale_alignment,
+                      const py::object& params) {
+    ObservationParams p;
+    if (!params.is_none()) apply_overrides(p, from_python(params));
+    if (path) p.path = parse_observation_path(*path);
+    else if (params.is_none() && scan.scan.sensor == "lidar") p.path = ObservationPath::kLidar;
+    if (scale_alignment) p.scale.mode = parse_scale_alignment(*scale_alignment);
+    ObservationResult r;
+    {
+      py::gil_scoped_release release;
+      r = observe_scan(scan.scan, p);
+    }
+    PyObservation o;
+    o.record.observation = r.observation;
+    o.record.source = "observation module (" + r.diagnostics.path + ")";
+    if (scan.truth) {
+      o.record.T_world_observer = scan.truth->T_world_scan;
+      if (!scan.truth->plan_hash.empty()) o.record.metadata["plan_hash"] = scan.truth->plan_hash;
+    }
+    o.diagnostics = {{"diagnostics", to_json(r.diagnostics)}, {"params", to_json(p)}, {"total_s", r.total_s}};
+    return o;
+  }, py::arg("scan"), py::arg("path") = py::none(), py::arg("scale_alignment") = py::none(), py::arg("params") = py::none(),
+     "The observation module: scan -> observed wall segments (path mono or lidar; scale alignment full, ground, none)");
+  m.def("load_observation", [](const std::string& path) {
+    PyObservation o;
+    o.record = load_observation(path);
+    return o;
+  }, py::arg("path"));
+
+  // ---- matching ----
+  py::class_<PyMatch>(m, "MatchResult", "A matcher's posterior over (yaw, y, x) and its estimate")
+      .def_property_readonly("posterior", [](const PyMatch& r) {
+        const GridSpec& g = r.posterior.grid;
+        py::array_t<float> a({static_cast<py::ssize_t>(r.posterior.num_slices()), static_cast<py::ssize_t>(g.height_px),
+                              static_cast<py::ssize_t>(g.width_px)});
+        float* dst = a.mutable_data();
+        const std::size_t plane = static_cast<std::size_t>(g.width_px) * g.height_px;
+        for (int s = 0; s < r.posterior.num_slices(); ++s) {
+          const cv::Mat& m = r.posterior.scores[static_cast<std::size_t>(s)];
+          for (int row = 0; row < g.height_px; ++row)
+            std::memcpy(dst + s * plane + static_cast<std::size_t>(row) * g.width_px, m.ptr<float>(row), sizeof(float) * g.width_px);
+        }
+        return a;
+      }, "float32 (yaw, y, x) unnormalised scores; row 0 is the lowest y (see grid)")
+      .def_property_readonly("yaw_deg", [](const PyMatch& r) {
+        std::vector<double> d;
+        for (double y : r.posterior.yaw_rad) d.push_back(y * 180.0 / kPi);
+        return py::array(py::cast(d));
+      })
+      .def_property_readonly("grid", [](const PyMatch& r) { return grid_dict(r.posterior.grid, r.posterior.yaw_rad); })
+      .def_property_readonly("estimate", [](const PyMatch& r) {
+        py::dict d = hypothesis_dict(r.best, r.truth);
+        const bool found = r.best.score > 0.0;
+        d["status"] = found ? "ok" : "no pose: empty posterior (every cell scored 0)";
+        if (!found) {
+          d["x_m"] = py::none();
+          d["y_m"] = py::none();
+          d["yaw_deg"] = py::none();
+        }
+        return d;
+      }, "dict: x_m, y_m, yaw_deg, score, status (and errors when the observation knows its truth)")
+      .def_property_readonly("top_k", [](const PyMatch& r) {
+        py::list l;
+        for (const PoseHypothesis& h : r.top_k) l.append(hypothesis_dict(h, r.truth));
+        return l;
+      })
+      .def_property_readonly("matcher", [](const PyMatch& r) { return r.matcher; })
+      .def_property_readonly("parameters", [](const PyMatch& r) { return to_python(r.parameters); })
+      .def_property_readonly("match_s", [](const PyMatch& r) { return r.match_s; })
+      .def_property_readonly("precompute_s", [](const PyMatch& r) { return r.precompute_s; })
+      .def("save_npy", [](const PyMatch& r, const std::string& path) {
+        std::vector<float> values;
+        const GridSpec& g = r.posterior.grid;
+        for (const cv::Mat& s : r.posterior.scores)
+          for (int row = 0; row < g.height_px; ++row) values.insert(values.end(), s.ptr<float>(row), s.ptr<float>(row) + g.width_px);
+        write_npy(path, {static_cast<std::size_t>(r.posterior.num_slices()), static_cast<std::size_t>(g.height_px),
+                         static_cast<std::size_t>(g.width_px)}, values);
+      }, py::arg("path"));
+  m.def("matcher_names", &matcher_names);
+  m.def("match", [](const PyPlan& plan, const PyObservation& obs, const std::string& matcher, const py::object& params, int top_k) {
+    PyMatch r;
+    const nlohmann::json overrides = from_python(params);
+    {
+      py::gil_scoped_release release;
+      const std::unique_ptr<Matcher> mt = make_matcher(matcher, plan.plan, overrides);
+      MatchResult res = mt->match(obs.record.observation);
+      r.posterior = std::move(res.posterior);
+      r.match_s = res.match_s;
+      r.precompute_s = mt->precompute_s();
+      r.parameters = mt->parameters();
+      r.matcher = mt->name();
+    }
+    r.best = r.posterior.argmax();
+    r.top_k = r.posterior.top_k(top_k, 1.0, kPi / 6.0);
+    r.truth = obs.record.T_world_observer;
+    return r;
+  }, py::arg("plan"), py::arg("observation"), py::arg("matcher") = "kernel", py::arg("params") = py::none(),
+     py::arg("top_k") = 5, "Runs a layout matcher (kernel, ray, ...) on an observation");
+
+  // ---- scenarios ----
+  m.def("run_scenario", [](const std::string& path, const std::string& out, int jobs, bool quiet) {
+    {
+      py::gil_scoped_release release;
+      const Scenario s = load_scenario(path, cli::source_dir());
+      cli::run_scenario(s, out, jobs, "0/1", quiet);
+    }
+    const std::string summary = (std::filesystem::path(out) / "summary.json").string();
+    return py::module_::import("json").attr("loads")(read_text_file(summary));
+  }, py::arg("scenario"), py::arg("out"), py::arg("jobs") = 0, py::arg("quiet") = true,
+     "Runs a scenario file into run directory `out` (resumable) and returns its summary.json as a dict");
+  m.def("data_dir", &cli::source_dir, "Where floorcast's shipped data (buildings, scenarios) is");
+  m.attr("__version__") = FLOORCAST_VERSION;
+}
