@@ -26,4 +26,13 @@ if grep -q "$source_dir" "$work/prefix/bin/floorcast"; then
   exit 1
 fi
 (cd "$work" && "$work/prefix/bin/floorcast" plan info "$work/prefix/share/floorcast/floorplans/buildings/two_rooms.json" >/dev/null)
+# The installed CLI renders colour views through the OpenGL module installed beside it
+# (<prefix>/<libdir>/floorcast/floorcast_gl.so), with no module path from the build tree.
+(cd "$work" && env -u FLOORCAST_MODULE_DIR "$work/prefix/bin/floorcast" sim scan \
+  "$work/prefix/share/floorcast/floorplans/buildings/two_rooms.json" --pose 2,2,30 --setting single --rgb \
+  -o "$work/rgb" >/dev/null)
+if [ ! -s "$work/rgb/view_000_rgb.png" ]; then
+  echo "FAILED: the installed floorcast wrote no colour view (floorcast_gl.so not found beside it?)" >&2
+  exit 1
+fi
 echo "installed package ok"
