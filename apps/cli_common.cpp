@@ -1,4 +1,6 @@
 #include "cli_common.hpp"
+#include "floorcast/core/json_text.hpp"
+#include "floorcast/core/limits.hpp"
 
 #include <unistd.h>
 
@@ -10,11 +12,14 @@
 #include <mutex>
 #include <thread>
 #include <cctype>
+#include <cerrno>
+#include <climits>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -32,6 +37,79 @@ std::vector<std::pair<std::string, Registrar>>& registrars() {
 }
 
 }  // namespace
+
+namespace {
+
+/// Every floating-point option of every command refuses NaN and inf (CLI11 converts "nan" and
+/// "inf", and its Range validator lets NaN through: every comparison with NaN is false).
+void refuse_non_finite_numbers(CLI::App& app) {
+  static const CLI::Validator finite(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (end != text.c_str() && !std::isfinite(v)) return "value " + text + " is not a finite number";
+        return std::string();
+      },
+      "", "FINITE");
+  // CLI11 2.1 turns "-1" into 18446744073709551615 for an unsigned option and wraps numbers
+  // beyond the type: integers must be written as such and fit.
+  static const CLI::Validator non_negative_integer(
+      [](std::string& text) -> std::string {
+        if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) {
+          return "value " + text + " is not a non-negative integer";
+        }
+        errno = 0;
+        (void)std::strtoull(text.c_str(), nullptr, 10);
+        if (errno == ERANGE) return "value " + text + " is out of range (at most 18446744073709551615)";
+        return std::string();
+      },
+      "", "UNSIGNED");
+  static const CLI::Validator integer(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const long long v = std::strtoll(text.c_str(), &end, 10);
+        if (end == text.c_str() || *end != '\0') return "value " + text + " is not an integer";
+        if (errno == ERANGE || v < INT_MIN || v > INT_MAX) return "value " + text + " is out of range for an integer";
+        return std::string();
+      },
+      "", "INTEGER");
+  for (CLI::Option* opt : app.get_options()) {
+    const std::string type = opt->get_type_name();
+    if (type.find("FLOAT") != std::string::npos) opt->check(finite);
+    else if (type.find("UINT") != std::string::npos) opt->check(non_negative_integer);
+    else if (type.find("INT") != std::string::npos) opt->check(integer);
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) refuse_non_finite_numbers(*sub);
+}
+
+}  // namespace
+
+int run_cli(int argc, char** argv) {
+  CLI::App app{"floorcast: floor-plan-based indoor localization test-bed (PALMS / PALMS+ family)"};
+  app.set_version_flag("--version", std::string("floorcast ") + FLOORCAST_VERSION);
+  app.require_subcommand(1);
+  register_all(app);
+  refuse_non_finite_numbers(app);
+  try {
+    apply_limits_from_environment();
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {  // --help, --version
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {  // a usage error: one exit code (README, "Exit codes")
+    (void)app.exit(e);
+    return kExitUsage;
+  } catch (const CommandExit& e) {
+    return e.code;
+  } catch (const InputError& e) {
+    std::cerr << "floorcast: error: " << e.what() << "\n";
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    std::cerr << "floorcast: internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+  return 0;
+}
 
 bool add_registrar(const char* name, Registrar registrar) {
   registrars().emplace_back(name, registrar);
@@ -114,8 +192,16 @@ void add_override(nlohmann::json& overrides, const std::string& text) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError("--param \"" + text + "\": expected KEY=VALUE");
   const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
-  const nlohmann::json parsed = nlohmann::json::parse(value, nullptr, false);
-  overrides[key] = parsed.is_discarded() ? nlohmann::json(value) : parsed;
+  // Valid JSON is taken as JSON (depth-limited); anything else is the string itself.
+  nlohmann::json parsed;
+  try {
+    parsed = parse_json_text(value, "--param " + key);
+  } catch (const LimitError&) {
+    throw;
+  } catch (const InputError&) {
+    parsed = value;
+  }
+  overrides[key] = parsed;
 }
 
 void ensure_directory(const std::string& path) { create_directories_or_throw(path); }

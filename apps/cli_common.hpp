@@ -11,6 +11,12 @@
 
 namespace floorcast::cli {
 
+/// The whole CLI: limits from FLOORCAST_LIMITS, every command registered, argv parsed and run.
+/// Returns the exit status: 0, 1 (a check failed, e.g. a gate), 2 (bad input: "floorcast: error:
+/// ..." on stderr), a CLI11 usage status, or a command's own status (CommandExit). A message
+/// "floorcast: internal error" (status 1) means a bug: no input may reach it.
+int run_cli(int argc, char** argv);
+
 /// A function that adds commands to the root app. Each cmd_*.cpp registers one with
 /// FLOORCAST_REGISTER_COMMANDS; main() calls them in name order.
 using Registrar = void (*)(CLI::App& root);

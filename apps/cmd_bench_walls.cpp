@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "floorcast/core/image_io.hpp"
+#include "floorcast/core/json_text.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/scenarios/sampling.hpp"
@@ -196,11 +197,7 @@ void register_bench_walls(CLI::App& root) {
       if (eq == std::string::npos || eq == 0) throw InputError("--config \"" + spec + "\": expected LABEL=JSON");
       Config c;
       c.label = spec.substr(0, eq);
-      try {
-        c.overrides = nlohmann::json::parse(spec.substr(eq + 1));
-      } catch (const std::exception& e) {
-        throw InputError("--config " + c.label + ": not valid JSON: " + e.what());
-      }
+      c.overrides = parse_json_text(spec.substr(eq + 1), "--config " + c.label);
       if (lidar && !c.overrides.contains("path")) c.overrides["path"] = "lidar";
       try {
         apply_overrides(c.params, c.overrides);

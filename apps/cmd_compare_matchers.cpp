@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cli_common.hpp"
+#include "floorcast/core/json_text.hpp"
 #include "floorcast/scenarios/scenario.hpp"
 
 namespace floorcast::cli {
@@ -135,8 +136,8 @@ void register_compare_matchers(CLI::App& root) {
       const auto colon = rest.find(':');
       OJson spec = OJson::object();
       if (colon != std::string::npos) {
-        spec = OJson::parse(rest.substr(colon + 1), nullptr, false);
-        if (spec.is_discarded() || !spec.is_object()) {
+        spec = parse_ordered_json_text(rest.substr(colon + 1), "--matcher " + label);
+        if (!spec.is_object()) {
           throw InputError("--matcher \"" + text + "\": the overrides are not a JSON object");
         }
       }

@@ -15,6 +15,7 @@
 #include "floorcast/core/image_io.hpp"
 #include "floorcast/eval/trajectory_plot.hpp"
 #include "floorcast/core/hash.hpp"
+#include "floorcast/scenarios/run_directory.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/match/plan_raster.hpp"
@@ -127,6 +128,7 @@ void register_localize(CLI::App& root) {
   add_observation_options(*cmd, o->observe);
   cmd->callback([o] {
     check_argument_order(o->plan, o->obs);
+    refuse_output_inside_inputs(o->out, {o->obs});
     const FloorPlan plan = load_floor_plan(o->plan);
     LocalizationInput input;
     {
@@ -155,6 +157,17 @@ void register_localize(CLI::App& root) {
     {
       const Heartbeat hb("localize: preparing the " + o->matcher + " matcher on " + o->plan, o->quiet);
       matcher = make_matcher(o->matcher, plan, overrides);
+    }
+    // Said, not silent: ray ranges the ray matcher cannot use (auto casts rays on the segments).
+    std::vector<std::string> notes;
+    const nlohmann::ordered_json mp = matcher->parameters();
+    const std::size_t obs_rays = input.record.observation.ray_ranges_m.size();
+    if (mp.contains("ray_source") && mp["ray_source"] == "auto" && mp.contains("num_directions") && obs_rays > 0 &&
+        mp["num_directions"].get<std::size_t>() != obs_rays) {
+      notes.push_back("the observation's " + std::to_string(obs_rays) + " ray ranges do not match the " +
+                      std::to_string(mp["num_directions"].get<int>()) +
+                      " directions of the ray matcher: rays are cast on its segments instead (ray_source auto)");
+      std::cerr << "note: " << notes.back() << "\n";
     }
     MatchResult result;
     {
@@ -203,6 +216,7 @@ void register_localize(CLI::App& root) {
     j["observation"] = o->obs;
     j["observation_input"] = input.description;
     j["observation_segments"] = input.record.observation.segments_m.size();
+    if (!notes.empty()) j["notes"] = notes;
     nlohmann::ordered_json grid;
     grid["origin_m"] = {post.grid.origin_x_m, post.grid.origin_y_m};
     grid["resolution_m"] = post.grid.resolution_m_per_px;

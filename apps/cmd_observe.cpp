@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "cli_common.hpp"
+#include "floorcast/core/json_text.hpp"
+#include "floorcast/scenarios/run_directory.hpp"
 #include "floorcast/observe/observation_module.hpp"
 #include "floorcast/core/observation_io.hpp"
 #include "floorcast/core/depth_io.hpp"
@@ -65,14 +67,7 @@ ObservationParams observation_params_from_cli(const ObserveCliOptions& o, const 
   ObservationParams p;
   bool path_in_file = false;
   if (!o.params_file.empty()) {
-    std::ifstream in(o.params_file);
-    if (!in) throw InputError(o.params_file + ": cannot open");
-    nlohmann::json j;
-    try {
-      in >> j;
-    } catch (const std::exception& e) {
-      throw InputError(o.params_file + ": not valid JSON: " + e.what());
-    }
+    const nlohmann::json j = read_json_file(o.params_file);
     path_in_file = j.is_object() && j.contains("path");
     try {
       apply_overrides(p, j);
@@ -202,6 +197,7 @@ void register_observe(CLI::App& root) {
                   "go next to it as <name>.diagnostics.json")
       ->required();
   cmd->callback([o] {
+    refuse_output_inside_inputs(o->out, {o->scan_dir});
     const Scan scan = load_scan_for_observation(o->scan_dir, o->obs);
     const ObservationParams params = observation_params_from_cli(o->obs, &scan);
     const ObservationResult r = observe_scan(scan, params);

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "cli_common.hpp"
+#include "floorcast/scenarios/run_directory.hpp"
 #include "floorcast/floorplans/import.hpp"
 #include "floorcast/floorplans/io.hpp"
 
@@ -142,6 +143,7 @@ void register_plan_import(CLI::App& root) {
                   "imdf: unit category whose shared boundaries are open, repeatable (default: walkway)");
   cmd->add_flag("--json", o->json, "Print the import report as JSON");
   cmd->callback([o] {
+    refuse_output_inside_inputs(o->output, {o->source});
     ImportOptions opts;
     if (!o->level.empty()) opts.level = o->level;
     if (!o->building.empty()) opts.building = o->building;

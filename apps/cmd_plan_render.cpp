@@ -37,12 +37,12 @@ void register_plan_render(CLI::App& root) {
   auto opts = std::make_shared<Options>();
   cmd->add_option("FILE", opts->file, "Floor-plan JSON")->required();
   cmd->add_option("-o,--output", opts->output, "Output image: .png or .svg")->required();
-  cmd->add_option("--px-per-m", opts->px_per_m,
+  CLI::Option* px_opt = cmd->add_option("--px-per-m", opts->px_per_m,
                   "Pixels per metre (default: automatic, the longer side ~2400 px, at most 80 px/m)");
   cmd->add_option("--margin-m", opts->margin_m, "Blank border around the plan, metres")->capture_default_str();
   cmd->add_flag("--no-obstacles", opts->no_obstacles, "Leave out clutter obstacles");
   cmd->add_flag("--no-interior", opts->no_interior, "Do not tint the building interior");
-  cmd->callback([opts] {
+  cmd->callback([opts, px_opt] {
     const std::string ext = lower_extension(opts->output);
     if (ext != "png" && ext != "svg") {
       throw InputError(opts->output + ": unsupported image format \"" + ext + "\" (use .png or .svg)");
@@ -52,7 +52,7 @@ void register_plan_render(CLI::App& root) {
     ro.margin_m = opts->margin_m;
     ro.draw_obstacles = !opts->no_obstacles;
     ro.draw_interior = !opts->no_interior;
-    if (opts->px_per_m != 0.0) {
+    if (px_opt->count() > 0) {  // given: used as is (0 or less is refused), else automatic
       ro.px_per_m = opts->px_per_m;
     } else {
       const Eigen::Vector4d box = drawing_extent_m(p);

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "cli_common.hpp"
+#include "floorcast/core/json_text.hpp"
 #include "floorcast/eval/gate.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/scenarios/run_directory.hpp"
@@ -98,8 +99,12 @@ void run_scenario(const Scenario& scenario, const std::string& out, int jobs, co
   auto log = [quiet](const std::string& line) {
     if (!quiet) std::cerr << "prepare: " << line << "\n";
   };
-  const ScenarioRunner runner(scenario, log);
+  // The output folder is taken (locked, proven writable, stray temporaries of a killed run
+  // removed) before any work starts.
   RunDirectory dir(out);
+  const std::size_t stray = dir.acquire();
+  if (stray > 0) std::cerr << out << ": removed " << stray << " stray temporary file(s) of an interrupted run\n";
+  const ScenarioRunner runner(scenario, log);
   dir.open(scenario, runner.resolved_full());
   DirectorySink sink(dir, scenario);
   ProgressPrinter printer(quiet);
@@ -170,6 +175,7 @@ void register_merge(CLI::App& root) {
                          "); only shards of one scenario run can be merged");
       }
     }
+    refuse_output_inside_inputs(o->out, o->inputs);
     RunDirectory out(o->out);
     out.open(*scenario, OJson(resolved_full));
     DirectorySink sink(out, *scenario);
@@ -181,7 +187,7 @@ void register_merge(CLI::App& root) {
           // Compare values, not text: the copy on disk may list keys in another order (a merged
           // folder merged again, a unit written by another version).
           const std::string path = out.unit_path(*scenario, u.unit);
-          const UnitResult existing = unit_from_json(Json::parse(read_text_file(path)), path);
+          const UnitResult existing = unit_from_json(read_json_file(path), path);
           if (Json(strip_timings(unit_to_json(existing))) != Json(strip_timings(unit_to_json(u))))
             throw InputError(in + ": unit " + u.unit.id + " differs from the copy already merged; the shards disagree");
           continue;
@@ -222,15 +228,10 @@ void register_gate(CLI::App& root) {
   gate->add_option("SUMMARY", o->summary, "summary.json of a run")->required();
   gate->add_option("--baseline", o->baseline, "Baseline JSON (results/baselines/NAME.json)")->required();
   gate->callback([o] {
-    auto parse = [](const std::string& path) {
-      try {
-        return Json::parse(read_text_file(path));
-      } catch (const Json::exception& e) {
-        throw InputError(path + ": malformed JSON: " + e.what());
-      }
-    };
+    auto parse = [](const std::string& path) { return read_json_file(path); };
     const Json summary = parse(o->summary);
-    if (!summary.value("complete", false)) throw InputError(o->summary + ": not a complete run summary");
+    if (!summary.is_object()) throw InputError(o->summary + ": not a run summary (expected a JSON object)");
+    if (!summary.contains("complete") || summary["complete"] != true) throw InputError(o->summary + ": not a complete run summary");
     const Json baseline = parse(o->baseline);
     const GateOutcome g = evaluate_gate(summary, baseline, o->baseline);
     for (const std::string& line : g.passes) std::cout << line << "\n";

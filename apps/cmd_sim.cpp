@@ -21,6 +21,7 @@
 #include "floorcast/sim/scan_io.hpp"
 #include "floorcast/sim/scan_sim.hpp"
 #include "floorcast/core/hash.hpp"
+#include "floorcast/core/json_text.hpp"
 #include "floorcast/core/math.hpp"
 
 namespace floorcast::cli {
@@ -88,8 +89,9 @@ void register_sim(CLI::App& root) {
       ->check(CLI::IsMember({"full", "partial", "single"}));
   scan->add_option("--center-view", so->center_view, "View the partial/single settings keep")->capture_default_str();
   scan->add_option("--seed", so->seed, "Random seed (sensor noise, clutter)")->capture_default_str();
-  scan->add_option("--max-range", so->max_range_m, "Override the preset's maximum range, metres");
-  scan->add_option("--scale-sigma", so->scale_sigma, "Override the mono per-view log scale sigma");
+  // Given or not is told by the option's count (no sentinel value: -1 or NaN must be refused).
+  CLI::Option* max_range_opt = scan->add_option("--max-range", so->max_range_m, "Override the preset's maximum range, metres");
+  CLI::Option* scale_sigma_opt = scan->add_option("--scale-sigma", so->scale_sigma, "Override the mono per-view log scale sigma");
   scan->add_option("--depth-model", so->depth_model,
                    "Monocular error level of a published network (mono and phone sensors; default depth_pro)")
       ->check(CLI::IsMember(mono_model_names()));
@@ -104,7 +106,7 @@ void register_sim(CLI::App& root) {
                  "PALMS+ 4.4)");
   add_building_options(scan, so->building);
   scan->add_option("-o,--output", so->out, "Output scan folder")->required();
-  scan->callback([so] {
+  scan->callback([so, max_range_opt, scale_sigma_opt] {
     const auto t0 = std::chrono::steady_clock::now();
     const FloorPlan given = load_floor_plan(so->plan);
     FloorPlan plan = given;
@@ -115,18 +117,12 @@ void register_sim(CLI::App& root) {
     parse_scan_setting(so->setting, params.setting);
     params.center_view = so->center_view;
     params.seed = so->seed;
-    if (so->max_range_m >= 0.0) params.sensor.max_range_m = so->max_range_m;
+    if (max_range_opt->count() > 0) params.sensor.max_range_m = so->max_range_m;
     if (!so->depth_model.empty()) params.sensor.mono = mono_model_preset(so->depth_model);
     if (!so->sensor_params.empty()) {
-      nlohmann::json j;
-      try {
-        j = nlohmann::json::parse(so->sensor_params);
-      } catch (const std::exception& e) {
-        throw InputError(std::string("--sensor-params: not valid JSON: ") + e.what());
-      }
-      apply_scan_overrides(params, j, "--sensor-params");
+      apply_scan_overrides(params, parse_json_text(so->sensor_params, "--sensor-params"), "--sensor-params");
     }
-    if (so->scale_sigma >= 0.0) params.sensor.mono.scale_sigma_ln = so->scale_sigma;
+    if (scale_sigma_opt->count() > 0) params.sensor.mono.scale_sigma_ln = so->scale_sigma;
     validate_scan_params(params);
     BuildingOptions b = so->building;
     b.clutter_seed = so->seed;

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "cli_common.hpp"
+#include "floorcast/core/json_text.hpp"
 #include "floorcast/core/hash.hpp"
 #include "floorcast/core/image_io.hpp"
 #include "floorcast/core/math.hpp"
@@ -78,15 +79,13 @@ void register_sim_walk(CLI::App& root) {
     wp.steps = o->steps;
     wp.seed = o->seed;
     if (!o->walk_params.empty()) {
-      const nlohmann::json j = nlohmann::json::parse(o->walk_params, nullptr, false);
-      if (j.is_discarded()) throw InputError("--walk-params: not valid JSON");
+      const nlohmann::json j = parse_json_text(o->walk_params, "--walk-params");
       wp.apply_overrides(j);
     }
     OdometryParams op;
     op.seed = mix64(o->seed ^ 0x0d0e7e11ULL);
     if (!o->odometry_params.empty()) {
-      const nlohmann::json j = nlohmann::json::parse(o->odometry_params, nullptr, false);
-      if (j.is_discarded()) throw InputError("--odometry-params: not valid JSON");
+      const nlohmann::json j = parse_json_text(o->odometry_params, "--odometry-params");
       op.apply_overrides(j);
     }
     op.apply_overrides({{"model", o->odometry}});

@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "cli_common.hpp"
+#include "floorcast/scenarios/run_directory.hpp"
 #include "floorcast/core/format.hpp"
 #include "floorcast/core/image_io.hpp"
 #include "floorcast/core/math.hpp"
@@ -54,6 +55,7 @@ void register_track(CLI::App& root) {
   cmd->add_flag("--quiet", o->quiet, "No progress output on stderr");
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
   cmd->callback([o] {
+    refuse_output_inside_inputs(o->out, {o->walk});
     if (!o->observe.depth_dir.empty()) {
       throw InputError("--depth-dir applies to one scan (observe, localize); a walk's scans keep their depth maps in "
                        "their own folders");

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "floorcast/core/file_io.hpp"
+#include "floorcast/core/limits.hpp"
 #include "floorcast/core/types.hpp"
 
 // PNG through libpng directly, not OpenCV's imgcodecs: imgcodecs links GDAL, GDCM, OpenEXR and
@@ -17,7 +18,6 @@
 namespace floorcast {
 namespace {
 
-constexpr std::size_t kMaxImagePixels = std::size_t{1} << 28;  // 268 M pixels
 
 struct PngError {
   std::string message;
@@ -75,8 +75,9 @@ bool decode_png_into(const std::string& bytes, cv::Mat& image, std::vector<png_b
   png_read_info(png, info);
   const png_uint_32 width = png_get_image_width(png, info);
   const png_uint_32 height = png_get_image_height(png, info);
-  if (static_cast<std::size_t>(width) * height > kMaxImagePixels) {
-    png_error(png, "the image is larger than 2^28 pixels");
+  // Checked against max_image_pixels by the caller from the IHDR bytes; this is the backstop.
+  if (static_cast<double>(width) * static_cast<double>(height) > input_limit("max_image_pixels")) {
+    png_error(png, "the image is larger than the limit max_image_pixels");
   }
   const int color = png_get_color_type(png, info);
   const int depth = png_get_bit_depth(png, info);
@@ -164,7 +165,7 @@ cv::Mat decode_netpbm(const std::string& bytes, const std::string& path) {
   const std::size_t height = number("height");
   const std::size_t maxval = number("maximum value");
   if (maxval > 65535) throw InputError(path + ": netpbm header: maximum value above 65535");
-  if (width * height > kMaxImagePixels) throw InputError(path + ": the image is larger than 2^28 pixels");
+  check_image_size(static_cast<long long>(width), static_cast<long long>(height), path);
   ++i;  // the single white-space character before the raster
   const int channels = colour ? 3 : 1;
   const bool wide = maxval > 255;
@@ -205,6 +206,11 @@ std::string encode_png(const cv::Mat& image) {
 cv::Mat decode_image(const std::string& bytes, const std::string& path) {
   static const unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (bytes.size() >= 8 && std::memcmp(bytes.data(), kPngSignature, 8) == 0) {
+    if (bytes.size() >= 24 && bytes.compare(12, 4, "IHDR") == 0) {
+      const auto u = [&](std::size_t i) { return static_cast<long long>(static_cast<unsigned char>(bytes[i])); };
+      check_image_size((u(16) << 24) | (u(17) << 16) | (u(18) << 8) | u(19),
+                       (u(20) << 24) | (u(21) << 16) | (u(22) << 8) | u(23), path);
+    }
     cv::Mat image;
     std::vector<png_bytep> rows;
     PngError error;
@@ -213,6 +219,11 @@ cv::Mat decode_image(const std::string& bytes, const std::string& path) {
   }
   if (bytes.size() >= 3 && bytes[0] == 'P' && (bytes[1] == '5' || bytes[1] == '6')) return decode_netpbm(bytes, path);
   throw InputError(path + ": cannot decode image: not a PNG or binary PGM/PPM file (the formats floorcast reads)");
+}
+
+void check_image_size(long long width, long long height, const std::string& what) {
+  check_limit("max_image_pixels", static_cast<double>(width) * static_cast<double>(height),
+              what + ": image of " + std::to_string(width) + " x " + std::to_string(height) + " pixels:", "pixels");
 }
 
 void write_png(const std::string& path, const cv::Mat& image) {

@@ -4,6 +4,8 @@
 
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/json_reader.hpp"
+#include "floorcast/core/json_text.hpp"
+#include "floorcast/core/limits.hpp"
 
 namespace floorcast {
 namespace {
@@ -64,12 +66,7 @@ std::string observation_to_json_text(const ObservationRecord& rec) {
 }
 
 ObservationRecord parse_observation_json(const std::string& text, const std::string& source_name) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(source_name + ": malformed JSON: " + e.what());
-  }
+  const nlohmann::json j = parse_json_text(text, source_name);
   const JsonReader r(j, source_name, "");
   r.only({"format", "format_version", "frame", "source", "max_range_m", "segments_m", "segment_labels", "ray_ranges_m",
           "ground_truth", "metadata"});
@@ -84,6 +81,7 @@ ObservationRecord parse_observation_json(const std::string& text, const std::str
   o.max_range_m = r.number("max_range_m", 1e-6, 1e5);
   const nlohmann::json& segs = r.raw("segments_m");
   if (!segs.is_array()) r.fail_key("segments_m", "expected an array of [ax, ay, bx, by]");
+  check_limit("max_segments", static_cast<double>(segs.size()), source_name + ": segments_m", "segments");
   for (std::size_t i = 0; i < segs.size(); ++i) {
     const std::string key = "segments_m[" + std::to_string(i) + "]";
     const nlohmann::json& s = segs[i];
@@ -110,6 +108,14 @@ ObservationRecord parse_observation_json(const std::string& text, const std::str
     }
   }
   if (r.has("ray_ranges_m")) {
+    const nlohmann::json& rays = r.raw("ray_ranges_m");
+    if (rays.is_array()) {
+      check_limit("max_rays", static_cast<double>(rays.size()), source_name + ": ray_ranges_m", "rays");
+      if (rays.size() < 4) {
+        r.fail_key("ray_ranges_m", "has " + std::to_string(rays.size()) +
+                                       " rays; equiangular rays come in at least 4 (leave the key out when there are none)");
+      }
+    }
     o.ray_ranges_m = r.numbers("ray_ranges_m", -1);
     for (std::size_t i = 0; i < o.ray_ranges_m.size(); ++i) {
       if (o.ray_ranges_m[i] < 0.0 || o.ray_ranges_m[i] > o.max_range_m * (1.0 + 1e-12)) {

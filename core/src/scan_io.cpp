@@ -9,6 +9,8 @@
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/image_io.hpp"
 #include "floorcast/core/json_reader.hpp"
+#include "floorcast/core/json_text.hpp"
+#include "floorcast/core/limits.hpp"
 #include "floorcast/core/pose_json.hpp"
 
 namespace floorcast {
@@ -138,16 +140,9 @@ void save_scan(const std::string& dir, const Scan& scan) {
   write_text_file_atomic(dir + "/scan.json", scan_json_text(scan));
 }
 
-Scan load_scan(const std::string& dir, const ScanLoadOptions& options) {
-  const std::string json_path = dir + "/scan.json";
-  if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": not a scan folder (no such directory)");
-  if (!std::filesystem::is_regular_file(json_path)) throw InputError(json_path + ": missing (not a scan folder?)");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(read_text_file(json_path));
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(json_path + ": malformed JSON: " + e.what());
-  }
+ScanDescription parse_scan_description(const std::string& json_text, const std::string& json_path,
+                                       bool require_depth) {
+  const nlohmann::json j = parse_json_text(json_text, json_path);
   const JsonReader r(j, json_path, "");
   if (!r.has("format") || r.string("format") != "floorcast-scan") r.fail_key("format", "expected \"floorcast-scan\"");
   const long long version = r.integer("format_version", 0, 1000000);
@@ -161,12 +156,15 @@ Scan load_scan(const std::string& dir, const ScanLoadOptions& options) {
     r.fail_key("format_version", "unsupported (this floorcast reads versions 1 and " +
                                      std::to_string(kScanFormatVersion) + ")");
   }
-  const double unit = r.has("depth_unit_m") ? r.number("depth_unit_m", 1e-6, 1.0) : kDepthUnitM;
-  Scan scan;
+  ScanDescription d;
+  d.depth_unit_m = r.has("depth_unit_m") ? r.number("depth_unit_m", 1e-6, 1.0) : kDepthUnitM;
+  Scan& scan = d.scan;
   if (r.has("sensor")) scan.sensor = r.string("sensor");
 
   const nlohmann::json& jviews = r.raw("views");
   if (!jviews.is_array() || jviews.empty()) r.fail_key("views", "expected a non-empty array");
+  check_limit("max_views", static_cast<double>(jviews.size()), json_path + ": views", "views");
+  double pixels = 0.0;
   for (std::size_t k = 0; k < jviews.size(); ++k) {
     const JsonReader v(jviews[k], json_path, "views[" + std::to_string(k) + "]");
     v.only({"view_index", "intrinsics", "T_scan_camera", "depth", "glass_mask", "confidence", "rgb"});
@@ -181,40 +179,66 @@ Scan load_scan(const std::string& dir, const ScanLoadOptions& options) {
     view.intrinsics.cx_px = in.number("cx_px", -1e5, 1e5);
     view.intrinsics.cy_px = in.number("cy_px", -1e5, 1e5);
     view.T_scan_camera = pose_matrix_from_json(v, v.raw("T_scan_camera"), "T_scan_camera");
-    const int W = view.intrinsics.width_px, H = view.intrinsics.height_px;
+    check_image_size(view.intrinsics.width_px, view.intrinsics.height_px, json_path + ": views[" + std::to_string(k) + "]");
+    pixels += static_cast<double>(view.intrinsics.width_px) * view.intrinsics.height_px;
     auto file = [&](const std::string& key) {
+      if (!v.has(key)) return std::string();
       const std::string name = v.string(key);
-      if (name.empty() || name.find('/') != std::string::npos || name.find('\\') != std::string::npos) {
+      if (name.empty() || name.find('/') != std::string::npos || name.find('\\') != std::string::npos || name == "." ||
+          name == "..") {
         v.fail_key(key, "must be a plain file name inside the scan folder");
       }
-      return dir + "/" + name;
+      return name;
     };
-    if (v.has("depth")) {
-      const cv::Mat mm = read_png(file("depth"), CV_16U, W, H, "depth");
-      mm.convertTo(view.depth_m, CV_32F, unit);
-    } else if (options.require_depth) {
+    if (!v.has("depth") && require_depth) {
       v.fail_key("depth", "missing (a scan without depth images needs depth maps from elsewhere: floorcast observe "
                           "SCAN_DIR --depth-dir DIR)");
     }
-    if (v.has("rgb")) {
-      const std::string path = file("rgb");
-      view.rgb_file = v.string("rgb");
+    ScanDescription::Files f;
+    f.depth = file("depth");
+    f.rgb = file("rgb");
+    f.glass_mask = file("glass_mask");
+    f.confidence = file("confidence");
+    view.rgb_file = f.rgb;
+    d.files.push_back(f);
+    scan.views.push_back(std::move(view));
+  }
+  // Every view's images are decoded at once: their pixels together are one scan's points.
+  check_limit("max_points", pixels, json_path + ": pixels of all views", "pixels");
+  return d;
+}
+
+Scan load_scan(const std::string& dir, const ScanLoadOptions& options) {
+  const std::string json_path = dir + "/scan.json";
+  if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": not a scan folder (no such directory)");
+  if (!std::filesystem::is_regular_file(json_path)) throw InputError(json_path + ": missing (not a scan folder?)");
+  ScanDescription d = parse_scan_description(read_text_file(json_path), json_path, options.require_depth);
+  Scan& scan = d.scan;
+  for (std::size_t k = 0; k < scan.views.size(); ++k) {
+    DepthView& view = scan.views[k];
+    const ScanDescription::Files& f = d.files[k];
+    const int W = view.intrinsics.width_px, H = view.intrinsics.height_px;
+    if (!f.depth.empty()) {
+      const cv::Mat mm = read_png(dir + "/" + f.depth, CV_16U, W, H, "depth");
+      mm.convertTo(view.depth_m, CV_32F, d.depth_unit_m);
+    }
+    if (!f.rgb.empty()) {
+      const std::string path = dir + "/" + f.rgb;
       if (options.load_rgb) {
         view.rgb = read_colour(path, W, H);
       } else if (!std::filesystem::is_regular_file(path)) {
         throw InputError(path + ": colour image missing");
       }
     }
-    if (v.has("glass_mask")) view.glass_mask = read_png(file("glass_mask"), CV_8U, W, H, "glass mask");
-    if (v.has("confidence")) {
-      view.confidence = read_png(file("confidence"), CV_8U, W, H, "confidence");
+    if (!f.glass_mask.empty()) view.glass_mask = read_png(dir + "/" + f.glass_mask, CV_8U, W, H, "glass mask");
+    if (!f.confidence.empty()) {
+      view.confidence = read_png(dir + "/" + f.confidence, CV_8U, W, H, "confidence");
       double lo = 0.0, hi = 0.0;
       cv::minMaxLoc(view.confidence, &lo, &hi);
-      if (hi > 2.0) throw InputError(file("confidence") + ": confidence values must be 0, 1 or 2");
+      if (hi > 2.0) throw InputError(dir + "/" + f.confidence + ": confidence values must be 0, 1 or 2");
     }
-    scan.views.push_back(std::move(view));
   }
-  return scan;
+  return std::move(d.scan);
 }
 
 }  // namespace floorcast

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "floorcast/core/format.hpp"
+#include "floorcast/core/json_text.hpp"
 #include "floorcast/core/types.hpp"
 
 namespace floorcast {
@@ -19,13 +20,20 @@ bool lookup(const Json& summary, const std::string& pointer, double& value, std:
     why = "bad JSON pointer \"" + pointer + "\"";
     return false;
   }
-  if (!summary.contains(ptr)) {
+  const Json* found = nullptr;
+  try {
+    // contains() and at() throw for an array index that does not fit a size_t.
+    if (summary.contains(ptr)) found = &summary.at(ptr);
+  } catch (const Json::exception&) {
+    found = nullptr;
+  }
+  if (!found) {
     why = pointer + " is missing from the summary";
     return false;
   }
-  const Json& v = summary.at(ptr);
+  const Json& v = *found;
   if (!v.is_number()) {
-    why = pointer + " is not a number (" + v.dump() + ")";
+    why = pointer + " is not a number (" + json_excerpt(v) + ")";
     return false;
   }
   value = v.get<double>();
@@ -114,9 +122,11 @@ GateOutcome evaluate_gate(const Json& summary, const Json& baseline, const std::
         throw InputError(where + ": needs a \"" + key + "\" pointer string");
     if (!r.contains("baseline") || !r["baseline"].is_number() || !(r["baseline"].get<double>() > 0.0))
       throw InputError(where + ": needs a positive \"baseline\" ratio");
-    const double tol = r.value("tolerance", 0.5);
+    if (r.contains("tolerance") && !r["tolerance"].is_number()) throw InputError(where + ": \"tolerance\" must be a number");
+    const double tol = r.contains("tolerance") ? r["tolerance"].get<double>() : 0.5;
     if (!(tol >= 0.0)) throw InputError(where + ": \"tolerance\" must be >= 0");
-    const std::string name = r.value("name", r["numerator"].get<std::string>());
+    if (r.contains("name") && !r["name"].is_string()) throw InputError(where + ": \"name\" must be a string");
+    const std::string name = r.contains("name") ? r["name"].get<std::string>() : r["numerator"].get<std::string>();
     double num = 0.0, den = 0.0;
     std::string why;
     if (!lookup(summary, r["numerator"], num, why) || !lookup(summary, r["denominator"], den, why)) {

@@ -11,13 +11,16 @@
 #include <set>
 #include <sstream>
 
+#include "floorcast/core/json_text.hpp"
+#include "floorcast/core/limits.hpp"
+
 namespace floorcast {
 namespace {
 
 using Json = nlohmann::json;
 using OrderedJson = nlohmann::ordered_json;
 
-std::string quoted(const std::string& s) { return "\"" + s + "\""; }
+std::string quoted(const std::string& s) { return "\"" + printable_text(s, 80) + "\""; }
 
 /// Names one element in messages: `walls[3] (id "w3")`.
 std::string element_name(const char* array, std::size_t index, const std::string& id) {
@@ -73,23 +76,23 @@ class Reader {
 
   int integer(const char* key) const {
     const Json& v = get(key);
-    if (!v.is_number_integer()) fail("field " + quoted(key) + " must be an integer, got " + v.dump());
+    if (!v.is_number_integer()) fail("field " + quoted(key) + " must be an integer, got " + json_excerpt(v));
     const auto value = v.get<long long>();
-    if (value < -1000000 || value > 1000000) fail("field " + quoted(key) + " is out of range: " + v.dump());
+    if (value < -1000000 || value > 1000000) fail("field " + quoted(key) + " is out of range: " + json_excerpt(v));
     return static_cast<int>(value);
   }
 
   Vec2 point(const char* key) const {
     const Json& v = get(key);
     if (!v.is_array() || v.size() != 2) {
-      fail("field " + quoted(key) + " must be an array [x, y] of two numbers, got " + v.dump());
+      fail("field " + quoted(key) + " must be an array [x, y] of two numbers, got " + json_excerpt(v));
     }
     return {as_number(v[0], key), as_number(v[1], key)};
   }
 
  private:
   double as_number(const Json& v, const char* key) const {
-    if (!v.is_number()) fail("field " + quoted(key) + " must be a number, got " + v.dump());
+    if (!v.is_number()) fail("field " + quoted(key) + " must be a number, got " + json_excerpt(v));
     const double x = v.get<double>();
     if (!std::isfinite(x)) fail("field " + quoted(key) + " is not a finite number");
     return x;
@@ -111,6 +114,12 @@ const Json& array_field(const Json& root, const char* key, const std::string& so
     throw InputError(source + ": field " + quoted(key) + " must be an array, got " + v.type_name());
   }
   return v;
+}
+
+std::string format_extent(double w, double h) {
+  std::ostringstream os;
+  os << w << " m x " << h << " m";
+  return os.str();
 }
 
 void check_point(const Vec2& p, const PlanLimits& limits, const std::function<void(const std::string&)>& fail,
@@ -142,10 +151,24 @@ void check_range(double value, double lo, double hi, const std::function<void(co
 
 void validate_floor_plan(const FloorPlan& plan, const std::string& source, const PlanLimits& limits) {
   if (plan.walls.empty()) throw InputError(source + ": plan has no walls");
+  check_limit("max_plan_elements",
+              static_cast<double>(plan.walls.size() + plan.doors.size() + plan.windows.size() + plan.obstacles.size() +
+                                  plan.rooms.size()),
+              source + ": plan elements (walls, doors, windows, obstacles, rooms)");
+
+  auto check_text = [&](const std::string& text, const std::string& what) {
+    std::size_t bad = 0;
+    if (!valid_utf8(text, &bad)) {
+      throw InputError(source + ": " + what + " is not valid UTF-8 (byte " + std::to_string(bad) + " of \"" +
+                       printable_text(text, 60) + "\")");
+    }
+  };
+  check_text(plan.name, "name");
 
   std::map<std::string, std::string> seen_ids;  // id -> element name
   auto check_id = [&](const std::string& id, const std::string& name) {
     if (id.empty()) throw InputError(source + ": " + name + ": empty id");
+    check_text(id, name + ": id");
     auto [it, inserted] = seen_ids.emplace(id, name);
     if (!inserted) throw InputError(source + ": " + name + ": duplicate id " + quoted(id) + " (also used by " + it->second + ")");
   };
@@ -262,25 +285,29 @@ void validate_floor_plan(const FloorPlan& plan, const std::string& source, const
     const std::string name = element_name("rooms", i, room.id);
     auto fail = [&](const std::string& reason) { throw InputError(source + ": " + name + ": " + reason); };
     if (room.id.empty()) fail("empty id");
+    check_text(room.id, name + ": id");
+    check_text(room.kind, name + ": kind");
     if (!room_ids.insert(room.id).second) fail("duplicate room id " + quoted(room.id));
     if (room.kind.empty()) fail("empty kind");
     auto check_ring = [&](const std::vector<Vec2>& ring, const std::string& what) {
       if (ring.size() < 3) fail(what + " needs at least 3 points, got " + std::to_string(ring.size()));
+      check_limit("max_vertices_per_element", static_cast<double>(ring.size()), source + ": " + name + ": " + what,
+                  "vertices");
       for (const Vec2& v : ring) check_point(v, limits, fail, (what + " point").c_str());
     };
     check_ring(room.polygon_m, "polygon");
     for (std::size_t h = 0; h < room.holes_m.size(); ++h) check_ring(room.holes_m[h], "holes[" + std::to_string(h) + "]");
   }
+  // Every raster over the plan scales with its extent (walls and obstacles).
+  const Eigen::Vector4d box = plan_bbox_m(plan);
+  const double w = box[2] - box[0], h = box[3] - box[1];
+  check_limit("max_plan_extent_m", std::max(w, h), source + ": plan extent " + format_extent(w, h) + ": longer side",
+              "m");
 }
 
 FloorPlan parse_floor_plan_json(const std::string& json_text, const std::string& source,
                                 const PlanLimits& limits) {
-  Json root;
-  try {
-    root = Json::parse(json_text);
-  } catch (const Json::exception& e) {
-    throw InputError(source + ": malformed JSON: " + e.what());
-  }
+  const Json root = parse_json_text(json_text, source);
   if (!root.is_object()) throw InputError(source + ": top level must be a JSON object");
 
   Reader top(root, source, "plan");
@@ -296,6 +323,12 @@ FloorPlan parse_floor_plan_json(const std::string& json_text, const std::string&
   plan.level = top.has("level") ? top.integer("level") : 0;
 
   const Json& walls = array_field(root, "walls", source, true);
+  // Counted before any element is built (validate_floor_plan checks the same on the result).
+  check_limit("max_plan_elements",
+              static_cast<double>(walls.size() + array_field(root, "doors", source, false).size() +
+                                  array_field(root, "windows", source, false).size() +
+                                  array_field(root, "obstacles", source, false).size()),
+              source + ": plan elements (walls, doors, windows, obstacles)");
   for (std::size_t i = 0; i < walls.size(); ++i) {
     const std::string id = walls[i].is_object() && walls[i].contains("id") && walls[i]["id"].is_string()
                                ? walls[i]["id"].get<std::string>() : std::string();

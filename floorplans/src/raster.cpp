@@ -57,15 +57,28 @@ void paint_footprint(cv::Mat& occ, const GridSpec& grid, const Footprint& f) {
 }  // namespace
 
 GridSpec grid_for_plan(const FloorPlan& plan, double resolution_m_per_px, double margin_m) {
+  if (!(std::isfinite(resolution_m_per_px) && resolution_m_per_px > 0.0)) {
+    throw InputError("raster over plan \"" + plan.name + "\": resolution " + std::to_string(resolution_m_per_px) +
+                     " m/px is not a positive finite number");
+  }
+  if (!(std::isfinite(margin_m) && margin_m >= 0.0)) {
+    throw InputError("raster over plan \"" + plan.name + "\": margin " + std::to_string(margin_m) +
+                     " m is not a non-negative finite number");
+  }
   const Eigen::Vector4d box = plan_bbox_m(plan);
+  if (!box.allFinite()) throw InputError("raster over plan \"" + plan.name + "\": the plan has no finite extent");
   GridSpec g;
   g.resolution_m_per_px = resolution_m_per_px;
   g.origin_x_m = std::floor((box[0] - margin_m) / resolution_m_per_px) * resolution_m_per_px;
   g.origin_y_m = std::floor((box[1] - margin_m) / resolution_m_per_px) * resolution_m_per_px;
-  g.width_px = static_cast<int>(std::ceil((box[2] + margin_m - g.origin_x_m) / resolution_m_per_px));
-  g.height_px = static_cast<int>(std::ceil((box[3] + margin_m - g.origin_y_m) / resolution_m_per_px));
-  g.width_px = std::max(g.width_px, 1);
-  g.height_px = std::max(g.height_px, 1);
+  const double width = std::max(1.0, std::ceil((box[2] + margin_m - g.origin_x_m) / resolution_m_per_px));
+  const double height = std::max(1.0, std::ceil((box[3] + margin_m - g.origin_y_m) / resolution_m_per_px));
+  // Checked in doubles, before the sizes are cast to int or anything is allocated.
+  check_raster_budget(width, height, resolution_m_per_px, kPlanRasterBytesPerCell,
+                      "plan \"" + plan.name + "\"");
+  if (width > 2.0e9 || height > 2.0e9) throw InputError("raster over plan \"" + plan.name + "\": side too long");
+  g.width_px = static_cast<int>(width);
+  g.height_px = static_cast<int>(height);
   return g;
 }
 

@@ -3,6 +3,7 @@
 #include "floorcast/floorplans/render.hpp"
 
 #include "floorcast/floorplans/figure.hpp"
+#include "floorcast/core/image_io.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -134,6 +135,7 @@ Scene build_scene(const FloorPlan& plan, const RenderOptions& o) {
        << " px at " << s << " px/m (limit " << o.max_side_px << " px per side); lower --px-per-m";
     throw InputError(os.str());
   }
+  check_image_size(static_cast<long long>(width_d), static_cast<long long>(height_d), "render");
   Scene sc;
   sc.width = static_cast<int>(width_d);
   sc.height = static_cast<int>(height_d);

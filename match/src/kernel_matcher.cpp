@@ -275,6 +275,13 @@ KernelMatcher::KernelMatcher(const FloorPlan& plan, const KernelMatcherParams& p
   if (params_.scales.empty()) throw InputError("matcher kernel: no scale candidates");
   const auto t0 = Clock::now();
   grid_ = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
+  {
+    // Memory refused before any raster is allocated: the plan, CES and valid rasters, their float
+    // copies and spectra, per-thread FFT workspaces, and one posterior slice per candidate yaw.
+    const OrientationParams& o = params_.orientation;
+    const double yaws = o.mode == OrientationMode::kDense ? std::ceil(360.0 / o.dense_step_deg) : 4.0 * o.num_orientations;
+    check_raster_budget(grid_, 64.0 + 4.0 * yaws, "matcher kernel");
+  }
   const std::vector<LabeledSegment> outline = blocking_outline(plan, params_.blocking);
   impl_->plan_segments = outline_segments(outline);
   const LineRule rule = params_.line_rule;

@@ -1,4 +1,5 @@
 #include "floorcast/match/ray_matcher.hpp"
+#include "floorcast/core/limits.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -134,6 +135,10 @@ void RayMatcherParams::apply_shared(const SharedParams& shared) {
 
 DistanceVolume RayMatcher::compute_volume(const FloorPlan& plan, const RayMatcherParams& params) {
   const GridSpec grid = grid_for_plan(plan, params.resolution_m, params.grid_margin_m);
+  // Refused before the volume is allocated: cell index, stored cells and their D 16-bit
+  // distances, and the D float posterior slices of a match (every cell counted as valid).
+  check_limit("max_rays", params.num_directions, "matcher ray: num_directions", "rays");
+  check_raster_budget(grid, 8.0 + 6.0 * params.num_directions, "matcher ray");
   const std::vector<Segment2> outline = outline_segments(blocking_outline(plan, params.blocking));
   const cv::Mat valid = matcher_valid_mask(plan, grid, params.blocking);
   return compute_distance_volume(outline, grid, valid, params.num_directions, params.max_range_m);

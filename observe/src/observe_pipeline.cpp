@@ -7,6 +7,9 @@
 #include <sstream>
 
 #include "floorcast/observe/observation_module.hpp"
+
+#include "floorcast/core/limits.hpp"
+#include "floorcast/core/params.hpp"
 #include "floorcast/core/format.hpp"
 
 namespace floorcast {
@@ -54,6 +57,10 @@ void observe_mono(const Scan& scan, const ObservationParams& params, Observation
   std::vector<double> rel(views.size(), 1.0);
   t = Clock::now();
   if (params.scale.mode == ScaleAlignment::kFull && views.size() >= 2) {
+    if (params.scale.reference_view >= static_cast<int>(views.size())) {
+      diag.warnings.push_back("scale.reference_view " + std::to_string(params.scale.reference_view) + ": only " +
+                              std::to_string(views.size()) + " views kept, the last kept view is the reference");
+    }
     diag.relative = estimate_relative_scales(views, params.scale);
     rel = diag.relative.scales;
     out.stage_s["scale_alignment.setup"] = diag.relative.setup_s;
@@ -247,6 +254,26 @@ PointCloud3f slice_slab(const PointCloud3f& cloud, double half, double voxel_m, 
 
 ObservationResult observe_scan(const Scan& scan, const ObservationParams& params) {
   const auto t0 = Clock::now();
+  validate(params);
+  check_limit("max_views", static_cast<double>(scan.views.size()), "scan", "views");
+  {
+    // Back-projected points, bounded before any cloud is allocated.
+    const BackProjectionParams& bp = params.path == ObservationPath::kMono ? params.back_projection : params.lidar.back_projection;
+    const double stride = std::max(1, bp.pixel_stride);
+    double points = 0.0;
+    for (const DepthView& v : scan.views) {
+      points += std::ceil(v.intrinsics.width_px / stride) * std::ceil(v.intrinsics.height_px / stride);
+    }
+    check_limit("max_points", points, "scan back-projection (pixels of every view / pixel_stride^2)", "points");
+  }
+  if (params.path == ObservationPath::kMono && params.scale.mode == ScaleAlignment::kFull &&
+      params.scale.reference_view >= static_cast<int>(scan.views.size())) {
+    throw ParameterError("observation parameters: \"scale.reference_view\": " +
+                             std::to_string(params.scale.reference_view) + " is not a view of this scan (it has " +
+                             std::to_string(scan.views.size()) + " views: 0 to " +
+                             std::to_string(static_cast<long long>(scan.views.size()) - 1) + ")",
+                         "scale.reference_view");
+  }
   ObservationResult out;
   out.diagnostics.path = to_string(params.path);
   out.diagnostics.scale_alignment =

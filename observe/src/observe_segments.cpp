@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "floorcast/core/grid.hpp"
 #include "floorcast/observe/observation_module.hpp"
 #include "floorcast/core/math.hpp"
 
@@ -142,7 +143,10 @@ SegmentExtractionResult extract_segments_2d(const std::vector<Eigen::Vector2d>& 
   if (!(res_m > 0.0)) throw InputError("segments.resolution_m_per_px must be > 0");
   double extent = 0.0;
   for (const auto& p : points_m) extent = std::max({extent, std::abs(p.x()), std::abs(p.y())});
-  const int half_px = static_cast<int>(std::ceil(extent / res_m)) + 2;
+  // The raster spans the points (within the slice's range): refused before it is allocated.
+  const double half = std::ceil(extent / res_m) + 2.0;
+  check_raster_budget(2.0 * half, 2.0 * half, res_m, 2.0, "observation slice (segments.resolution_m_per_px)");
+  const int half_px = static_cast<int>(half);
   res.origin_x_m = -half_px * res_m;
   res.origin_y_m = -half_px * res_m;
   res.raster = cv::Mat(2 * half_px, 2 * half_px, CV_8U, cv::Scalar(0));

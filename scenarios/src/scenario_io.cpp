@@ -2,16 +2,20 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/core/hash.hpp"
+#include "floorcast/core/json_text.hpp"
+#include "floorcast/core/limits.hpp"
 #include "floorcast/core/params.hpp"
 #include "floorcast/core/types.hpp"
 #include "floorcast/sim/scan_io.hpp"
@@ -31,57 +35,167 @@ struct Located {
   std::map<std::string, YAML::Mark> marks;  // dotted path -> position
 };
 
-Json scalar_to_json(const YAML::Node& node) {
-  const std::string& s = node.Scalar();
-  if (node.Tag() == "!") return s;  // quoted: always a string
-  static const std::regex integer(R"([-+]?[0-9]+)");
-  static const std::regex real(R"([-+]?([0-9]+\.[0-9]*|\.[0-9]+|[0-9]+)([eE][-+]?[0-9]+)?)");
-  if (s == "true") return true;
-  if (s == "false") return false;
-  if (s == "null" || s == "~" || s.empty()) return nullptr;
-  if (std::regex_match(s, integer)) {
-    try {
-      return std::stoll(s);
-    } catch (...) {
-      return s;
-    }
-  }
-  if (std::regex_match(s, real)) return std::stod(s);
-  return s;
+std::string mark_text(const std::string& source, const YAML::Mark& mark) {
+  if (mark.line < 0) return source;
+  return source + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
 }
 
-void convert(const YAML::Node& node, const std::string& path, OJson& out, std::map<std::string, YAML::Mark>& marks) {
-  marks[path] = node.Mark();
-  switch (node.Type()) {
-    case YAML::NodeType::Map:
-      out = OJson::object();
-      for (const auto& kv : node) {
-        const std::string key = kv.first.as<std::string>();
-        const std::string child = path.empty() ? key : path + "." + key;
-        marks[child] = kv.first.Mark();
-        OJson v;
-        convert(kv.second, child, v, marks);
-        marks[child] = kv.first.Mark();  // messages about a key point at the key
-        out[key] = std::move(v);
-      }
-      break;
-    case YAML::NodeType::Sequence: {
-      out = OJson::array();
-      std::size_t i = 0;
-      for (const auto& item : node) {
-        OJson v;
-        convert(item, path + "[" + std::to_string(i) + "]", v, marks);
-        out.push_back(std::move(v));
-        ++i;
-      }
-      break;
-    }
-    case YAML::NodeType::Scalar:
-      out = scalar_to_json(node);
-      break;
-    default:
-      out = nullptr;
+/// Is `s` a YAML integer ([-+]?[0-9]+) or real ([-+]?(digits[.digits]|.digits)([eE][-+]?digits)?)?
+/// Hand-written: std::regex recurses per character and overflows the stack on long scalars.
+enum class NumberKind { kNone, kInteger, kReal };
+NumberKind number_kind(const std::string& s) {
+  std::size_t i = 0;
+  const std::size_t n = s.size();
+  auto digits = [&] {
+    const std::size_t start = i;
+    while (i < n && s[i] >= '0' && s[i] <= '9') ++i;
+    return i - start;
+  };
+  if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
+  const std::size_t int_digits = digits();
+  if (i == n) return int_digits > 0 ? NumberKind::kInteger : NumberKind::kNone;
+  std::size_t frac_digits = 0;
+  if (s[i] == '.') {
+    ++i;
+    frac_digits = digits();
   }
+  if (int_digits == 0 && frac_digits == 0) return NumberKind::kNone;
+  if (i < n && (s[i] == 'e' || s[i] == 'E')) {
+    ++i;
+    if (i < n && (s[i] == '+' || s[i] == '-')) ++i;
+    if (digits() == 0) return NumberKind::kNone;
+  }
+  return i == n ? NumberKind::kReal : NumberKind::kNone;
+}
+
+/// Converts a YAML document to JSON with bounded work: nesting depth (max_nesting_depth), nodes
+/// after alias expansion (max_yaml_nodes: "billion laughs"), recursive aliases refused; keys must
+/// be unique scalars, text valid UTF-8, numbers finite. Errors carry file:line:column.
+class YamlConverter {
+ public:
+  YamlConverter(std::string source, std::map<std::string, YAML::Mark>& marks)
+      : source_(std::move(source)),
+        marks_(marks),
+        max_depth_(input_limits().max_nesting_depth),
+        max_nodes_(input_limits().max_yaml_nodes) {}
+
+  void convert(const YAML::Node& node, const std::string& path, OJson& out) {
+    if (++nodes_ > max_nodes_) {
+      throw LimitError(mark_text(source_, node.Mark()) + ": the document expands (aliases counted each time they are "
+                           "used) to more than " + std::to_string(static_cast<long long>(max_nodes_)) +
+                           " nodes: exceeds the limit max_yaml_nodes (raise it with "
+                           "FLOORCAST_LIMITS=max_yaml_nodes=N; docs/limits.md)",
+                       "max_yaml_nodes");
+    }
+    for (const YAML::Node& a : ancestors_) {
+      if (a.is(node)) {
+        throw InputError(mark_text(source_, node.Mark()) + ": " + (path.empty() ? std::string("document") : path) +
+                         ": recursive alias (a node that contains itself)");
+      }
+    }
+    const bool collection = node.Type() == YAML::NodeType::Map || node.Type() == YAML::NodeType::Sequence;
+    if (collection && static_cast<double>(ancestors_.size() + 1) > max_depth_) {
+      throw LimitError(mark_text(source_, node.Mark()) + ": nesting deeper than " +
+                           std::to_string(static_cast<long long>(max_depth_)) +
+                           " levels exceeds the limit max_nesting_depth (raise it with "
+                           "FLOORCAST_LIMITS=max_nesting_depth=N; docs/limits.md)",
+                       "max_nesting_depth");
+    }
+    marks_.emplace(path, node.Mark());
+    switch (node.Type()) {
+      case YAML::NodeType::Map: {
+        ancestors_.push_back(node);
+        out = OJson::object();
+        for (const auto& kv : node) {
+          if (kv.first.Type() != YAML::NodeType::Scalar) {
+            throw InputError(mark_text(source_, kv.first.Mark()) + ": " + (path.empty() ? std::string("document") : path) +
+                             ": mapping keys must be plain text");
+          }
+          const std::string key = kv.first.Scalar();
+          check_text(key, kv.first.Mark());
+          const std::string child = path.empty() ? key : path + "." + key;
+          if (out.contains(key)) {
+            throw InputError(mark_text(source_, kv.first.Mark()) + ": " + child + ": duplicate key \"" + key + "\"");
+          }
+          OJson v;
+          convert(kv.second, child, v);
+          marks_[child] = kv.first.Mark();  // messages about a key point at the key
+          out[key] = std::move(v);
+        }
+        ancestors_.pop_back();
+        break;
+      }
+      case YAML::NodeType::Sequence: {
+        ancestors_.push_back(node);
+        out = OJson::array();
+        std::size_t i = 0;
+        for (const auto& item : node) {
+          OJson v;
+          convert(item, path + "[" + std::to_string(i) + "]", v);
+          out.push_back(std::move(v));
+          ++i;
+        }
+        ancestors_.pop_back();
+        break;
+      }
+      case YAML::NodeType::Scalar:
+        out = scalar(node, path);
+        break;
+      default:
+        out = nullptr;
+    }
+  }
+
+ private:
+  void check_text(const std::string& text, const YAML::Mark& mark) const {
+    std::size_t bad = 0;
+    if (!valid_utf8(text, &bad)) {
+      throw InputError(mark_text(source_, mark) + ": text is not valid UTF-8 (byte " + std::to_string(bad) + " of \"" +
+                       printable_text(text, 60) + "\")");
+    }
+  }
+
+  OJson scalar(const YAML::Node& node, const std::string& path) const {
+    const std::string& s = node.Scalar();
+    check_text(s, node.Mark());
+    if (node.Tag() == "!") return s;  // quoted: always a string
+    if (s == "true") return true;
+    if (s == "false") return false;
+    if (s == "null" || s == "~" || s.empty()) return nullptr;
+    const NumberKind kind = number_kind(s);
+    if (kind == NumberKind::kNone) return s;
+    const std::string where = mark_text(source_, node.Mark()) + ": " + (path.empty() ? std::string("document") : path);
+    errno = 0;
+    if (kind == NumberKind::kInteger) {
+      char* end = nullptr;
+      const long long v = std::strtoll(s.c_str(), &end, 10);
+      if (errno == ERANGE) {
+        throw InputError(where + ": integer " + printable_text(s, 40) + " is out of range (at most 19 digits)");
+      }
+      return v;
+    }
+    const double v = std::strtod(s.c_str(), nullptr);
+    if (!std::isfinite(v) || (errno == ERANGE && std::abs(v) > 1.0)) {
+      throw InputError(where + ": number " + printable_text(s, 40) + " is out of range (beyond +-1.8e308)");
+    }
+    return v;
+  }
+
+  std::string source_;
+  std::map<std::string, YAML::Mark>& marks_;
+  double max_depth_;
+  double max_nodes_;
+  double nodes_ = 0;
+  std::vector<YAML::Node> ancestors_;
+};
+
+/// A label made of letters, digits, _ . - only.
+bool is_label(const std::string& s) {
+  if (s.empty()) return false;
+  for (const char c : s) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '.' && c != '-') return false;
+  }
+  return true;
 }
 
 class Checker {
@@ -123,7 +237,7 @@ class Checker {
     if (!obj.contains(key)) return fallback;
     const OJson& v = obj.at(key);
     const std::string p = join(path, key);
-    if (!v.is_string()) fail(p, std::string("must be a string, got ") + v.dump());
+    if (!v.is_string()) fail(p, std::string("must be a string, got ") + json_excerpt(v));
     const std::string s = v.get<std::string>();
     if (!choices.empty() && std::find(choices.begin(), choices.end(), s) == choices.end()) {
       std::string list;
@@ -137,11 +251,11 @@ class Checker {
     if (!obj.contains(key)) return fallback;
     const OJson& v = obj.at(key);
     const std::string p = join(path, key);
-    if (!v.is_number()) fail(p, std::string("must be a number, got ") + v.dump());
+    if (!v.is_number()) fail(p, std::string("must be a number, got ") + json_excerpt(v));
     const double x = v.get<double>();
     if (!std::isfinite(x) || x < lo || x > hi) {
       std::ostringstream os;
-      os << "must be in [" << lo << ", " << hi << "], got " << v.dump();
+      os << "must be in [" << lo << ", " << hi << "], got " << json_excerpt(v);
       fail(p, os.str());
     }
     return x;
@@ -152,16 +266,16 @@ class Checker {
     if (!obj.contains(key)) return fallback;
     const OJson& v = obj.at(key);
     const std::string p = join(path, key);
-    if (!v.is_number_integer()) fail(p, std::string("must be an integer, got ") + v.dump());
+    if (!v.is_number_integer()) fail(p, std::string("must be an integer, got ") + json_excerpt(v));
     const long long x = v.get<long long>();
-    if (x < lo || x > hi) fail(p, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + v.dump());
+    if (x < lo || x > hi) fail(p, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + json_excerpt(v));
     return x;
   }
 
   bool bool_in(const OJson& obj, const std::string& path, const char* key, bool fallback) const {
     if (!obj.contains(key)) return fallback;
     const OJson& v = obj.at(key);
-    if (!v.is_boolean()) fail(join(path, key), std::string("must be true or false, got ") + v.dump());
+    if (!v.is_boolean()) fail(join(path, key), std::string("must be true or false, got ") + json_excerpt(v));
     return v.get<bool>();
   }
 
@@ -231,8 +345,7 @@ std::vector<BuildingSpec> parse_buildings(const OJson& root, const Checker& chk,
     } else if (b.label.empty()) {
       b.label = b.archetype + "_" + std::to_string(b.seed);
     }
-    static const std::regex label_re("[A-Za-z0-9_.-]+");
-    if (!std::regex_match(b.label, label_re)) chk.fail(path, "label \"" + b.label + "\" may only contain letters, digits, _ . -");
+    if (!is_label(b.label)) chk.fail(path, "label \"" + b.label + "\" may only contain letters, digits, _ . -");
     if (!labels.insert(b.label).second) chk.fail(path, "duplicate building label \"" + b.label + "\"");
     out.push_back(b);
   }
@@ -330,10 +443,9 @@ OJson stage_parameters(const ObservationSpec& o) {
 std::vector<MatcherSpec> parse_matchers(const OJson& obj, const Checker& chk, const SharedParams& shared) {
   if (!obj.is_object() || obj.empty()) chk.fail("matchers", "must be a non-empty mapping label -> {matcher: NAME, ...parameters}");
   std::vector<MatcherSpec> out;
-  static const std::regex label_re("[A-Za-z0-9_.-]+");
   for (auto it = obj.begin(); it != obj.end(); ++it) {
     const std::string path = "matchers." + it.key();
-    if (!std::regex_match(it.key(), label_re)) chk.fail(path, "label may only contain letters, digits, _ . -");
+    if (!is_label(it.key())) chk.fail(path, "label may only contain letters, digits, _ . -");
     if (!it.value().is_object()) chk.fail(path, "must be a mapping {matcher: NAME, ...parameters}");
     MatcherSpec m;
     m.label = it.key();
@@ -376,10 +488,9 @@ std::optional<SequentialSpec> parse_sequential(const OJson& tree, const Checker&
   if (!tree.contains("trackers")) chk.fail("trackers", "a sequential scenario needs trackers: label -> {tracker: pf|hist, matcher: LABEL, ...}");
   const OJson& ts = tree.at("trackers");
   if (!ts.is_object() || ts.empty()) chk.fail("trackers", "must be a non-empty mapping label -> {tracker: NAME, matcher: LABEL, ...parameters}");
-  static const std::regex label_re("[A-Za-z0-9_.-]+");
   for (auto it = ts.begin(); it != ts.end(); ++it) {
     const std::string path = "trackers." + it.key();
-    if (!std::regex_match(it.key(), label_re)) chk.fail(path, "label may only contain letters, digits, _ . -");
+    if (!is_label(it.key())) chk.fail(path, "label may only contain letters, digits, _ . -");
     if (!it.value().is_object()) chk.fail(path, "must be a mapping {tracker: NAME, matcher: LABEL, ...parameters}");
     TrackerSpec t;
     t.label = it.key();
@@ -516,13 +627,19 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
                         const std::string& source_root) {
   YAML::Node doc;
   try {
-    doc = YAML::Load(yaml_text);
+    // Every document is read: a second one is refused rather than silently ignored.
+    const std::vector<YAML::Node> docs = YAML::LoadAll(yaml_text);
+    if (docs.size() > 1) {
+      throw InputError(mark_text(source, docs[1].Mark()) + ": a scenario file holds one YAML document, this one has " +
+                       std::to_string(docs.size()));
+    }
+    if (!docs.empty()) doc = docs.front();
   } catch (const YAML::Exception& e) {
     throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
-                     ": malformed YAML: " + e.msg);
+                     ": malformed YAML: " + printable_text(e.msg));
   }
   Located loc;
-  convert(doc, "", loc.value, loc.marks);
+  YamlConverter(source, loc.marks).convert(doc, "", loc.value);
   const Checker chk(source, loc.marks);
   const OJson& root = loc.value;
   if (!root.is_object()) chk.fail("", "top level must be a mapping");
@@ -574,8 +691,8 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
       if (!t.is_array() || t.empty()) chk.fail("scoring.recall_thresholds_m", "must be a non-empty list of metres");
       s.scoring.recall_thresholds_m.clear();
       for (std::size_t i = 0; i < t.size(); ++i) {
-        if (!t[i].is_number() || t[i].get<double>() <= 0.0)
-          chk.fail("scoring.recall_thresholds_m[" + std::to_string(i) + "]", "must be a positive number");
+        if (!t[i].is_number() || !(t[i].get<double>() > 0.0 && t[i].get<double>() <= 1e3))
+          chk.fail("scoring.recall_thresholds_m[" + std::to_string(i) + "]", "must be a number in (0, 1000] metres");
         s.scoring.recall_thresholds_m.push_back(t[i].get<double>());
       }
     }
@@ -626,10 +743,21 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
     s.sweep_axes.push_back(a.keys);
   }
 
-  // Cartesian product over axes, first axis slowest.
+  // Cartesian product over axes, first axis slowest; its size is checked before any cell exists
+  // (as a double: 2^64 cells must not wrap around to 0).
+  std::vector<double> axis_sizes;
+  for (const auto& a : axes) axis_sizes.push_back(static_cast<double>(a.values.size()));
+  at_key(chk, "sweep", [&] { check_limit("max_sweep_cells", saturating_product(axis_sizes), "sweep cells", "cells"); });
   std::size_t total = 1;
   for (const auto& a : axes) total *= a.values.size();
-  if (total > 100000) chk.fail("sweep", "expands to " + std::to_string(total) + " cells (limit 100000)");
+  at_key(chk, root.contains("sampling") ? "sampling.count" : "buildings", [&] {
+    check_limit("max_units",
+                saturating_product({static_cast<double>(total), static_cast<double>(s.buildings.size()),
+                                    static_cast<double>(s.sampling.count)}),
+                "work units (" + std::to_string(total) + " sweep cells x " + std::to_string(s.buildings.size()) +
+                    " buildings x " + std::to_string(s.sampling.count) + " points)",
+                "units");
+  });
   std::vector<OJson> resolved_observations;
   for (std::size_t c = 0; c < total; ++c) {
     OJson tree;
@@ -639,7 +767,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
       if (root.contains(k)) tree[k] = root.at(k);
     CellSpec cell;
     cell.index = static_cast<int>(c);
-    char id[16];
+    char id[24];
     std::snprintf(id, sizeof id, "c%03zu", c);
     cell.id = id;
     cell.axes = OJson::object();
@@ -817,8 +945,8 @@ Scenario load_scenario(const std::string& path, const std::string& source_root) 
 }
 
 std::vector<Room> load_rooms_file(const std::string& path) {
-  const nlohmann::json j = nlohmann::json::parse(read_text_file(path), nullptr, false);
-  if (j.is_discarded() || !j.is_object() || !j.contains("rooms") || !j["rooms"].is_array()) {
+  const nlohmann::json j = read_json_file(path);
+  if (!j.is_object() || !j.contains("rooms") || !j["rooms"].is_array()) {
     throw InputError(path + ": not a rooms file (expected an object with a \"rooms\" array)");
   }
   std::vector<Room> out;
@@ -829,6 +957,7 @@ std::vector<Room> load_rooms_file(const std::string& path) {
         !room["polygon"].is_array()) {
       throw InputError(where + ": expected \"kind\" (string) and \"polygon\" (array of [x, y])");
     }
+    check_limit("max_vertices_per_element", static_cast<double>(room["polygon"].size()), where + ": polygon", "vertices");
     Room r;
     r.kind = room["kind"].get<std::string>();
     if (room.contains("id") && room["id"].is_string()) r.id = room["id"].get<std::string>();

@@ -2,7 +2,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <regex>
+
+#include "floorcast/core/json_text.hpp"
 
 namespace floorcast {
 
@@ -26,15 +27,19 @@ std::vector<WorkUnit> enumerate_units(const Scenario& scenario) {
 }
 
 ShardSpec parse_shard(const std::string& text) {
-  static const std::regex re(R"(([0-9]+)/([0-9]+))");
-  std::smatch m;
-  if (!std::regex_match(text, m, re)) throw InputError("--shard: expected I/N (e.g. 0/4), got \"" + text + "\"");
+  // I/N with I, N of at most 9 digits each (std::regex would recurse per character).
+  const auto slash = text.find('/');
+  auto number = [&](const std::string& digits, int& out) {
+    if (digits.empty() || digits.size() > 9) return false;
+    for (const char c : digits) {
+      if (c < '0' || c > '9') return false;
+    }
+    out = std::stoi(digits);
+    return true;
+  };
   ShardSpec s;
-  try {
-    s.index = std::stoi(m[1]);
-    s.count = std::stoi(m[2]);
-  } catch (...) {
-    throw InputError("--shard: numbers out of range in \"" + text + "\"");
+  if (slash == std::string::npos || !number(text.substr(0, slash), s.index) || !number(text.substr(slash + 1), s.count)) {
+    throw InputError("--shard: expected I/N with 0 <= I < N (e.g. 0/4), got \"" + printable_text(text, 40) + "\"");
   }
   if (s.count < 1 || s.index >= s.count)
     throw InputError("--shard: need 0 <= I < N, got \"" + text + "\"");

@@ -1,4 +1,5 @@
 #include "floorcast/sim/perfect_observation.hpp"
+#include "floorcast/core/limits.hpp"
 #include "floorcast/core/math.hpp"
 
 #include <algorithm>
@@ -43,6 +44,7 @@ Vec2 ray_line_point(const Vec2& o, double theta, const Segment2& s) {
 
 PerfectObserver::PerfectObserver(const FloorPlan& plan, const PerfectObservationParams& params)
     : params_(params) {
+  check_limit("max_rays", params.num_rays, "perfect observer", "rays");
   outline_ = blocking_outline(plan, params.blocking);
 }
 

@@ -11,6 +11,7 @@
 #include "floorcast/core/pose_json.hpp"
 #include "floorcast/core/scan_io.hpp"
 #include "floorcast/core/json_reader.hpp"
+#include "floorcast/core/json_text.hpp"
 
 namespace floorcast {
 namespace {
@@ -216,12 +217,7 @@ std::optional<SimulationRecord> load_simulation_record(const std::string& dir, s
   const bool legacy = !std::filesystem::is_regular_file(sim_json);
   const std::string path = legacy ? scan_json : sim_json;
   if (legacy && !std::filesystem::is_regular_file(scan_json)) return std::nullopt;
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(read_text_file(path));
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path + ": malformed JSON: " + e.what());
-  }
+  const nlohmann::json j = read_json_file(path);
   const JsonReader r(j, path, "");
   if (legacy) {
     if (!r.has("ground_truth")) return std::nullopt;

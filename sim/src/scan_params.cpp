@@ -1,4 +1,6 @@
 #include "floorcast/sim/scan_params.hpp"
+#include "floorcast/core/image_io.hpp"
+#include "floorcast/core/limits.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -190,6 +192,8 @@ void validate_scan_params(const ScanParams& p) {
   require(finite_in(g.hfov_deg, 1.0, 170.0), "hfov_deg must be in [1, 170]");
   require(g.width_px >= 1 && g.width_px <= 8192 && g.height_px >= 1 && g.height_px <= 8192,
           "width_px and height_px must be in [1, 8192]");
+  check_image_size(g.width_px, g.height_px, "scan parameters: a view (width_px x height_px)");
+  check_limit("max_views", g.num_views, "scan parameters: num_views", "views");
   require(finite_in(g.pitch_deg, -89.0, 89.0), "pitch_deg must be in [-89, 89]");
   require(finite_in(g.camera_height_m, 0.01, 50.0), "camera_height_m must be in [0.01, 50]");
   require(finite_in(g.rotation_radius_m, 0.0, 2.0), "rotation_radius_m must be in [0, 2]");

@@ -7,6 +7,7 @@
 
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/json_reader.hpp"
+#include "floorcast/core/json_text.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/core/trajectory_io.hpp"
 
@@ -104,12 +105,7 @@ WalkRecord load_walk(const std::string& dir) {
   const std::string json_path = dir + "/walk.json";
   if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": not a walk folder (no such directory)");
   if (!std::filesystem::is_regular_file(json_path)) throw InputError(json_path + ": missing (not a walk folder?)");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(read_text_file(json_path));
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(json_path + ": malformed JSON: " + e.what());
-  }
+  const nlohmann::json j = read_json_file(json_path);
   const JsonReader r(j, json_path, "");
   r.only({"format", "format_version", "frames", "plan", "walk_params", "odometry_params", "schedule",
           "observation_settings", "summary", "observations", "route_m"});

@@ -93,15 +93,19 @@ TEST(RunDirectory, UnitsRoundTripAndRunsNeverMix) {
   const Scenario s = small_scenario();
   const std::string dir = ::testing::TempDir() + "/floorcast_rundir";
   std::filesystem::remove_all(dir);
-  RunDirectory run(dir);
-  run.open(s, s.resolved);
   const auto units = fake_units(s);
-  EXPECT_FALSE(run.has_unit(s, units[3].unit));
-  run.write_unit(s, units[3]);
-  EXPECT_TRUE(run.has_unit(s, units[3].unit));
-  const auto back = run.read_units(s);
-  ASSERT_EQ(back.size(), 1u);
-  EXPECT_EQ(unit_to_json(back[0]).dump(), unit_to_json(units[3]).dump());
+  {
+    RunDirectory run(dir);
+    run.open(s, s.resolved);
+    EXPECT_FALSE(run.has_unit(s, units[3].unit));
+    run.write_unit(s, units[3]);
+    EXPECT_TRUE(run.has_unit(s, units[3].unit));
+    const auto back = run.read_units(s);
+    ASSERT_EQ(back.size(), 1u);
+    EXPECT_EQ(unit_to_json(back[0]).dump(), unit_to_json(units[3]).dump());
+    // While it is held (run.lock), the folder is refused to a second writer.
+    EXPECT_THROW(RunDirectory(dir).open(s, s.resolved), InputError);
+  }
   // Re-opening with the same configuration resumes; a different one is refused.
   RunDirectory(dir).open(s, s.resolved);
   nlohmann::ordered_json other = s.resolved;

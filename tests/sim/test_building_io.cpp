@@ -196,7 +196,7 @@ TEST(ObservationIo, ValidationErrors) {
   };
   const std::string head = R"({"format": "floorcast-observation", "format_version": 1, "frame": "observer", )";
   expect(head + R"("max_range_m": 10, "segments_m": [[0, 0, 1]]})", "segments_m[0]");
-  expect(head + R"("max_range_m": 10, "segments_m": [], "ray_ranges_m": [11]})", "ray_ranges_m[0]");
+  expect(head + R"("max_range_m": 10, "segments_m": [], "ray_ranges_m": [11, 1, 1, 1]})", "ray_ranges_m[0]");
   expect(head + R"("max_range_m": 10, "segments_m": [[0,0,1,1]], "segment_labels": ["sofa"]})", "segment_labels[0]");
   expect(head + R"("max_range_m": 10, "segments_m": [], "extra": 1})", "extra: unknown key");
   expect(head + R"("max_range_m": -1, "segments_m": []})", "max_range_m");

@@ -95,6 +95,7 @@ void HistogramFilterParams::apply_overrides(const nlohmann::json& overrides) {
 
 HistogramFilter::HistogramFilter(const FloorPlan& plan, const HistogramFilterParams& params) : params_(params) {
   grid_ = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
+  check_raster_budget(grid_, 8.0 * params_.num_orientations + 16.0, "tracker hist (belief and scratch slices)");
   const cv::Mat blocked = rasterize_occupancy(plan, grid_, map_walls());
   cv::Mat inside;
   cv::bitwise_and(valid_area_mask(plan, grid_), blocked == 0, inside);

@@ -5,6 +5,8 @@
 // upside down; renderers flip it).
 #pragma once
 
+#include <string>
+
 #include "floorcast/core/types.hpp"
 
 namespace floorcast {
@@ -35,5 +37,15 @@ struct GridSpec {
            height_px == o.height_px;
   }
 };
+
+/// Refuses a grid before anything is allocated over it: its cells against the limit
+/// max_raster_cells, and `bytes_per_cell` (every raster, orientation and channel a stage keeps per
+/// cell) times its cells against max_raster_bytes. `what` names the stage in the LimitError.
+void check_raster_budget(const GridSpec& grid, double bytes_per_cell, const std::string& what);
+
+/// The same check for a grid of width x height cells given as doubles (before they are known to
+/// fit an int).
+void check_raster_budget(double width_px, double height_px, double resolution_m_per_px, double bytes_per_cell,
+                         const std::string& what);
 
 }  // namespace floorcast

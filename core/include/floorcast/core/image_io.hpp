@@ -20,7 +20,11 @@ std::string encode_png(const cv::Mat& image);
 cv::Mat decode_image(const std::string& bytes, const std::string& path);
 
 /// Reads an image file as stored (bit depth and channels unchanged); throws InputError naming the
-/// path when it is missing or cannot be decoded.
+/// path when it is missing or cannot be decoded. The size in the file's header is checked against
+/// the limit max_image_pixels (docs/limits.md) before anything is decoded.
 cv::Mat read_image(const std::string& path);
+
+/// Throws LimitError when width x height exceeds max_image_pixels (`what` names the image).
+void check_image_size(long long width, long long height, const std::string& what);
 
 }  // namespace floorcast

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "floorcast/core/scan.hpp"
 
@@ -47,6 +48,22 @@ Scan load_scan(const std::string& dir, const ScanLoadOptions& options = {});
 /// File name of view k's image of `kind` ("depth", "glass", "confidence", "rgb"):
 /// "view_000_depth.png", ...
 std::string scan_view_file(std::size_t k, const std::string& kind);
+
+/// scan.json as parsed and validated, before any image is read: the views without their images
+/// and, per view, the image file names (plain names inside the folder; empty = none).
+struct ScanDescription {
+  Scan scan;                      ///< views with intrinsics, view_index and T_scan_camera only
+  double depth_unit_m = 0.001;
+  struct Files {
+    std::string depth, rgb, glass_mask, confidence;
+  };
+  std::vector<Files> files;       ///< one per view
+};
+
+/// Parses scan.json text (`source` names it in errors): everything load_scan checks except the
+/// images themselves. `require_depth` as in ScanLoadOptions. Throws InputError.
+ScanDescription parse_scan_description(const std::string& json_text, const std::string& source,
+                                       bool require_depth = true);
 
 /// The scan.json text of a scan (what save_scan writes next to the images).
 std::string scan_json_text(const Scan& scan);

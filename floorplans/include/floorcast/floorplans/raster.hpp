@@ -14,8 +14,15 @@
 namespace floorcast {
 
 /// Grid covering the plan's bounding box plus a margin, with its origin snapped to a multiple of
-/// the resolution (so grids of one plan at one resolution always align).
+/// the resolution (so grids of one plan at one resolution always align). Refused (LimitError)
+/// before anything is allocated when its cells exceed max_raster_cells or the plan's own rasters
+/// (kPlanRasterBytesPerCell) exceed max_raster_bytes; InputError for a resolution or margin that
+/// is not a positive finite number.
 GridSpec grid_for_plan(const FloorPlan& plan, double resolution_m_per_px, double margin_m = 1.0);
+
+/// Bytes per cell of make_plan_rasters (occupancy, valid mask, distance, and the envelope,
+/// padding and flood-fill temporaries), for the raster memory estimate.
+constexpr double kPlanRasterBytesPerCell = 16.0;
 
 struct RasterOptions {
   double resolution_m_per_px = 0.1;

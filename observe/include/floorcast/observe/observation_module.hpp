@@ -202,8 +202,13 @@ struct ObservationParams {
 /// Every parameter with its value, for writing next to results.
 nlohmann::ordered_json to_json(const ObservationParams& params);
 /// Fills params from a JSON object of overrides with the same keys as to_json (nested objects
-/// for the sub-structs); unknown keys or bad values throw InputError naming the key.
+/// for the sub-structs); unknown keys or bad values throw InputError naming the key. Every numeric
+/// parameter has a documented range (observe/README.md) checked here; the result is validate()d.
 void apply_overrides(ObservationParams& params, const nlohmann::json& overrides);
+/// Range of every numeric parameter (NaN and inf never pass) and the orderings (canny_low <=
+/// canny_high, min_scale < max_scale); throws ParameterError naming the key. The observation
+/// module calls it on entry, so parameters set in code are held to the same ranges.
+void validate(const ObservationParams& params);
 
 // ---------------------------------------------------------------------------------------------
 // Building blocks (exposed for tests, benches and ablations).

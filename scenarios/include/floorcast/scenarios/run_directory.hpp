@@ -1,5 +1,6 @@
 // The on-disk layout of a scenario run (the scenarios library's io part).
 //
+//   DIR/run.lock                  held (flock) by the process writing the run; holds its pid
 //   DIR/run.json                  run identity: scenario name, hash of the full resolved configuration
 //   DIR/resolved_config.json      every parameter with its value (defaults filled in)
 //   DIR/units/<cell>/<building>/<point>.json   one finished work unit (written atomically)
@@ -20,9 +21,20 @@ namespace floorcast {
 class RunDirectory {
  public:
   explicit RunDirectory(std::string root);
+  ~RunDirectory();
+  RunDirectory(const RunDirectory&) = delete;
+  RunDirectory& operator=(const RunDirectory&) = delete;
 
-  /// Creates the layout and writes run.json + resolved_config.json. If DIR already holds a run
-  /// with a different configuration hash, throws InputError: results are never mixed.
+  /// Takes the folder for writing, before any work starts: creates it, refuses a folder that
+  /// exists, is not empty and holds no run (run.json), refuses it while another process holds it
+  /// (DIR/run.lock, an exclusive flock, names the holder's pid), proves it writable (a probe file)
+  /// and removes stray *.tmp files a killed run left behind. Returns how many it removed. The
+  /// lock is held until this object is destroyed. Throws InputError.
+  std::size_t acquire();
+
+  /// Creates the layout and writes run.json + resolved_config.json (acquire()s first when not
+  /// yet done). If DIR already holds a run with a different configuration hash, throws
+  /// InputError: results are never mixed.
   void open(const Scenario& scenario, const nlohmann::ordered_json& resolved_full);
 
   /// run.json of an existing run directory (throws InputError if absent or invalid).
@@ -49,7 +61,14 @@ class RunDirectory {
 
  private:
   std::string root_;
+  int lock_fd_ = -1;
 };
+
+/// Refuses (InputError) an output path that equals or lies inside one of `input_dirs` (folders
+/// given as inputs: scan, walk, IMDF, run directories): writing there would mix results into the
+/// input data. `what` names the option ("-o").
+void refuse_output_inside_inputs(const std::string& output, const std::vector<std::string>& input_dirs,
+                                 const std::string& what = "-o");
 
 /// Hex digest identifying a full resolved configuration.
 std::string configuration_hash(const nlohmann::ordered_json& resolved_full);
