@@ -1,0 +1,9 @@
+// The Structured3D importer (annotation_3d.json) with clean-up and validation.
+#include "floorcast/floorplans/import.hpp"
+#include "fuzz_common.hpp"
+
+FLOORCAST_FUZZ_INIT
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  return floorcast::fuzz::run([&] { (void)floorcast::import_s3d_json(floorcast::fuzz::text(data, size), "fuzz.json"); });
+}
