@@ -304,7 +304,7 @@ std::string find_file(const std::string& file, const std::string& base_dir, cons
 /// file, or a plan file with a non-empty "rooms" array.
 bool has_room_labels(const BuildingSpec& b) {
   if (!b.archetype.empty() || !b.rooms_file.empty()) return true;
-  const nlohmann::json j = nlohmann::json::parse(read_text_file(b.file), nullptr, false);
+  const nlohmann::json j = read_json_file(b.file);  // depth- and size-limited; a broken plan is reported here
   return j.is_object() && j.contains("rooms") && j["rooms"].is_array() && !j["rooms"].empty();
 }
 

@@ -613,6 +613,12 @@ int main(int argc, char** argv) {
   }
   // Setup cases first, in manifest order.
   std::stable_partition(cases.begin(), cases.end(), [](const Case& c) { return c.expect == "setup"; });
+  // Setup rebuilds the fixtures from scratch: a fixture left by an older build (a run directory of
+  // another configuration) must not decide the outcome.
+  if (!cases.empty() && cases.front().expect == "setup") {
+    fs::remove_all(paths.fixtures);
+    fs::create_directories(paths.fixtures);
+  }
 
   int failed = 0;
   std::map<std::string, int> kinds;
