@@ -175,7 +175,17 @@ void register_merge(CLI::App& root) {
                          "); only shards of one scenario run can be merged");
       }
     }
-    refuse_output_inside_inputs(o->out, o->inputs);
+    // Merging into one of the inputs (a merged folder merged again) adds only what is missing and
+    // checks the rest for equality; an output strictly inside an input folder is refused.
+    {
+      std::error_code ec;
+      const auto canon = [&](const std::string& p) { return fs::weakly_canonical(fs::absolute(p, ec), ec); };
+      std::vector<std::string> others;
+      for (const std::string& in : o->inputs) {
+        if (canon(in) != canon(o->out)) others.push_back(in);
+      }
+      refuse_output_inside_inputs(o->out, others);
+    }
     RunDirectory out(o->out);
     out.open(*scenario, OJson(resolved_full));
     DirectorySink sink(out, *scenario);

@@ -10,7 +10,7 @@
 //
 // Manifest lines (tests/adversarial/README.md): `NAME | EXPECT | ARGS`, '#' starts a comment.
 //   EXPECT  error:TEXT   exit 2 (bad input), "floorcast: error:" and TEXT in stderr
-//           usage:TEXT   a command-line usage error (CLI11, exit 100-127) with TEXT in the output
+//           usage:TEXT   a command-line usage error (exit 2, README "Exit codes") with TEXT in the output
 //           ok:TEXT      exit 0 with TEXT in the output (input repaired and the repair reported)
 //           exit=N:TEXT  exit N with TEXT in the output
 //           setup        exit 0 (builds a fixture later cases use), run before the other cases
@@ -544,7 +544,7 @@ std::string judge(const Case& c, const Outcome& o) {
   }
   if (e.rfind("usage:", 0) == 0) {
     if (o.status == 0) return "SILENT ACCEPTANCE (exit 0, expected a usage error)";
-    if (o.status < 100 || o.status > 127) return status + ", expected a usage error (100-127)";
+    if (o.status != 2) return status + ", expected a usage error (exit 2)";
     const std::string t = text_after(e.find(':'));
     if (o.output.find(t) == std::string::npos) return "message lacks \"" + t + "\"";
     return "";
