@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <map>
 
 #include "floorcast/core/hash.hpp"
 #include "floorcast/match/plan_raster.hpp"
@@ -223,6 +224,12 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
         std::min<long>(clip_mm, std::lround(rays[static_cast<std::size_t>(i)] * 1000.0)));
   }
   const auto t1 = Clock::now();
+  if (request.output != MatchOutput::kPosterior) {
+    match_modes(rays_mm, clip_mm, clip, block, request, result);
+    result.stage_s["observation_rays"] = seconds(t0, t1);
+    result.match_s = seconds(t0, Clock::now());
+    return result;
+  }
 
   Posterior& post = result.posterior;
   const GridSpec& g = volume_.grid;
@@ -290,6 +297,140 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
   result.stage_s["modes"] = seconds(t3, Clock::now());
   result.match_s = seconds(t0, Clock::now());
   return result;
+}
+
+void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uint16_t clip_mm, bool clip, int block,
+                             const MatchRequest& request, MatchResult& result) const {
+  // The estimate, top-K modes and max-over-yaw map without the D x H x W posterior (which costs
+  // ~200 MB per office-sized match, its first touch dominating the time): one pass keeps each
+  // stored cell's best orientation; the greedy suppression of Posterior::top_k then needs the
+  // full orientation vector only of the few cells within the separation of a chosen mode, which
+  // is recomputed with the same arithmetic (same L1 sums, same exp), so the modes are those
+  // top_k finds on the full posterior, ties broken the same way (lowest slice, then row-major).
+  const int D = params_.num_directions;
+  const GridSpec& g = volume_.grid;
+  const std::size_t N = volume_.num_cells();
+  const int T = tile_cells(D);
+  const float k = static_cast<float>(1e-3 / params_.lambda_m);
+  std::vector<float> best(N, 0.0f);
+  std::vector<std::uint16_t> best_o(N, 0);
+  struct Scratch {
+    std::vector<std::int32_t> acc;
+    std::vector<std::uint16_t> part;
+    std::vector<float> score;
+    double l1_s = 0.0, exp_s = 0.0;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  const auto t0 = Clock::now();
+  tbb::parallel_for(0, g.height_px, [&](int row) {
+    Scratch& sc = scratch.local();
+    sc.acc.resize(static_cast<std::size_t>(D) * T);
+    sc.part.resize(static_cast<std::size_t>(T));
+    sc.score.resize(static_cast<std::size_t>(T));
+    const std::size_t begin = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(row)]);
+    const std::size_t end = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(row) + 1]);
+    for (std::size_t first = begin; first < end; first += static_cast<std::size_t>(T)) {
+      const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(T), end - first));
+      const double a = thread_cpu_s();
+      l1_tile(volume_.mm.data(), N, first, n, T, D, rays_mm.data(), clip_mm, clip, block, sc.acc.data(),
+              sc.part.data());
+      const double b = thread_cpu_s();
+      for (int o = 0; o < D; ++o) {
+        exp_neg_scaled(sc.acc.data() + static_cast<std::size_t>(o) * T, n, k, sc.score.data());
+        for (int t = 0; t < n; ++t) {
+          const float v = sc.score[static_cast<std::size_t>(t)];
+          if (v > best[first + static_cast<std::size_t>(t)]) {  // strict: the lowest slice wins ties
+            best[first + static_cast<std::size_t>(t)] = v;
+            best_o[first + static_cast<std::size_t>(t)] = static_cast<std::uint16_t>(o);
+          }
+        }
+      }
+      sc.l1_s += b - a;
+      sc.exp_s += thread_cpu_s() - b;
+    }
+  });
+  double l1_s = 0.0, exp_s = 0.0;
+  for (const Scratch& sc : scratch) {
+    l1_s += sc.l1_s;
+    exp_s += sc.exp_s;
+  }
+  result.stage_s["l1_distances"] = l1_s;
+  result.stage_s["exp_best_orientation"] = exp_s;
+  const auto t1 = Clock::now();
+  result.grid = g;
+  const std::size_t W = static_cast<std::size_t>(g.width_px);
+  if (request.output == MatchOutput::kMaxOverYaw) {
+    result.max_over_yaw = cv::Mat::zeros(g.height_px, g.width_px, CV_32F);
+    float* m = result.max_over_yaw.ptr<float>();
+    for (std::size_t i = 0; i < N; ++i) m[static_cast<std::size_t>(volume_.cells[i])] = best[i];
+  }
+
+  // Greedy suppression on the per-cell best over the live orientations.
+  auto yaw_of = [&](int o) { return 2.0 * kPi * o / D; };
+  std::map<std::size_t, std::vector<float>> full;     // all D scores of cells touched by a suppression
+  std::map<std::size_t, std::vector<std::uint8_t>> dead;
+  std::vector<std::int32_t> acc1(static_cast<std::size_t>(D));
+  std::vector<std::uint16_t> part1(1);
+  auto scores_of = [&](std::size_t i) -> const std::vector<float>& {
+    auto it = full.find(i);
+    if (it != full.end()) return it->second;
+    l1_tile(volume_.mm.data(), N, i, 1, 1, D, rays_mm.data(), clip_mm, clip, block, acc1.data(), part1.data());
+    std::vector<float> v(static_cast<std::size_t>(D));
+    for (int o = 0; o < D; ++o) exp_neg_scaled(acc1.data() + o, 1, k, &v[static_cast<std::size_t>(o)]);
+    return full.emplace(i, std::move(v)).first->second;
+  };
+  const double res = g.resolution_m_per_px;
+  const int rad = static_cast<int>(std::floor(request.mode_separation_m / res + 1e-9));
+  while (static_cast<int>(result.modes.size()) < request.top_k) {
+    std::size_t bi = N;
+    for (std::size_t i = 0; i < N; ++i) {
+      const float v = best[i];
+      if (v <= 0.0f) continue;
+      if (bi == N || v > best[bi] || (v == best[bi] && best_o[i] < best_o[bi])) bi = i;
+    }
+    if (bi == N) break;
+    const int lin = volume_.cells[bi];
+    const int br = lin / g.width_px, bc = lin % g.width_px, bo = best_o[bi];
+    PoseHypothesis h;
+    const Vec2 p = g.cell_center_m(br, bc);
+    h.x_m = p.x();
+    h.y_m = p.y();
+    h.yaw_rad = yaw_of(bo);
+    h.score = best[bi];
+    h.slice = bo;
+    h.row = br;
+    h.col = bc;
+    result.modes.push_back(h);
+    std::vector<std::uint8_t> suppress(static_cast<std::size_t>(D), 0);
+    for (int o = 0; o < D; ++o) suppress[static_cast<std::size_t>(o)] = angle_distance_rad(yaw_of(o), h.yaw_rad) <= request.mode_separation_rad;
+    for (int r = std::max(0, br - rad - 1); r <= std::min(g.height_px - 1, br + rad + 1); ++r) {
+      const auto rb = volume_.cells.begin() + row_start_[static_cast<std::size_t>(r)];
+      const auto re = volume_.cells.begin() + row_start_[static_cast<std::size_t>(r) + 1];
+      for (int c = std::max(0, bc - rad - 1); c <= std::min(g.width_px - 1, bc + rad + 1); ++c) {
+        const double dx = (c - bc) * res, dy = (r - br) * res;
+        if (!(std::sqrt(dx * dx + dy * dy) <= request.mode_separation_m + 1e-12)) continue;
+        const std::int32_t want = static_cast<std::int32_t>(static_cast<std::size_t>(r) * W + static_cast<std::size_t>(c));
+        const auto it = std::lower_bound(rb, re, want);
+        if (it == re || *it != want) continue;
+        const std::size_t i = static_cast<std::size_t>(it - volume_.cells.begin());
+        std::vector<std::uint8_t>& d = dead.try_emplace(i, std::vector<std::uint8_t>(static_cast<std::size_t>(D), 0)).first->second;
+        for (int o = 0; o < D; ++o) d[static_cast<std::size_t>(o)] |= suppress[static_cast<std::size_t>(o)];
+        const std::vector<float>& v = scores_of(i);
+        float m = 0.0f;
+        std::uint16_t mo = 0;
+        for (int o = 0; o < D; ++o) {
+          if (!d[static_cast<std::size_t>(o)] && v[static_cast<std::size_t>(o)] > m) {
+            m = v[static_cast<std::size_t>(o)];
+            mo = static_cast<std::uint16_t>(o);
+          }
+        }
+        best[i] = m;
+        best_o[i] = mo;
+      }
+    }
+  }
+  result.stage_s["modes"] = seconds(t1, Clock::now());
+  result.stage_s["scores"] = seconds(t0, t1);
 }
 
 std::vector<double> ray_scores_reference(const DistanceVolume& v, std::size_t cell, const std::vector<double>& rays,

@@ -3,10 +3,12 @@
 
 #include <cmath>
 #include <cstring>
+#include <random>
 #include <filesystem>
 
 #include <unistd.h>
 
+#include "floorcast/floorplans/io.hpp"
 #include "floorcast/match/distance_volume_io.hpp"
 #include "floorcast/match/plan_raster.hpp"
 #include "floorcast/match/ray_matcher.hpp"
@@ -252,6 +254,74 @@ TEST(RayMatcher, ParametersAndObservationRays) {
   const auto j = m->parameters();
   EXPECT_EQ(j["num_directions"], 18);
   EXPECT_EQ(j["lambda_m"], 40.0);
+}
+
+}  // namespace
+}  // namespace floorcast
+
+namespace floorcast {
+namespace {
+
+// The modes-only path (no D x H x W posterior) finds exactly the modes Posterior::top_k finds on
+// the full posterior: same cells, slices and scores (bit for bit), same order, ties broken the
+// same way; its max-over-yaw map equals the posterior's. Seeded poses anywhere on the grid
+// (inside rooms, in corridors, outside the building: few rays, flat scores, many ties).
+void expect_modes_equal_posterior(const std::string& what, const FloorPlan& plan, const RayMatcherParams& params,
+                                  int observations, std::uint64_t seed, double obs_range_m) {
+  const RayMatcher m(plan, params);
+  const GridSpec& g = m.volume().grid;
+  PerfectObservationParams op;
+  op.max_range_m = obs_range_m;
+  op.num_rays = params.num_directions;
+  const PerfectObserver observer(plan, op);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> ux(g.origin_x_m, g.origin_x_m + g.width_px * g.resolution_m_per_px);
+  std::uniform_real_distribution<double> uy(g.origin_y_m, g.origin_y_m + g.height_px * g.resolution_m_per_px);
+  std::uniform_real_distribution<double> uyaw(-kPi, kPi);
+  for (int k = 0; k < observations; ++k) {
+    const Observation2D obs = observer.observe({ux(rng), uy(rng), uyaw(rng)});
+    const MatchResult full = m.match(obs, MatchRequest{MatchOutput::kPosterior, 8, 1.0, 30.0 * kPi / 180.0});
+    const MatchResult modes = m.match(obs, MatchRequest::modes(8, 1.0, 30.0 * kPi / 180.0));
+    MatchRequest yaw_map = MatchRequest::modes(8, 1.0, 30.0 * kPi / 180.0);
+    yaw_map.output = MatchOutput::kMaxOverYaw;
+    const MatchResult map = m.match(obs, yaw_map);
+    ASSERT_EQ(full.modes.size(), modes.modes.size()) << what << " observation " << k;
+    for (std::size_t i = 0; i < full.modes.size(); ++i) {
+      const PoseHypothesis& a = full.modes[i];
+      const PoseHypothesis& b = modes.modes[i];
+      EXPECT_TRUE(a.slice == b.slice && a.row == b.row && a.col == b.col && a.score == b.score)
+          << what << " observation " << k << " mode " << i << ": posterior (" << a.slice << ", " << a.row << ", "
+          << a.col << ") " << a.score << " vs modes-only (" << b.slice << ", " << b.row << ", " << b.col << ") "
+          << b.score;
+      EXPECT_EQ(a.x_m, b.x_m);
+      EXPECT_EQ(a.yaw_rad, b.yaw_rad);
+    }
+    EXPECT_TRUE(modes.posterior.scores.empty());
+    const cv::Mat expected = full.posterior.max_over_yaw();
+    ASSERT_EQ(map.max_over_yaw.size(), expected.size());
+    EXPECT_EQ(cv::norm(map.max_over_yaw, expected, cv::NORM_INF), 0.0) << what << " observation " << k;
+    EXPECT_EQ(map.modes.size(), modes.modes.size());
+  }
+}
+
+TEST(RayMatcher, ModesWithoutPosteriorEqualPosteriorModes) {
+  const RayMatcherParams defaults;
+  expect_modes_equal_posterior("asymmetric", test::asymmetric_floor(), defaults, 40, 1, 10.0);
+  expect_modes_equal_posterior("two_rooms", load_floor_plan(std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/two_rooms.json"),
+                               defaults, 30, 2, 10.0);
+  expect_modes_equal_posterior("apartment", load_floor_plan(std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/apartment.json"),
+                               defaults, 30, 3, 10.0);
+  // The observation's range below the volume's: both sides clipped.
+  expect_modes_equal_posterior("asymmetric, 4 m observations", test::asymmetric_floor(), defaults, 20, 4, 4.0);
+  RayMatcherParams fine = defaults;
+  fine.num_directions = 180;
+  expect_modes_equal_posterior("asymmetric, 180 directions", test::asymmetric_floor(), fine, 10, 5, 10.0);
+  RayMatcherParams coarse = defaults;
+  coarse.resolution_m = 0.25;
+  coarse.num_directions = 72;
+  expect_modes_equal_posterior("apartment, 0.25 m, 72 directions",
+                               load_floor_plan(std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/apartment.json"),
+                               coarse, 15, 6, 10.0);
 }
 
 }  // namespace

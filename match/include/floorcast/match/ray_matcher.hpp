@@ -78,6 +78,9 @@ class RayMatcher final : public Matcher {
   static std::string volume_key(const FloorPlan& plan, const RayMatcherParams& params);
 
  private:
+  /// The estimate, top-K modes and (if asked) the max-over-yaw map without the full posterior.
+  void match_modes(const std::vector<std::uint16_t>& rays_mm, std::uint16_t clip_mm, bool clip, int block,
+                   const MatchRequest& request, MatchResult& result) const;
   void index_rows();
   RayMatcherParams params_;
   DistanceVolume volume_;
