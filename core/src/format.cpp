@@ -18,4 +18,22 @@ std::string format_general(double value, int precision) {
   return os.str();
 }
 
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 32 && c != '\t') out += ' ';
+        else out += c;
+    }
+  }
+  return out;
+}
+
 }  // namespace floorcast

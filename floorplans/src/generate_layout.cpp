@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/core/union_find.hpp"
 #include "floorcast/core/math.hpp"
 
 namespace floorcast::generate_detail {
@@ -269,27 +270,18 @@ GeneratedBuilding Layout::assemble(const std::string& name) const {
       edges.push_back({static_cast<int>(r), p, q, u, Vec2(-u.y(), u.x())});
     }
   }
-  std::vector<int> parent(edges.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&parent](int i) {
-    while (parent[static_cast<std::size_t>(i)] != i) {
-      parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
-      i = parent[static_cast<std::size_t>(i)];
-    }
-    return i;
-  };
+  UnionFind sets(edges.size());
   for (std::size_t i = 0; i < edges.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
       const Edge& a = edges[i];
       const Edge& b = edges[j];
       if (std::abs(cross(a.u, b.u)) > 1e-6) continue;
       if (std::abs(a.n.dot(b.p - a.p)) > 1e-5 || std::abs(a.n.dot(b.q - a.p)) > 1e-5) continue;
-      const int ri = find(static_cast<int>(i)), rj = find(static_cast<int>(j));
-      if (ri != rj) parent[static_cast<std::size_t>(std::max(ri, rj))] = std::min(ri, rj);
+      sets.unite(static_cast<int>(i), static_cast<int>(j));
     }
   }
   std::map<int, std::vector<int>> clusters;  // root (smallest edge index) -> edges
-  for (std::size_t i = 0; i < edges.size(); ++i) clusters[find(static_cast<int>(i))].push_back(static_cast<int>(i));
+  for (std::size_t i = 0; i < edges.size(); ++i) clusters[sets.find(static_cast<int>(i))].push_back(static_cast<int>(i));
 
   FloorPlan plan;
   plan.name = name;

@@ -334,24 +334,6 @@ std::string hex_color(const cv::Scalar& bgr) {
   return buf;
 }
 
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 32 && c != '\t') out += ' ';
-        else out += c;
-    }
-  }
-  return out;
-}
-
-
 }  // namespace
 
 PlanImage render_plan(const FloorPlan& plan, const RenderOptions& options) {

@@ -10,6 +10,7 @@
 
 #include "floorcast/core/module.hpp"
 #include "floorcast/core/types.hpp"
+#include "floorcast/core/union_find.hpp"
 #include "floorcast/sim/scan_sim.hpp"
 #include "gl_backend_api.hpp"
 
@@ -21,15 +22,7 @@ using gl_api::Vertex;
 /// Union-find over clutter triangles sharing a vertex position (1 mm grid): one id per item.
 std::vector<int> clutter_instances(const Mesh& mesh) {
   const std::size_t n = mesh.triangles.size();
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&parent](int i) {
-    while (parent[static_cast<std::size_t>(i)] != i) {
-      parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
-      i = parent[static_cast<std::size_t>(i)];
-    }
-    return i;
-  };
+  UnionFind sets(n);
   std::map<std::tuple<long, long, long>, int> first_at;
   for (std::size_t t = 0; t < n; ++t) {
     if (mesh.labels[t] != MeshLabel::kClutter) continue;
@@ -38,8 +31,7 @@ std::vector<int> clutter_instances(const Mesh& mesh) {
       const auto key = std::make_tuple(std::lround(v.x() * 1000.0f), std::lround(v.y() * 1000.0f), std::lround(v.z() * 1000.0f));
       auto [it, inserted] = first_at.emplace(key, static_cast<int>(t));
       if (!inserted) {
-        const int a = find(static_cast<int>(t)), b = find(it->second);
-        if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+        sets.unite(static_cast<int>(t), it->second);
       }
     }
   }
@@ -47,7 +39,7 @@ std::vector<int> clutter_instances(const Mesh& mesh) {
   std::map<int, int> number;
   for (std::size_t t = 0; t < n; ++t) {
     if (mesh.labels[t] != MeshLabel::kClutter) continue;
-    const int root = find(static_cast<int>(t));
+    const int root = sets.find(static_cast<int>(t));
     id[t] = number.emplace(root, static_cast<int>(number.size()) + 1).first->second;
   }
   return id;
