@@ -21,6 +21,7 @@
 #include <map>
 #include <set>
 
+#include "floorcast/core/limits.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/floorplans/import.hpp"
 #include "floorcast/floorplans/rooms.hpp"
@@ -181,6 +182,10 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
       if (!parse_osm_levels(v, r)) {
         throw InputError(what + ": " + key + "=" + quoted(v) +
                          " is not a level value (expected e.g. 0, -1, 1;2, 0-2, -3--1, 0.5, 2~4)");
+      }
+      // A range is expanded level by level below (the levels on offer): bounded before that.
+      for (const auto& [lo, hi] : r) {
+        check_limit("max_level_range", std::floor(hi) - std::ceil(lo) + 1.0, what + ": " + key + "=" + quoted(v), "levels");
       }
       all.insert(all.end(), r.begin(), r.end());
       has_level = true;
