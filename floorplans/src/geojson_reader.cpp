@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "floorcast/core/limits.hpp"
+
 namespace floorcast::import_detail {
 
 GeoJsonFile::GeoJsonFile(const std::string& text, std::string name, const char* expected_type)
@@ -103,6 +105,9 @@ std::vector<Ring> GeoJsonFile::polygon_rings(std::size_t i, std::vector<bool>* i
       if (!ring.is_array() || ring.size() < 3) {
         fail(i, "polygon " + std::to_string(pi) + " ring " + std::to_string(ri) + " needs at least 3 positions");
       }
+      // Bounded before the clean-up sees it (a 200,000-vertex unit ran ~1 min before validation refused it).
+      check_limit("max_vertices_per_element", static_cast<double>(ring.size()),
+                  where(i) + ": polygon " + std::to_string(pi) + " ring " + std::to_string(ri), "vertices");
       Ring r;
       for (std::size_t k = 0; k < ring.size(); ++k) {
         r.push_back(position(i, ring[k], "[" + std::to_string(pi) + "][" + std::to_string(ri) + "][" + std::to_string(k) + "]"));
@@ -137,6 +142,7 @@ std::vector<Ring> GeoJsonFile::line_strings(std::size_t i) const {
     if (!line.is_array() || line.size() < 2) {
       fail(i, (parts.size() > 1 ? "line " + std::to_string(pi) + " " : std::string("LineString ")) + "needs at least 2 positions");
     }
+    check_limit("max_vertices_per_element", static_cast<double>(line.size()), where(i) + prefix, "vertices");
     Ring r;
     for (std::size_t k = 0; k < line.size(); ++k) r.push_back(position(i, line[k], prefix + "[" + std::to_string(k) + "]"));
     out.push_back(std::move(r));
