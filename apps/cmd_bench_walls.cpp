@@ -68,13 +68,6 @@ std::vector<Eigen::Vector2d> band_points(const PointCloud3f& cloud, double z_lo,
   return out;
 }
 
-double distance_to_segment(const Vec2& p, const Segment2& s) {
-  const Vec2 d = s.b_m - s.a_m;
-  const double l2 = d.squaredNorm();
-  const double t = l2 > 0.0 ? std::clamp((p - s.a_m).dot(d) / l2, 0.0, 1.0) : 0.0;
-  return (p - (s.a_m + t * d)).norm();
-}
-
 /// A picture of one scan for people: the truth within range (recovered parts green, missed red),
 /// the observed segments (blue), the LiDAR points kept in the band at camera height (grey), the
 /// observer (black), a 1 m scale bar and a title.
@@ -100,7 +93,7 @@ cv::Mat draw_scan_walls(const std::vector<Segment2>& truth, const std::vector<Se
       for (const Segment2& o : observed) {
         const Vec2 od = o.b_m - o.a_m;
         if (od.norm() <= 0.0 || std::abs(od.dot(d)) < cos_max * od.norm() * len) continue;
-        if (distance_to_segment(mid, o) <= ap.max_distance_m) {
+        if (point_segment_distance(mid, o) <= ap.max_distance_m) {
           found = true;
           break;
         }

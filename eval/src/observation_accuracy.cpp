@@ -1,5 +1,7 @@
 // Observed wall segments against ground truth, by sampling both sets along their length.
 #include "floorcast/eval/observation_accuracy.hpp"
+
+#include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/core/math.hpp"
 
 #include <algorithm>
@@ -27,13 +29,6 @@ std::vector<Sample> sample_segment(const Segment2& s, double step_m) {
     out.push_back({s.a_m + f * (s.b_m - s.a_m), len / n});
   }
   return out;
-}
-
-double point_segment_distance(const Vec2& p, const Segment2& s) {
-  const Vec2 d = s.b_m - s.a_m;
-  const double l2 = d.squaredNorm();
-  const double t = l2 > 0.0 ? std::clamp((p - s.a_m).dot(d) / l2, 0.0, 1.0) : 0.0;
-  return (p - (s.a_m + t * d)).norm();
 }
 
 /// Undirected angle between two segment directions, degrees in [0, 90].

@@ -57,6 +57,13 @@ bool point_in_convex_polygon(const std::vector<Vec2>& polygon_m, const Vec2& p) 
   return true;
 }
 
+double point_segment_distance(const Vec2& p, const Segment2& segment) {
+  const Vec2 d = segment.b_m - segment.a_m;
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - segment.a_m).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (p - (segment.a_m + t * d)).norm();
+}
+
 double ray_segment_distance(const Vec2& origin, const Vec2& direction, const Segment2& segment) {
   const Vec2 e = segment.b_m - segment.a_m;
   const double denom = cross(direction, e);

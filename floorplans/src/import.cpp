@@ -12,6 +12,7 @@
 
 
 #include "floorcast/core/image_io.hpp"
+#include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/import.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "import_common.hpp"
@@ -226,12 +227,7 @@ void count_repair(ImportResult& result, const std::string& name, int n) {
 
 double distance_to_segments(const Vec2& p, const std::vector<Segment2>& segments) {
   double best = std::numeric_limits<double>::infinity();
-  for (const Segment2& s : segments) {
-    const Vec2 d = s.b_m - s.a_m;
-    const double len2 = d.squaredNorm();
-    const double t = len2 > 0.0 ? std::clamp((p - s.a_m).dot(d) / len2, 0.0, 1.0) : 0.0;
-    best = std::min(best, (p - (s.a_m + t * d)).norm());
-  }
+  for (const Segment2& s : segments) best = std::min(best, point_segment_distance(p, s));
   return best;
 }
 

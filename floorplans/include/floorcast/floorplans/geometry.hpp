@@ -45,6 +45,10 @@ std::vector<LabeledSegment> footprint_outline(const std::vector<Footprint>& foot
 /// True if p lies inside (or on the boundary of) the convex CCW polygon.
 bool point_in_convex_polygon(const std::vector<Vec2>& polygon_m, const Vec2& p);
 
+/// Euclidean distance from p to the closest point of the segment (its end when p projects
+/// outside it; the distance to a_m for a degenerate segment).
+double point_segment_distance(const Vec2& p, const Segment2& segment);
+
 /// Intersection of ray (origin, unit direction) with a segment; returns the ray parameter
 /// (distance along a unit direction) or a negative value when there is none.
 double ray_segment_distance(const Vec2& origin, const Vec2& direction, const Segment2& segment);
