@@ -103,6 +103,52 @@ void exp_neg_scaled(const std::int32_t* acc, int T, float k, float* out) {
 
 
 
+/// The scoring loop of both outputs: every stored cell, one task per grid row (its cells are a
+/// contiguous index range), tiles of tile_cells(D) cells. on_row(row) runs first in each row's
+/// task; consume(first, n, o, scores) then receives exp(-L1 / lambda) of orientation o for the
+/// stored cells first..first+n-1. Adds the thread CPU seconds of the L1 sums and of exp + consume,
+/// summed over workers, to l1_s and exp_s.
+template <class OnRow, class Consume>
+void score_all_cells(const DistanceVolume& volume, const std::vector<std::int64_t>& row_start,
+                     const std::vector<std::uint16_t>& rays_mm, std::uint16_t clip_mm, bool clip, int block, float k,
+                     OnRow&& on_row, Consume&& consume, double& l1_s, double& exp_s) {
+  const int D = volume.num_directions;
+  const int T = tile_cells(D);
+  struct Scratch {
+    std::vector<std::int32_t> acc;
+    std::vector<std::uint16_t> part;
+    std::vector<float> score;
+    double l1_s = 0.0, exp_s = 0.0;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  tbb::parallel_for(0, volume.grid.height_px, [&](int row) {
+    Scratch& s = scratch.local();
+    s.acc.resize(static_cast<std::size_t>(D) * T);
+    s.part.resize(static_cast<std::size_t>(T));
+    s.score.resize(static_cast<std::size_t>(T));
+    on_row(row);
+    const std::size_t begin = static_cast<std::size_t>(row_start[static_cast<std::size_t>(row)]);
+    const std::size_t end = static_cast<std::size_t>(row_start[static_cast<std::size_t>(row) + 1]);
+    for (std::size_t first = begin; first < end; first += static_cast<std::size_t>(T)) {
+      const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(T), end - first));
+      const double a = thread_cpu_s();
+      l1_tile(volume.mm.data(), volume.num_cells(), first, n, T, D, rays_mm.data(), clip_mm, clip, block,
+              s.acc.data(), s.part.data());
+      const double b = thread_cpu_s();
+      for (int o = 0; o < D; ++o) {
+        exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * T, n, k, s.score.data());
+        consume(first, n, o, s.score.data());
+      }
+      s.l1_s += b - a;
+      s.exp_s += thread_cpu_s() - b;
+    }
+  });
+  for (const Scratch& s : scratch) {
+    l1_s += s.l1_s;
+    exp_s += s.exp_s;
+  }
+}
+
 }  // namespace
 
 nlohmann::ordered_json RayMatcherParams::to_json() const {
@@ -245,48 +291,22 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
   }
   const auto t2 = Clock::now();
 
-  const int T = tile_cells(D);
   const float k = static_cast<float>(1e-3 / params_.lambda_m);
-  struct Scratch {
-    std::vector<std::int32_t> acc;
-    std::vector<std::uint16_t> part;
-    std::vector<float> score;
-    double l1_s = 0.0, exp_s = 0.0;
-  };
-  tbb::enumerable_thread_specific<Scratch> scratch;
   const std::size_t W = static_cast<std::size_t>(g.width_px);
-  // One task per grid row: its stored cells are a contiguous index range; the row of every slice
-  // is written once, front to back.
-  tbb::parallel_for(0, g.height_px, [&](int row) {
-    Scratch& s = scratch.local();
-    s.acc.resize(static_cast<std::size_t>(D) * T);
-    s.part.resize(static_cast<std::size_t>(T));
-    s.score.resize(static_cast<std::size_t>(T));
-    const std::size_t begin = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(row)]);
-    const std::size_t end = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(row) + 1]);
-    const std::size_t row_offset = static_cast<std::size_t>(row) * W;
-    for (int o = 0; o < D; ++o) std::memset(slices[static_cast<std::size_t>(o)] + row_offset, 0, W * sizeof(float));
-    for (std::size_t first = begin; first < end; first += static_cast<std::size_t>(T)) {
-      const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(T), end - first));
-      const double a = thread_cpu_s();
-      l1_tile(volume_.mm.data(), volume_.num_cells(), first, n, T, D, rays_mm.data(), clip_mm, clip, block,
-              s.acc.data(), s.part.data());
-      const double b = thread_cpu_s();
-      const std::int32_t* cells = volume_.cells.data() + first;
-      for (int o = 0; o < D; ++o) {
-        exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * T, n, k, s.score.data());
-        float* dst = slices[static_cast<std::size_t>(o)];
-        for (int t = 0; t < n; ++t) dst[cells[t]] = s.score[static_cast<std::size_t>(t)];
-      }
-      s.l1_s += b - a;
-      s.exp_s += thread_cpu_s() - b;
-    }
-  });
   double l1_s = 0.0, exp_s = 0.0;
-  for (const Scratch& s : scratch) {
-    l1_s += s.l1_s;
-    exp_s += s.exp_s;
-  }
+  // The row of every slice is written once, front to back (0 where no cell is stored).
+  score_all_cells(
+      volume_, row_start_, rays_mm, clip_mm, clip, block, k,
+      [&](int row) {
+        const std::size_t row_offset = static_cast<std::size_t>(row) * W;
+        for (int o = 0; o < D; ++o) std::memset(slices[static_cast<std::size_t>(o)] + row_offset, 0, W * sizeof(float));
+      },
+      [&](std::size_t first, int n, int o, const float* score) {
+        const std::int32_t* cells = volume_.cells.data() + first;
+        float* dst = slices[static_cast<std::size_t>(o)];
+        for (int t = 0; t < n; ++t) dst[cells[t]] = score[t];
+      },
+      l1_s, exp_s);
   result.stage_s["observation_rays"] = seconds(t0, t1);
   result.stage_s["posterior_alloc"] = seconds(t1, t2);
   // Thread CPU seconds summed over workers.
@@ -310,50 +330,23 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
   const int D = params_.num_directions;
   const GridSpec& g = volume_.grid;
   const std::size_t N = volume_.num_cells();
-  const int T = tile_cells(D);
   const float k = static_cast<float>(1e-3 / params_.lambda_m);
   std::vector<float> best(N, 0.0f);
   std::vector<std::uint16_t> best_o(N, 0);
-  struct Scratch {
-    std::vector<std::int32_t> acc;
-    std::vector<std::uint16_t> part;
-    std::vector<float> score;
-    double l1_s = 0.0, exp_s = 0.0;
-  };
-  tbb::enumerable_thread_specific<Scratch> scratch;
   const auto t0 = Clock::now();
-  tbb::parallel_for(0, g.height_px, [&](int row) {
-    Scratch& sc = scratch.local();
-    sc.acc.resize(static_cast<std::size_t>(D) * T);
-    sc.part.resize(static_cast<std::size_t>(T));
-    sc.score.resize(static_cast<std::size_t>(T));
-    const std::size_t begin = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(row)]);
-    const std::size_t end = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(row) + 1]);
-    for (std::size_t first = begin; first < end; first += static_cast<std::size_t>(T)) {
-      const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(T), end - first));
-      const double a = thread_cpu_s();
-      l1_tile(volume_.mm.data(), N, first, n, T, D, rays_mm.data(), clip_mm, clip, block, sc.acc.data(),
-              sc.part.data());
-      const double b = thread_cpu_s();
-      for (int o = 0; o < D; ++o) {
-        exp_neg_scaled(sc.acc.data() + static_cast<std::size_t>(o) * T, n, k, sc.score.data());
+  double l1_s = 0.0, exp_s = 0.0;
+  score_all_cells(
+      volume_, row_start_, rays_mm, clip_mm, clip, block, k, [](int) {},
+      [&](std::size_t first, int n, int o, const float* score) {
         for (int t = 0; t < n; ++t) {
-          const float v = sc.score[static_cast<std::size_t>(t)];
-          if (v > best[first + static_cast<std::size_t>(t)]) {  // strict: the lowest slice wins ties
-            best[first + static_cast<std::size_t>(t)] = v;
-            best_o[first + static_cast<std::size_t>(t)] = static_cast<std::uint16_t>(o);
+          const std::size_t i = first + static_cast<std::size_t>(t);
+          if (score[t] > best[i]) {  // strict: the lowest slice wins ties
+            best[i] = score[t];
+            best_o[i] = static_cast<std::uint16_t>(o);
           }
         }
-      }
-      sc.l1_s += b - a;
-      sc.exp_s += thread_cpu_s() - b;
-    }
-  });
-  double l1_s = 0.0, exp_s = 0.0;
-  for (const Scratch& sc : scratch) {
-    l1_s += sc.l1_s;
-    exp_s += sc.exp_s;
-  }
+      },
+      l1_s, exp_s);
   result.stage_s["l1_distances"] = l1_s;
   result.stage_s["exp_best_orientation"] = exp_s;
   const auto t1 = Clock::now();
