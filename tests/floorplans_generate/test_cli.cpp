@@ -8,6 +8,7 @@
 
 #include "floorcast/floorplans/generate.hpp"
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/floorplans/stats.hpp"
 
 namespace floorcast {
 namespace {
@@ -45,6 +46,21 @@ TEST_F(Cli, GenerateWritesTheSameBytesAsTheLibrary) {
   const std::string r = read_text_file(rooms.string());
   EXPECT_NE(r.find("\"kind\": \"bedroom\""), std::string::npos);
   EXPECT_NE(r.find("\"polygon\""), std::string::npos);
+}
+
+TEST_F(Cli, PlanStatsPrintsOneJsonObjectPerPlanMatchingTheLibrary) {
+  const std::string office = std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/office.json";
+  const std::string apt = std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/apartment.json";
+  ASSERT_EQ(run_cli("plan stats --json " + office + " " + apt, dir_ / "out.json"), 0)
+      << read_text_file((dir_ / "out.json").string());
+  const std::string text = read_text_file((dir_ / "out.json").string());
+  const PlanStats lib = plan_stats(load_floor_plan(office));
+  EXPECT_NE(text.find("\"walls\": " + std::to_string(lib.walls) + ","), std::string::npos) << text.substr(0, 400);
+  EXPECT_NE(text.find("\"repeated_width_share\""), std::string::npos);
+  EXPECT_NE(text.find("apartment.json"), std::string::npos);
+  // A missing file is refused with its name and a non-zero exit.
+  EXPECT_NE(run_cli("plan stats " + (dir_ / "missing.json").string(), dir_ / "log"), 0);
+  EXPECT_NE(read_text_file((dir_ / "log").string()).find("missing.json"), std::string::npos);
 }
 
 TEST_F(Cli, RenderWritesPngAndSvg) {
