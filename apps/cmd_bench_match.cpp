@@ -63,8 +63,11 @@ void print_ray(const std::string& D, const Json& r) {
   std::cout << std::fixed << std::setprecision(3) << "  ray, " << D << " directions: precompute "
             << num(r, "precompute_s") << " s, " << std::setprecision(1) << num(r, "volume_mb") << " MB\n"
             << std::setprecision(4);
-  std::cout << "    estimate + top-K " << num(r, "modes", "cpu_s") << " [" << num(r, "modes", "wall_s")
-            << "]; max-over-yaw map " << num(r, "max_over_yaw", "cpu_s") << " [" << num(r, "max_over_yaw", "wall_s") << "]";
+  std::cout << "    estimate + top-K, bounded " << num(r, "modes", "cpu_s") << " [" << num(r, "modes", "wall_s")
+            << "] (cells scored " << std::setprecision(1) << 100.0 * num(r, "search_counters", "cells_scored_share")
+            << "%), exhaustive " << std::setprecision(4) << num(r, "modes_exhaustive", "cpu_s") << " ["
+            << num(r, "modes_exhaustive", "wall_s") << "], identical " << r.value("bounded_modes_identical", 0)
+            << "; max-over-yaw map " << num(r, "max_over_yaw", "cpu_s") << " [" << num(r, "max_over_yaw", "wall_s") << "]";
   if (r.contains("posterior")) {
     std::cout << "; full posterior " << num(r, "posterior", "cpu_s") << " [" << num(r, "posterior", "wall_s") << "], "
               << std::setprecision(1) << num(r, "posterior_mb") << " MB";

@@ -235,13 +235,25 @@ nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams
     for (const Pose2& p : sample_valid_poses(valid, ray->grid(), params.observations, params.seed))
       observations.push_back(observer.observe(p));
     (void)ray->match(observations.front(), MatchRequest::modes(params.top_k));
-    Series modes, yaw_map, posterior;
-    std::vector<std::map<std::string, double>> stages;
-    int same_estimate = 0;
+    // The exhaustive search on the same volume, side by side with the bounded one.
+    RayMatcherParams ep = rp;
+    ep.search = RaySearch::kExhaustive;
+    const RayMatcher exhaustive(plan, ep, ray->volume());
+    Series modes, modes_exhaustive, yaw_map, posterior;
+    std::vector<std::map<std::string, double>> stages, counters;
+    int same_estimate = 0, same_modes = 0;
     for (const Observation2D& obs : observations) {
-      MatchResult a, b;
+      MatchResult a, b, e;
       modes.add(measure([&] { a = ray->match(obs, MatchRequest::modes(params.top_k)); }));
       stages.push_back(a.stage_s);
+      counters.push_back(a.counters);
+      modes_exhaustive.add(measure([&] { e = exhaustive.match(obs, MatchRequest::modes(params.top_k)); }));
+      bool same = a.modes.size() == e.modes.size();
+      for (std::size_t i = 0; same && i < a.modes.size(); ++i) {
+        same = a.modes[i].slice == e.modes[i].slice && a.modes[i].row == e.modes[i].row &&
+               a.modes[i].col == e.modes[i].col && a.modes[i].score == e.modes[i].score;
+      }
+      same_modes += same;
       MatchRequest ym = MatchRequest::modes(params.top_k);
       ym.output = MatchOutput::kMaxOverYaw;
       yaw_map.add(measure([&] { (void)ray->match(obs, ym); }));
@@ -259,8 +271,12 @@ nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams
     r["volume_mb"] = ray->precompute_bytes() / 1e6;
     r["valid_cells"] = ray->volume().num_cells();
     r["modes"] = modes.json();
+    r["modes_exhaustive"] = modes_exhaustive.json();
+    r["exhaustive_over_bounded"] = median_ratio(modes_exhaustive.cpu, modes.cpu);
+    r["bounded_modes_identical"] = same_modes;
     r["max_over_yaw"] = yaw_map.json();
     r["stages_cpu_s"] = to_json(median_of(stages));
+    r["search_counters"] = to_json(median_of(counters));
     if (params.posteriors) {
       r["posterior"] = posterior.json();
       r["posterior_mb"] = static_cast<double>(D) * ray->grid().width_px * ray->grid().height_px * 4.0 / 1e6;

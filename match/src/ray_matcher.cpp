@@ -1,6 +1,7 @@
 #include "floorcast/match/ray_matcher.hpp"
 #include "floorcast/core/limits.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -26,6 +27,11 @@ double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::d
 
 const std::vector<std::pair<const char*, RaySource>> kRaySourceNames = {
     {"auto", RaySource::kAuto}, {"ranges", RaySource::kRanges}, {"segments", RaySource::kSegments}};
+const std::vector<std::pair<const char*, RaySearch>> kRaySearchNames = {{"bounded", RaySearch::kBounded},
+                                                                       {"exhaustive", RaySearch::kExhaustive}};
+
+/// Stored cells per run of the bounded search (one grid row, 3.2 m at 0.1 m).
+constexpr int kRunCells = 32;
 
 /// Cells per tile of the scoring loop: the tile's distances (D x T uint16) and sums (D x T
 /// int32) stay in L1/L2.
@@ -159,6 +165,7 @@ nlohmann::ordered_json RayMatcherParams::to_json() const {
   j["max_range_m"] = max_range_m;
   j["lambda_m"] = lambda_m;
   j["ray_source"] = enum_name(ray_source, kRaySourceNames);
+  j["search"] = enum_name(search, kRaySearchNames);
   write_blocking(j, blocking);
   return j;
 }
@@ -171,6 +178,7 @@ void RayMatcherParams::apply_overrides(const nlohmann::json& overrides) {
   r.read("max_range_m", max_range_m, 0.1, 65.0);
   r.read("lambda_m", lambda_m, 1e-6, 1e9);
   r.read_enum("ray_source", ray_source, kRaySourceNames);
+  r.read_enum("search", search, kRaySearchNames);
   read_blocking(r, blocking);
   r.finish();
 }
@@ -195,6 +203,7 @@ std::string RayMatcher::volume_key(const FloorPlan& plan, const RayMatcherParams
   nlohmann::ordered_json k = params.to_json();
   k.erase("lambda_m");
   k.erase("ray_source");
+  k.erase("search");
   k["plan_hash"] = hex64(plan_hash(plan));
   k["algorithm"] = "zbuffer-parallelogram-v1";
   return k.dump();
@@ -203,7 +212,7 @@ std::string RayMatcher::volume_key(const FloorPlan& plan, const RayMatcherParams
 RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params) : params_(params) {
   const auto t0 = Clock::now();
   volume_ = compute_volume(plan, params_);
-  index_rows();
+  index_volume();
   precompute_s_ = seconds(t0, Clock::now());
 }
 
@@ -216,11 +225,11 @@ RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params, Di
     throw InputError("ray matcher: the given distance volume was computed for another plan grid, direction count "
                      "or range than these parameters");
   }
-  index_rows();
+  index_volume();
   precompute_s_ = seconds(t0, Clock::now());
 }
 
-void RayMatcher::index_rows() {
+void RayMatcher::index_volume() {
   // First stored cell of every grid row (cells are sorted row-major).
   const GridSpec& vg = volume_.grid;
   row_start_.assign(static_cast<std::size_t>(vg.height_px) + 1, 0);
@@ -230,6 +239,45 @@ void RayMatcher::index_rows() {
     while (i < volume_.cells.size() && volume_.cells[i] < first_lin) ++i;
     row_start_[static_cast<std::size_t>(r)] = static_cast<std::int64_t>(i);
   }
+  // Runs: at most kRunCells consecutive stored cells of one row, each a contiguous index range.
+  runs_.clear();
+  for (int r = 0; r < vg.height_px; ++r) {
+    for (std::int64_t a = row_start_[static_cast<std::size_t>(r)]; a < row_start_[static_cast<std::size_t>(r) + 1];
+         a += kRunCells) {
+      runs_.emplace_back(a, static_cast<int>(std::min<std::int64_t>(kRunCells, row_start_[static_cast<std::size_t>(r) + 1] - a)));
+    }
+  }
+  // Rank bounds: about 18 ranks of each cell's sorted distances, in 256 bins, counted per run
+  // (a histogram of the run's cells, then a walk to each rank).
+  const int D = volume_.num_directions;
+  const std::size_t N = volume_.num_cells();
+  rank_step_ = std::max(1, D / 18);
+  rank_count_ = (D + rank_step_ - 1) / rank_step_;
+  const long max_mm = std::lround(volume_.max_range_m * 1000.0);
+  rank_bin_mm_ = static_cast<int>((max_mm + 1 + 255) / 256);
+  rank_codes_.assign(static_cast<std::size_t>(rank_count_ + 1) * N, 0);
+  const int J = rank_count_, q = rank_step_, w = rank_bin_mm_;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs_.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<std::uint16_t> hist(static_cast<std::size_t>(kRunCells) * 256);
+    for (std::size_t u = range.begin(); u != range.end(); ++u) {
+      const std::size_t first = static_cast<std::size_t>(runs_[u].first);
+      const int n = runs_[u].second;
+      std::fill(hist.begin(), hist.end(), 0);
+      for (int d = 0; d < D; ++d) {
+        const std::uint16_t* v = volume_.mm.data() + static_cast<std::size_t>(d) * N + first;
+        for (int t = 0; t < n; ++t) ++hist[static_cast<std::size_t>(t) * 256 + v[t] / w];
+      }
+      for (int t = 0; t < n; ++t) {
+        const std::uint16_t* h = hist.data() + static_cast<std::size_t>(t) * 256;
+        int c = 0, below = h[0];  // values in bins 0..c
+        for (int j = 0; j <= J; ++j) {
+          const int rank = std::min(j * q, D - 1);
+          while (below <= rank) below += h[++c];
+          rank_codes_[static_cast<std::size_t>(j) * N + first + static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(c);
+        }
+      }
+    }
+  });
 }
 
 RayMatcher::~RayMatcher() = default;
@@ -319,6 +367,60 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
   return result;
 }
 
+int RayMatcher::volume_max_mm() const { return static_cast<int>(std::lround(volume_.max_range_m * 1000.0)); }
+
+RayMatcher::RankTables RayMatcher::rank_tables(const std::vector<std::uint16_t>& rays_mm, int top_mm) const {
+  // Lower bound of min over orientations of L1(cell, o): the sorted rays matched rank for rank
+  // with the cell's sorted distances (the L1-optimal pairing, so no rotation does better), each
+  // distance of rank block j (ranks j q .. (j + 1) q - 1) replaced by the interval its stored
+  // rank bins allow (bin of rank j q from below, bin of rank (j + 1) q from above), every value
+  // clipped at top_mm as the L1 clips. Per block: a table over the 256 bins of each end.
+  const int D = volume_.num_directions, J = rank_count_, q = rank_step_, w = rank_bin_mm_;
+  std::vector<int> sorted_rays(rays_mm.begin(), rays_mm.end());
+  std::sort(sorted_rays.begin(), sorted_rays.end());
+  RankTables t;
+  t.lo.resize(static_cast<std::size_t>(J) * 256);
+  t.hi.resize(static_cast<std::size_t>(J) * 256);
+  for (int j = 0; j < J; ++j) {
+    for (int c = 0; c < 256; ++c) {
+      const int lo = std::min(c * w, top_mm), hi = std::min((c + 1) * w - 1, top_mm);
+      std::int32_t a = 0, b = 0;
+      for (int r = j * q; r < std::min((j + 1) * q, D); ++r) {
+        a += std::max(0, lo - sorted_rays[static_cast<std::size_t>(r)]);
+        b += std::max(0, sorted_rays[static_cast<std::size_t>(r)] - hi);
+      }
+      t.lo[static_cast<std::size_t>(j) * 256 + static_cast<std::size_t>(c)] = a;
+      t.hi[static_cast<std::size_t>(j) * 256 + static_cast<std::size_t>(c)] = b;
+    }
+  }
+  return t;
+}
+
+void RayMatcher::rank_bounds(const RankTables& t, std::size_t first, int n, std::int32_t* lb) const {
+  const std::size_t N = volume_.num_cells();
+  for (int i = 0; i < n; ++i) lb[i] = 0;
+  for (int j = 0; j < rank_count_; ++j) {
+    const std::uint8_t* lo = rank_codes_.data() + static_cast<std::size_t>(j) * N + first;
+    const std::uint8_t* hi = lo + N;
+    const std::int32_t* tl = t.lo.data() + static_cast<std::size_t>(j) * 256;
+    const std::int32_t* th = t.hi.data() + static_cast<std::size_t>(j) * 256;
+    for (int i = 0; i < n; ++i) lb[i] += tl[lo[i]] + th[hi[i]];
+  }
+}
+
+std::vector<std::int32_t> RayMatcher::lower_bounds_mm(const Observation2D& obs) const {
+  const std::vector<double> rays = observation_rays(obs);
+  const double clip_m = std::min(volume_.max_range_m, obs.max_range_m > 0.0 ? obs.max_range_m : volume_.max_range_m);
+  const int clip_mm = static_cast<int>(std::min<long>(std::lround(clip_m * 1000.0), 65535));
+  std::vector<std::uint16_t> rays_mm(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    rays_mm[i] = static_cast<std::uint16_t>(std::min<long>(clip_mm, std::lround(rays[i] * 1000.0)));
+  const RankTables t = rank_tables(rays_mm, std::min(clip_mm, volume_max_mm()));
+  std::vector<std::int32_t> out(volume_.num_cells());
+  for (const auto& run : runs_) rank_bounds(t, static_cast<std::size_t>(run.first), run.second, out.data() + run.first);
+  return out;
+}
+
 void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uint16_t clip_mm, bool clip, int block,
                              const MatchRequest& request, MatchResult& result) const {
   // The estimate, top-K modes and max-over-yaw map without the D x H x W posterior (which costs
@@ -335,20 +437,99 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
   std::vector<std::uint16_t> best_o(N, 0);
   const auto t0 = Clock::now();
   double l1_s = 0.0, exp_s = 0.0;
-  score_all_cells(
-      volume_, row_start_, rays_mm, clip_mm, clip, block, k, [](int) {},
-      [&](std::size_t first, int n, int o, const float* score) {
-        for (int t = 0; t < n; ++t) {
-          const std::size_t i = first + static_cast<std::size_t>(t);
-          if (score[t] > best[i]) {  // strict: the lowest slice wins ties
-            best[i] = score[t];
-            best_o[i] = static_cast<std::uint16_t>(o);
+  const bool bounded = params_.search == RaySearch::kBounded && request.output == MatchOutput::kModes;
+  // Cells whose best is final: recomputed over the live orientations by a suppression.
+  std::vector<std::uint8_t> touched(bounded ? N : 0, 0);
+  // Bounded search: runs ordered by the smallest lower bound of their cells' L1 (mm), scored in
+  // that order (order[0..next_run) are scored).
+  std::vector<std::int32_t> run_lb;
+  std::vector<std::uint32_t> order;
+  std::size_t next_run = 0;
+  std::int32_t margin_mm = 0;
+  double bound_s = 0.0;
+  std::size_t cells_scored = 0;
+  auto update_best = [&](std::size_t first, int n, int o, const float* score) {
+    for (int t = 0; t < n; ++t) {
+      const std::size_t i = first + static_cast<std::size_t>(t);
+      if (score[t] > best[i]) {  // strict: the lowest slice wins ties
+        best[i] = score[t];
+        best_o[i] = static_cast<std::uint16_t>(o);
+      }
+    }
+  };
+  struct RunScratch {
+    std::vector<std::int32_t> acc;
+    std::vector<std::uint16_t> part;
+    std::vector<float> score;
+    double l1_s = 0.0, exp_s = 0.0;
+  };
+  tbb::enumerable_thread_specific<RunScratch> run_scratch;
+  // Scores order[a..b) exactly (every orientation), the same arithmetic as score_all_cells.
+  auto score_runs = [&](std::size_t a, std::size_t b) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(a, b, 4), [&](const tbb::blocked_range<std::size_t>& range) {
+      RunScratch& s = run_scratch.local();
+      s.acc.resize(static_cast<std::size_t>(D) * kRunCells);
+      s.part.resize(kRunCells);
+      s.score.resize(kRunCells);
+      for (std::size_t u = range.begin(); u != range.end(); ++u) {
+        const std::size_t first = static_cast<std::size_t>(runs_[order[u]].first);
+        const int n = runs_[order[u]].second;
+        const double ta = thread_cpu_s();
+        l1_tile(volume_.mm.data(), N, first, n, kRunCells, D, rays_mm.data(), clip_mm, clip, block, s.acc.data(),
+                s.part.data());
+        const double tb = thread_cpu_s();
+        for (int o = 0; o < D; ++o) {
+          exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * kRunCells, n, k, s.score.data());
+          for (int t = 0; t < n; ++t) {
+            const std::size_t i = first + static_cast<std::size_t>(t);
+            if (!touched[i] && s.score[t] > best[i]) {
+              best[i] = s.score[t];
+              best_o[i] = static_cast<std::uint16_t>(o);
+            }
           }
         }
-      },
-      l1_s, exp_s);
-  result.stage_s["l1_distances"] = l1_s;
-  result.stage_s["exp_best_orientation"] = exp_s;
+        s.l1_s += tb - ta;
+        s.exp_s += thread_cpu_s() - tb;
+      }
+    });
+    for (std::size_t u = a; u < b; ++u) cells_scored += static_cast<std::size_t>(runs_[order[u]].second);
+  };
+  if (!bounded) {
+    score_all_cells(volume_, row_start_, rays_mm, clip_mm, clip, block, k, [](int) {}, update_best, l1_s, exp_s);
+  } else {
+    // Lower bound of min over orientations of L1(cell, o): the sorted rays matched rank for rank
+    // with the cell's sorted distances (the L1-optimal pairing, so no rotation does better), each
+    // distance of rank block j replaced by the interval its rank bounds allow. Per block: a
+    // table over the 256 bins of the lower end and one over the upper end.
+    const double tb0 = thread_cpu_s();
+    const RankTables tables = rank_tables(rays_mm, clip ? clip_mm : volume_max_mm());
+    run_lb.resize(runs_.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs_.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
+      std::int32_t lb[kRunCells];
+      for (std::size_t u = range.begin(); u != range.end(); ++u) {
+        const int n = runs_[u].second;
+        rank_bounds(tables, static_cast<std::size_t>(runs_[u].first), n, lb);
+        run_lb[u] = *std::min_element(lb, lb + n);
+      }
+    });
+    order.resize(runs_.size());
+    for (std::size_t u = 0; u < order.size(); ++u) order[u] = static_cast<std::uint32_t>(u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return run_lb[a] != run_lb[b] ? run_lb[a] < run_lb[b] : a < b;
+    });
+    // exp_neg_scaled is monotone only up to float rounding (relative ~1e-5 at the largest sums):
+    // bounds are lowered by a margin worth 1e-4 of the exponent before they are compared.
+    margin_mm = static_cast<std::int32_t>(std::min(1e9, std::ceil(0.1 * params_.lambda_m)));
+    bound_s = thread_cpu_s() - tb0;
+  }
+  // Highest score an unscored cell can reach (0 when every run is scored).
+  auto unscored_bound = [&]() -> float {
+    if (!bounded || next_run >= order.size()) return 0.0f;
+    const std::int32_t a = std::max<std::int32_t>(0, run_lb[order[next_run]] - margin_mm);
+    float u = 0.0f;
+    exp_neg_scaled(&a, 1, k, &u);
+    return u;
+  };
   const auto t1 = Clock::now();
   result.grid = g;
   const std::size_t W = static_cast<std::size_t>(g.width_px);
@@ -362,24 +543,73 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
   auto yaw_of = [&](int o) { return 2.0 * kPi * o / D; };
   std::map<std::size_t, std::vector<float>> full;     // all D scores of cells touched by a suppression
   std::map<std::size_t, std::vector<std::uint8_t>> dead;
-  std::vector<std::int32_t> acc1(static_cast<std::size_t>(D));
-  std::vector<std::uint16_t> part1(1);
-  auto scores_of = [&](std::size_t i) -> const std::vector<float>& {
-    auto it = full.find(i);
-    if (it != full.end()) return it->second;
-    l1_tile(volume_.mm.data(), N, i, 1, 1, D, rays_mm.data(), clip_mm, clip, block, acc1.data(), part1.data());
-    std::vector<float> v(static_cast<std::size_t>(D));
-    for (int o = 0; o < D; ++o) exp_neg_scaled(acc1.data() + o, 1, k, &v[static_cast<std::size_t>(o)]);
-    return full.emplace(i, std::move(v)).first->second;
+  // All D scores of a cell within a chosen mode's separation (filled by fill_row below).
+  auto scores_of = [&](std::size_t i) -> const std::vector<float>& { return full.at(i); };
+  // All D scores of the stored cells of row r between columns c0 and c1, for the cells not yet
+  // in `full`: vectorised over the row's contiguous cells (the same arithmetic per cell).
+  std::vector<std::int32_t> acc_row(static_cast<std::size_t>(D) * kRunCells);
+  std::vector<std::uint16_t> part_row(kRunCells);
+  std::vector<float> score_row(static_cast<std::size_t>(D) * kRunCells);
+  auto fill_row = [&](int r, int c0, int c1) {
+    const auto rb = volume_.cells.begin() + row_start_[static_cast<std::size_t>(r)];
+    const auto re = volume_.cells.begin() + row_start_[static_cast<std::size_t>(r) + 1];
+    const std::int32_t base = static_cast<std::int32_t>(static_cast<std::size_t>(r) * W);
+    const std::size_t a = static_cast<std::size_t>(std::lower_bound(rb, re, base + c0) - volume_.cells.begin());
+    const std::size_t b = static_cast<std::size_t>(std::upper_bound(rb, re, base + c1) - volume_.cells.begin());
+    for (std::size_t f = a; f < b; f += kRunCells) {
+      const int n = static_cast<int>(std::min<std::size_t>(kRunCells, b - f));
+      bool missing = false;
+      for (int t = 0; t < n && !missing; ++t) missing = !full.count(f + static_cast<std::size_t>(t));
+      if (!missing) continue;
+      l1_tile(volume_.mm.data(), N, f, n, kRunCells, D, rays_mm.data(), clip_mm, clip, block, acc_row.data(),
+              part_row.data());
+      for (int o = 0; o < D; ++o) {
+        exp_neg_scaled(acc_row.data() + static_cast<std::size_t>(o) * kRunCells, n, k,
+                       score_row.data() + static_cast<std::size_t>(o) * kRunCells);
+      }
+      for (int t = 0; t < n; ++t) {
+        if (full.count(f + static_cast<std::size_t>(t))) continue;
+        std::vector<float> v(static_cast<std::size_t>(D));
+        for (int o = 0; o < D; ++o) v[static_cast<std::size_t>(o)] = score_row[static_cast<std::size_t>(o) * kRunCells + static_cast<std::size_t>(t)];
+        full.emplace(f + static_cast<std::size_t>(t), std::move(v));
+      }
+    }
   };
   const double res = g.resolution_m_per_px;
   const int rad = static_cast<int>(std::floor(request.mode_separation_m / res + 1e-9));
-  while (static_cast<int>(result.modes.size()) < request.top_k) {
+  // The best live (cell, orientation): highest score, then lowest slice, then lowest cell. The
+  // bounded search looks only at the scored runs and the cells a suppression recomputed (every
+  // other cell's best is still 0).
+  std::vector<std::size_t> touched_list;
+  auto find_best = [&]() {
     std::size_t bi = N;
-    for (std::size_t i = 0; i < N; ++i) {
+    auto consider = [&](std::size_t i) {
       const float v = best[i];
-      if (v <= 0.0f) continue;
-      if (bi == N || v > best[bi] || (v == best[bi] && best_o[i] < best_o[bi])) bi = i;
+      if (v <= 0.0f) return;
+      if (bi == N || v > best[bi] ||
+          (v == best[bi] && (best_o[i] < best_o[bi] || (best_o[i] == best_o[bi] && i < bi))))
+        bi = i;
+    };
+    if (!bounded) {
+      for (std::size_t i = 0; i < N; ++i) consider(i);
+      return bi;
+    }
+    for (std::size_t u = 0; u < next_run; ++u) {
+      const std::size_t first = static_cast<std::size_t>(runs_[order[u]].first);
+      for (int t = 0; t < runs_[order[u]].second; ++t) consider(first + static_cast<std::size_t>(t));
+    }
+    for (const std::size_t i : touched_list) consider(i);
+    return bi;
+  };
+  while (static_cast<int>(result.modes.size()) < request.top_k) {
+    std::size_t bi = find_best();
+    // Bounded: the candidate is the next mode once no unscored cell can reach (or tie) it; until
+    // then score more runs, in bound order, in growing batches.
+    while (bounded && next_run < order.size() && !(bi != N && best[bi] > unscored_bound())) {
+      const std::size_t end = std::min(order.size(), next_run + std::max<std::size_t>(32, next_run / 2));
+      score_runs(next_run, end);
+      next_run = end;
+      bi = find_best();
     }
     if (bi == N) break;
     const int lin = volume_.cells[bi];
@@ -397,6 +627,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
     std::vector<std::uint8_t> suppress(static_cast<std::size_t>(D), 0);
     for (int o = 0; o < D; ++o) suppress[static_cast<std::size_t>(o)] = angle_distance_rad(yaw_of(o), h.yaw_rad) <= request.mode_separation_rad;
     for (int r = std::max(0, br - rad - 1); r <= std::min(g.height_px - 1, br + rad + 1); ++r) {
+      fill_row(r, std::max(0, bc - rad - 1), std::min(g.width_px - 1, bc + rad + 1));
       const auto rb = volume_.cells.begin() + row_start_[static_cast<std::size_t>(r)];
       const auto re = volume_.cells.begin() + row_start_[static_cast<std::size_t>(r) + 1];
       for (int c = std::max(0, bc - rad - 1); c <= std::min(g.width_px - 1, bc + rad + 1); ++c) {
@@ -406,6 +637,10 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
         const auto it = std::lower_bound(rb, re, want);
         if (it == re || *it != want) continue;
         const std::size_t i = static_cast<std::size_t>(it - volume_.cells.begin());
+        if (bounded && !touched[i]) {
+          touched[i] = 1;
+          touched_list.push_back(i);
+        }
         std::vector<std::uint8_t>& d = dead.try_emplace(i, std::vector<std::uint8_t>(static_cast<std::size_t>(D), 0)).first->second;
         for (int o = 0; o < D; ++o) d[static_cast<std::size_t>(o)] |= suppress[static_cast<std::size_t>(o)];
         const std::vector<float>& v = scores_of(i);
@@ -422,6 +657,17 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
       }
     }
   }
+  if (bounded) {
+    for (const RunScratch& sc : run_scratch) {
+      l1_s += sc.l1_s;
+      exp_s += sc.exp_s;
+    }
+    result.stage_s["bounds"] = bound_s;
+    result.counters["cells_scored"] = static_cast<double>(cells_scored);
+    result.counters["cells_scored_share"] = N ? static_cast<double>(cells_scored) / static_cast<double>(N) : 0.0;
+  }
+  result.stage_s["l1_distances"] = l1_s;
+  result.stage_s["exp_best_orientation"] = exp_s;
   result.stage_s["modes"] = seconds(t1, Clock::now());
   result.stage_s["scores"] = seconds(t0, t1);
 }

@@ -23,6 +23,18 @@ namespace floorcast {
 /// Where the ray matcher takes the observation's rays from.
 enum class RaySource { kAuto, kRanges, kSegments };
 
+/// How the estimate and top-K modes are found (MatchOutput::kModes; the max-over-yaw map and the
+/// posterior always score every cell).
+enum class RaySearch {
+  /// Exact best-first search: a lower bound of every cell's L1 over all orientations (the sorted
+  /// observation rays against the cell's sorted distances, which no rotation can beat) orders
+  /// runs of cells, which are scored exactly in that order until no unscored cell can reach the
+  /// next mode. Same modes, scores and tie order as kExhaustive, bit for bit.
+  kBounded,
+  /// Score every stored cell at every orientation (the reference).
+  kExhaustive,
+};
+
 struct RayMatcherParams {
   /// Grid resolution of the volume (F3Loc: 0.1 m desdf).
   double resolution_m = 0.1;
@@ -37,6 +49,8 @@ struct RayMatcherParams {
   /// Where the observation's rays come from: auto (its ray_ranges_m when there are exactly
   /// num_directions of them, else cast against its segments), ranges or segments.
   RaySource ray_source = RaySource::kAuto;
+  /// How the modes are found: bounded (exact best-first search) or exhaustive.
+  RaySearch search = RaySearch::kBounded;
   /// What blocks a ray in the plan (keys doors_closed, glass_blocks, obstacles_block,
   /// cut_height_m; PALMS+ sec. 4.4: all doors closed).
   BlockingOptions blocking = closed_door_map();
@@ -60,13 +74,17 @@ class RayMatcher final : public Matcher {
   std::string name() const override { return "ray"; }
   nlohmann::ordered_json parameters() const override { return params_.to_json(); }
   double precompute_s() const override { return precompute_s_; }
-  std::size_t precompute_bytes() const override { return volume_.bytes(); }
+  std::size_t precompute_bytes() const override { return volume_.bytes() + rank_codes_.size(); }
   BlockingOptions blocking() const override { return params_.blocking; }
   using Matcher::match;
   MatchResult match(const Observation2D& observation, const MatchRequest& request) const override;
 
   /// The observation's rays (metres, ray i at 2 pi i / D), as match() uses them.
   std::vector<double> observation_rays(const Observation2D& observation) const;
+
+  /// Per stored cell, a lower bound (mm) of its L1 at every orientation, as the bounded search
+  /// uses it (exposed for tests and analyses).
+  std::vector<std::int32_t> lower_bounds_mm(const Observation2D& observation) const;
 
   const DistanceVolume& volume() const { return volume_; }
   const GridSpec& grid() const { return volume_.grid; }
@@ -81,10 +99,28 @@ class RayMatcher final : public Matcher {
   /// The estimate, top-K modes and (if asked) the max-over-yaw map without the full posterior.
   void match_modes(const std::vector<std::uint16_t>& rays_mm, std::uint16_t clip_mm, bool clip, int block,
                    const MatchRequest& request, MatchResult& result) const;
-  void index_rows();
+  /// Row index, runs and rank bounds of the volume (both constructors).
+  void index_volume();
+  struct RankTables {
+    std::vector<std::int32_t> lo, hi;  ///< per rank block j: [j * 256 + bin]
+  };
+  RankTables rank_tables(const std::vector<std::uint16_t>& rays_mm, int top_mm) const;
+  /// lb[0..n) = lower bounds (mm) of stored cells first..first+n-1.
+  void rank_bounds(const RankTables& tables, std::size_t first, int n, std::int32_t* lb) const;
+  int volume_max_mm() const;
   RayMatcherParams params_;
   DistanceVolume volume_;
   std::vector<std::int64_t> row_start_;  ///< first stored cell of each grid row, plus the end
+  /// Runs of at most kRunCells consecutive stored cells of one grid row (first cell, count): the
+  /// unit the bounded search scores.
+  std::vector<std::pair<std::int64_t, int>> runs_;
+  /// Rank bounds of every stored cell's sorted distances: for j = 0..rank_count_, the 8-bit bin
+  /// (width rank_bin_mm_) of the distance of rank min(j * rank_step_, D - 1), at
+  /// rank_codes_[j * N + cell].
+  std::vector<std::uint8_t> rank_codes_;
+  int rank_step_ = 1;
+  int rank_count_ = 0;
+  int rank_bin_mm_ = 1;
   double precompute_s_ = 0.0;
 };
 
