@@ -101,6 +101,19 @@ class Heartbeat {
 /// Writes pretty JSON (2-space indent, trailing newline) atomically.
 void write_json(const std::string& path, const nlohmann::ordered_json& json);
 
+/// Cost of one child process, from wait4: CPU (user + system, all threads), wall, peak resident
+/// memory.
+struct ChildCost {
+  double cpu_s = 0.0;
+  double wall_s = 0.0;
+  double max_rss_mb = 0.0;
+};
+/// Runs `exe args...` as a child process (stdout to stdout_path, or /dev/null when empty; stderr
+/// to /dev/null) and waits for it; throws InputError naming `what` when it cannot start or does
+/// not exit with status 0.
+ChildCost run_child(const std::string& exe, const std::vector<std::string>& args, const std::string& stdout_path,
+                    const std::string& what);
+
 }  // namespace floorcast::cli
 
 #define FLOORCAST_CLI_CONCAT_INNER(a, b) a##b

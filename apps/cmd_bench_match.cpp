@@ -103,6 +103,7 @@ void register_bench_match(CLI::App& root) {
       ->capture_default_str()
       ->check(CLI::Range(1, 100));
   cmd->add_flag("!--no-posteriors", o->params.posteriors, "Skip the full posteriors");
+  cmd->add_flag("!--no-kernel", o->params.kernel, "Skip the kernel matcher");
   cmd->add_option("--equivalence", o->equivalence,
                   "Instead: compare the search's modes with the posterior's on N seeded observations per plan")
       ->check(CLI::Range(0, 100000));
@@ -144,9 +145,11 @@ void register_bench_match(CLI::App& root) {
       const Json j = bench_match(plan, o->params);
       all[name] = j;
       if (o->json) continue;
-      std::cout << "bench match on " << name << " (" << j["grid_px"][0] << " x " << j["grid_px"][1] << " cells at 0.1 m, "
-                << j["valid_cells"] << " valid; " << j["threads"] << " threads; " << o->params.observations
-                << " perfect observations; top-" << o->params.top_k << ")\n";
+      std::cout << "bench match on " << name << " (";
+      if (j.contains("grid_px"))
+        std::cout << j["grid_px"][0] << " x " << j["grid_px"][1] << " cells at 0.1 m, " << j["valid_cells"] << " valid; ";
+      std::cout << j["threads"] << " threads; " << o->params.observations << " perfect observations; top-"
+                << o->params.top_k << ")\n";
       if (j.contains("kernel")) print_kernel(j["kernel"]);
       for (const auto& [d, r] : j["ray"].items()) print_ray(d, r);
     }

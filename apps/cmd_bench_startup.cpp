@@ -4,11 +4,6 @@
 // resident memory; with --exe, other executables (an older build) are measured in the same run,
 // interleaved, so their ratio is not skewed by the machine's load drifting. The shared libraries
 // this process mapped at start (before any command ran or module was loaded) are listed too.
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -23,8 +18,6 @@
 #include "cli_common.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/core/types.hpp"
-
-extern char** environ;
 
 namespace floorcast::cli {
 namespace {
@@ -43,37 +36,8 @@ std::set<std::string> mapped_libraries() {
   return libs;
 }
 
-struct ChildCost {
-  double cpu_s = 0.0;
-  double wall_s = 0.0;
-  double max_rss_mb = 0.0;
-};
-
-/// One run of `exe --version` with stdout/stderr to /dev/null.
-ChildCost run_once(const std::string& exe) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-  std::string arg0 = exe, arg1 = "--version";
-  char* argv[] = {arg0.data(), arg1.data(), nullptr};
-  pid_t pid = 0;
-  const auto t0 = std::chrono::steady_clock::now();
-  const int err = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv, environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (err != 0) throw InputError("bench startup: cannot run " + exe + ": " + std::strerror(err));
-  int status = 0;
-  rusage usage{};
-  if (wait4(pid, &status, 0, &usage) != pid) throw InputError("bench startup: lost the child running " + exe);
-  const auto t1 = std::chrono::steady_clock::now();
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    throw InputError("bench startup: " + exe + " --version did not exit with status 0");
-  ChildCost c;
-  c.cpu_s = usage.ru_utime.tv_sec + usage.ru_utime.tv_usec * 1e-6 + usage.ru_stime.tv_sec + usage.ru_stime.tv_usec * 1e-6;
-  c.wall_s = std::chrono::duration<double>(t1 - t0).count();
-  c.max_rss_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
-  return c;
-}
+/// One run of `exe --version` with its output to /dev/null.
+ChildCost run_once(const std::string& exe) { return run_child(exe, {"--version"}, "", "bench startup"); }
 
 void register_bench_startup(CLI::App& root) {
   struct Options {

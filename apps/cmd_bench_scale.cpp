@@ -1,0 +1,140 @@
+// `floorcast bench scale`: matcher time and peak memory against floor area. For each area a plan
+// is generated (bench/scale_bench.hpp: an office below 5,000 m^2, campus buildings side by side
+// above) and written to the work directory; then `floorcast bench match` runs on it in child
+// processes, once for the kernel matcher and once for the ray matcher, so each matcher's peak
+// resident memory (wait4) is its own: plan, precomputation, observations and matches, the
+// bench's own side measurements included (the kernel's FFT floor probe, the ray matcher's
+// exhaustive search and max-over-yaw map, which run beside the bounded search for the ratio).
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+
+#include "cli_common.hpp"
+#include "floorcast/bench/scale_bench.hpp"
+#include "floorcast/floorplans/io.hpp"
+
+namespace floorcast::cli {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json read_json_file(const std::string& path) {
+  std::ifstream in(path);
+  Json j;
+  try {
+    in >> j;
+  } catch (const std::exception& e) {
+    throw InputError("bench scale: cannot parse the child's output " + path + ": " + e.what());
+  }
+  return j;
+}
+
+double at(const Json& j, std::initializer_list<const char*> keys) {
+  const Json* x = &j;
+  for (const char* k : keys) {
+    if (!x->contains(k)) return std::nan("");
+    x = &(*x)[k];
+  }
+  return x->is_number() ? x->get<double>() : std::nan("");
+}
+
+void register_bench_scale(CLI::App& root) {
+  struct Options {
+    std::vector<double> areas = {2000.0, 10000.0, 40000.0, 100000.0};
+    int rays = 36;
+    int observations = 3;
+    int orientations = 10;
+    std::uint64_t seed = 1;
+    std::string dir = "out/bench_scale";
+    std::string output;
+    bool json = false;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App& bench = group(root, "bench", "Benchmarks (medians over repeats, same-run ratios)");
+  auto* cmd = bench.add_subcommand("scale", "Matcher time and peak memory vs floor area (child `bench match` per matcher and area)");
+  cmd->add_option("--areas", o->areas, "Floor areas, m^2")->capture_default_str()->delimiter(',')->check(CLI::Range(100.0, 1e6));
+  cmd->add_option("--rays", o->rays, "Ray matcher directions")->capture_default_str()->check(CLI::Range(4, 3600));
+  cmd->add_option("--observations", o->observations, "Perfect observations per plan (medians)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  cmd->add_option("--orientations", o->orientations, "Kernel orientations (PALMS+ O = 10)")->capture_default_str()->check(CLI::Range(0, 720));
+  cmd->add_option("--seed", o->seed, "Seed of the plans and observation points")->capture_default_str();
+  cmd->add_option("--dir", o->dir, "Work directory (plans, children's JSON)")->capture_default_str();
+  cmd->add_option("-o,--output", o->output, "Also write the table as JSON to this file");
+  cmd->add_flag("--json", o->json, "Print JSON");
+  cmd->callback([o] {
+    ensure_directory(o->dir);
+    const std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
+    Json rows = Json::array();
+    if (!o->json) {
+      std::cout << "area m^2 | plan | valid cells | kernel: precompute s, estimate+top-5 CPU s, estimate CPU s, peak MB | ray "
+                << o->rays << ": precompute s, volume MB, bounded top-5 CPU s, exhaustive CPU s, peak MB\n";
+    }
+    for (const double area : o->areas) {
+      ScalePlanParams sp;
+      sp.area_m2 = area;
+      sp.seed = o->seed;
+      const FloorPlan plan = scale_plan(sp);
+      const std::string plan_path = o->dir + "/" + plan.name + ".json";
+      save_floor_plan(plan, plan_path);
+      const std::string seed = std::to_string(o->seed), obs = std::to_string(o->observations);
+      const std::string kernel_out = o->dir + "/" + plan.name + ".kernel.json";
+      const ChildCost kc = run_child(exe,
+                                     {"bench", "match", "--plan", plan_path, "--observations", obs, "--seed", seed,
+                                      "--orientations", std::to_string(o->orientations), "--rays", "0", "--no-posteriors", "--json"},
+                                     kernel_out, "bench scale (kernel, " + plan.name + ")");
+      const std::string ray_out = o->dir + "/" + plan.name + ".ray.json";
+      const ChildCost rc = run_child(exe,
+                                     {"bench", "match", "--plan", plan_path, "--observations", obs, "--seed", seed,
+                                      "--no-kernel", "--rays", std::to_string(o->rays), "--no-posteriors", "--json"},
+                                     ray_out, "bench scale (ray, " + plan.name + ")");
+      const Json kj = read_json_file(kernel_out), rj = read_json_file(ray_out);
+      const Json& k = kj.contains("kernel") ? kj["kernel"] : Json::object();
+      const std::string D = std::to_string(o->rays);
+      const Json& r = rj.contains("ray") && rj["ray"].contains(D) ? rj["ray"][D] : Json::object();
+      Json row;
+      row["area_m2"] = area;
+      row["plan"] = plan.name;
+      row["walls"] = plan.walls.size();
+      row["grid_px"] = kj.value("grid_px", Json::array());
+      row["valid_cells"] = at(kj, {"valid_cells"});
+      row["kernel_precompute_wall_s"] = at(k, {"precompute_wall_s"});
+      row["kernel_precompute_mb"] = at(k, {"precompute_mb"});
+      row["kernel_modes_cpu_s"] = at(k, {"modes", "cpu_s"});
+      row["kernel_argmax_cpu_s"] = at(k, {"argmax", "cpu_s"});
+      row["kernel_process_cpu_s"] = kc.cpu_s;
+      row["kernel_peak_mb"] = kc.max_rss_mb;
+      row["ray_directions"] = o->rays;
+      row["ray_precompute_s"] = at(r, {"precompute_s"});
+      row["ray_volume_mb"] = at(r, {"volume_mb"});
+      row["ray_modes_cpu_s"] = at(r, {"modes", "cpu_s"});
+      row["ray_exhaustive_cpu_s"] = at(r, {"modes_exhaustive", "cpu_s"});
+      row["ray_cells_scored_share"] = at(r, {"search_counters", "cells_scored_share"});
+      row["ray_process_cpu_s"] = rc.cpu_s;
+      row["ray_peak_mb"] = rc.max_rss_mb;
+      rows.push_back(row);
+      if (!o->json) {
+        std::cout << std::fixed << std::setprecision(0) << area << " | " << plan.name << " | "
+                  << row["valid_cells"].get<double>() << " | " << std::setprecision(2) << row["kernel_precompute_wall_s"].get<double>()
+                  << ", " << std::setprecision(3) << row["kernel_modes_cpu_s"].get<double>() << ", "
+                  << row["kernel_argmax_cpu_s"].get<double>() << ", " << std::setprecision(0) << kc.max_rss_mb << " | "
+                  << std::setprecision(2) << row["ray_precompute_s"].get<double>() << ", " << std::setprecision(0)
+                  << row["ray_volume_mb"].get<double>() << ", " << std::setprecision(3) << row["ray_modes_cpu_s"].get<double>()
+                  << ", " << row["ray_exhaustive_cpu_s"].get<double>() << ", " << std::setprecision(0) << rc.max_rss_mb
+                  << std::endl;
+      }
+    }
+    Json out;
+    out["observations"] = o->observations;
+    out["seed"] = o->seed;
+    out["rows"] = rows;
+    if (!o->output.empty()) write_json(o->output, out);
+    if (o->json) std::cout << out.dump(2) << "\n";
+  });
+}
+
+}  // namespace
+FLOORCAST_REGISTER_COMMANDS(register_bench_scale);
+}  // namespace floorcast::cli

@@ -1,0 +1,74 @@
+#include "floorcast/bench/scale_bench.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "floorcast/core/types.hpp"
+#include "floorcast/floorplans/generate.hpp"
+
+namespace floorcast {
+namespace {
+
+/// Appends `part` to `plan`, shifted by `offset_m`, every id prefixed.
+void append_shifted(FloorPlan& plan, const FloorPlan& part, const Vec2& offset_m, const std::string& prefix) {
+  for (Wall w : part.walls) {
+    w.id = prefix + w.id;
+    w.a_m += offset_m;
+    w.b_m += offset_m;
+    plan.walls.push_back(std::move(w));
+  }
+  for (Door d : part.doors) {
+    d.id = prefix + d.id;
+    d.wall_id = prefix + d.wall_id;
+    d.center_m += offset_m;
+    plan.doors.push_back(std::move(d));
+  }
+  for (Window w : part.windows) {
+    w.id = prefix + w.id;
+    w.wall_id = prefix + w.wall_id;
+    w.center_m += offset_m;
+    plan.windows.push_back(std::move(w));
+  }
+  for (Obstacle o : part.obstacles) {
+    o.id = prefix + o.id;
+    o.center_m += offset_m;
+    plan.obstacles.push_back(std::move(o));
+  }
+  for (Room r : part.rooms) {
+    r.id = prefix + r.id;
+    for (Vec2& p : r.polygon_m) p += offset_m;
+    for (auto& hole : r.holes_m)
+      for (Vec2& p : hole) p += offset_m;
+    plan.rooms.push_back(std::move(r));
+  }
+}
+
+}  // namespace
+
+FloorPlan scale_plan(const ScalePlanParams& params) {
+  if (!(params.area_m2 > 0.0) || !(params.campus_area_m2 > 0.0)) throw InputError("scale plan: areas must be positive");
+  const std::string name = "scale_" + std::to_string(static_cast<long long>(std::llround(params.area_m2))) + "m2";
+  if (params.area_m2 < 5000.0) {
+    OfficeParams op;
+    op.target_area_min_m2 = op.target_area_max_m2 = params.area_m2;
+    FloorPlan plan = generate_office(params.seed, op).plan;
+    plan.name = name;
+    return plan;
+  }
+  const int count = std::max(1, static_cast<int>(std::lround(params.area_m2 / params.campus_area_m2)));
+  CampusParams cp;
+  cp.target_area_min_m2 = cp.target_area_max_m2 = params.area_m2 / count;
+  FloorPlan plan;
+  plan.name = name;
+  double y = 0.0;
+  for (int k = 0; k < count; ++k) {
+    const FloorPlan part = generate_campus(params.seed + static_cast<std::uint64_t>(k), cp).plan;
+    const Eigen::Vector4d box = plan_bbox_m(part);  // min x, min y, max x, max y
+    append_shifted(plan, part, Vec2(-box[0], y - box[1]), "b" + std::to_string(k) + "_");
+    y += box[3] - box[1] + params.gap_m;
+  }
+  return plan;
+}
+
+}  // namespace floorcast
