@@ -1,22 +1,20 @@
 #!/usr/bin/env bash
-# Real-vs-generated perfect-observation comparison (issue 10 item 2; results/realplans_vs_generated.md):
-# imports the real development plans (../shared/realplans, not in the repository), then runs the
-# same compare-matchers command (kernel, ray 36; 10 m, doors closed; 20 points per plan, seed 1)
-# on six small real levels and on the shipped generated buildings, in transitional spaces (the
-# default) and uniformly. Usage: scripts/realplans_vs_generated.sh [REALPLANS_DIR] [OUT_DIR]
+# Real development plans vs each generated archetype (issue 10 item 2; results/realplans_vs_generated.md):
+# imports the real development plans (../shared/realplans, not in the repository), generates every
+# archetype (calibrated office/angled/campus, their *_repetitive hard cases, apartment) for a few
+# seeds, and prints side by side: structure measures (`floorcast plan stats`) and perfect-observation
+# success of the kernel and ray matchers (`floorcast compare-matchers`: 10 m, doors closed, seed 1)
+# in transitional spaces and uniformly, with near-equivalent poses and the real per-plan range.
+# Usage: scripts/realplans_vs_generated.sh [REALPLANS_DIR] [OUT_DIR] [extra options of the .py]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-src=${1:-../shared/realplans}
+src=${1:-}
+if [ -z "$src" ]; then  # ../shared/realplans next to the checkout (worktrees: one level further up)
+  for d in ../shared/realplans ../../shared/realplans /work/shared/realplans; do [ -d "$d" ] && src=$d && break; done
+fi
+[ -d "$src" ] || { echo "real plans not found (pass REALPLANS_DIR)" >&2; exit 2; }
 out=${2:-out/calib}
-bin=build/bin/floorcast
-bash scripts/import_realplans.sh "$src" "$out/plans"
-R=$out/plans
-REAL=("$R/tum_studitum_L1.json" "$R/tum_studitum_L2.json" "$R/rwth_plt_L0.json" "$R/rwth_plt_L1.json"
-      "$R/spbstu_no3_L2.json" "$R/spbstu_no3_L4.json")
-GEN=(floorplans/buildings/apartment.json floorplans/buildings/angled.json floorplans/buildings/office.json)
-run() { local name=$1; shift; "$bin" compare-matchers "$@" --points 20 --seed 1 --rays 36 --quiet -o "$out/$name"; }
-run real_t "${REAL[@]}"
-run gen_t "${GEN[@]}"
-run real_u "${REAL[@]}" --uniform
-run gen_u "${GEN[@]}" --uniform
-for r in real_t gen_t real_u gen_u; do echo "== $r"; sed -n '/^Per building/,/^$/p;/^| method/,/^$/p' "$out/$r/summary.md"; done
+shift $(( $# > 2 ? 2 : $# ))
+bin=${FLOORCAST:-build/bin/floorcast}
+FLOORCAST=$bin bash scripts/import_realplans.sh "$src" "$out/plans"
+python3 scripts/realplans_vs_generated.py --bin "$bin" --plans "$out/plans" --out "$out" "$@"

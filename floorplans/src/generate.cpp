@@ -11,12 +11,17 @@ const char* archetype_name(Archetype archetype) {
     case Archetype::kOffice: return "office";
     case Archetype::kCampus: return "campus";
     case Archetype::kAngled: return "angled";
+    case Archetype::kOfficeRepetitive: return "office_repetitive";
+    case Archetype::kCampusRepetitive: return "campus_repetitive";
+    case Archetype::kAngledRepetitive: return "angled_repetitive";
   }
   return "?";
 }
 
 std::vector<Archetype> all_archetypes() {
-  return {Archetype::kApartment, Archetype::kOffice, Archetype::kCampus, Archetype::kAngled};
+  return {Archetype::kApartment,        Archetype::kOffice,           Archetype::kCampus,
+          Archetype::kAngled,           Archetype::kOfficeRepetitive, Archetype::kCampusRepetitive,
+          Archetype::kAngledRepetitive};
 }
 
 Archetype parse_archetype(const std::string& name) {
@@ -34,6 +39,9 @@ GeneratedBuilding generate_building(Archetype archetype, std::uint64_t seed) {
     case Archetype::kOffice: return generate_office(seed);
     case Archetype::kCampus: return generate_campus(seed);
     case Archetype::kAngled: return generate_angled(seed);
+    case Archetype::kOfficeRepetitive: return generate_office(seed, OfficeParams::repetitive());
+    case Archetype::kCampusRepetitive: return generate_campus(seed, CampusParams::repetitive());
+    case Archetype::kAngledRepetitive: return generate_angled(seed, AngledParams::repetitive());
   }
   throw InputError("unknown archetype");
 }

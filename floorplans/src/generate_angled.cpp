@@ -43,7 +43,7 @@ GeneratedBuilding generate_angled(std::uint64_t seed, const AngledParams& p) {
   // Hub radius: every facade edge between two wings keeps at least `facade_min` metres.
   // Edge lines at distance R with normals u_i, u_j meet R*tan(g/2) from each foot; tan(g/2) =
   // (1 - cos g) / sin g from the exact unit vectors.
-  const double facade_min = 4.0;
+  const double facade_min = p.hub_facade_min_m;
   double R = 0.5 * D + 2.0;
   for (std::size_t i = 0; i < n; ++i) {
     const Frame& a = unit[i];
@@ -89,11 +89,36 @@ GeneratedBuilding generate_angled(std::uint64_t seed, const AngledParams& p) {
       // Pillars and a reception desk in the lobby, placed around the hub centre.
       for (std::size_t i = 0; i < n; ++i) {
         const Frame& u = unit[i];
-        L.add_obstacle("lobby_pillar", ObstacleKind::kPillar, Vec2(0.45 * R * u.c, 0.45 * R * u.s), Vec2(0.6, 0.6), 0.0,
+        const double pr = (p.variety.enabled ? 0.62 : 0.45) * R;
+        L.add_obstacle("lobby_pillar", ObstacleKind::kPillar, Vec2(pr * u.c, pr * u.s), Vec2(0.6, 0.6), 0.0,
                        4.0);
       }
       const Vec2 m = 0.5 * (a + b);
       L.add_obstacle("lobby_reception", ObstacleKind::kBox, 0.55 * m, Vec2(0.8, 3.2), frames[entrance].yaw_rad, 1.1);
+    }
+    if (p.variety.enabled && p.variety.irregular_cores) {
+      // A stair core standing in the lobby, open towards one wing (a U of solid walls), set off
+      // the hub centre away from the entrance: the lobby is no longer an empty convex hall.
+      const Vec2 a = hub_poly[2 * entrance + 1], b = hub_poly[(2 * entrance + 2) % hub_poly.size()];
+      const Vec2 to_entrance = (0.5 * (a + b)).normalized();
+      const Vec2 c = snap(-0.1 * R, 0.1) * to_entrance;
+      const Frame cf = rotated_frame(Vec2(snap(c.x(), 0.1), snap(c.y(), 0.1)), dirs[static_cast<std::size_t>(
+                                                                                  rng.integer(0, static_cast<int>(n) - 1))]);
+      const double hw = 0.5 * snap(rng.uniform(5.0, 8.0), 0.1), hd = 0.5 * snap(rng.uniform(4.0, 6.0), 0.1);
+      const int open_side = rng.integer(0, 3);  // which side of the rectangle stays open
+      const std::array<std::array<Vec2, 2>, 4> sides = {{{Vec2(-hw, -hd), Vec2(hw, -hd)},
+                                                         {Vec2(hw, -hd), Vec2(hw, hd)},
+                                                         {Vec2(hw, hd), Vec2(-hw, hd)},
+                                                         {Vec2(-hw, hd), Vec2(-hw, -hd)}}};
+      for (int k = 0; k < 4; ++k) {
+        if (k == open_side) continue;
+        Wall w;
+        w.a_m = cf.to_world(sides[static_cast<std::size_t>(k)][0].x(), sides[static_cast<std::size_t>(k)][0].y());
+        w.b_m = cf.to_world(sides[static_cast<std::size_t>(k)][1].x(), sides[static_cast<std::size_t>(k)][1].y());
+        w.thickness_m = st.corridor_wall_thickness_m;
+        L.add_free_wall("core", w);
+      }
+      if (st.furniture) add_stairs(L, "lobby_core", cf, -hw + 0.2, -hd + 0.2, hw - 0.2, hd - 0.2);
     }
   }
 
@@ -112,6 +137,7 @@ GeneratedBuilding generate_angled(std::uint64_t seed, const AngledParams& p) {
   fill.kind_double = "office";
   fill.kind_triple = "meeting";
   fill.glass_double_probability = 0.8;
+  fill.variety = &p.variety;
   const double min_gap = 2.0 * st.door_jamb_m + sd + 0.6;
   for (std::size_t i = 0; i < n; ++i) {
     const Frame& F = frames[i];
@@ -139,7 +165,11 @@ GeneratedBuilding generate_angled(std::uint64_t seed, const AngledParams& p) {
         if (st.furniture) add_stairs(L, id, F, len - 3.6, s.y0, len, s.y1);
       }
       if (i == longest && sidx == 1) {  // core: elevator and two toilets mid-wing
-        const double x0 = snap(0.5 * len - 4.0, 0.1);
+        double x0 = snap(0.5 * len - 4.0, 0.1);
+        if (p.variety.enabled && p.variety.irregular_cores) {
+          const double cand = snap(rng.uniform(2.0, len - 8.2 - 2.0), 0.1);
+          if (res.fits(cand, cand + 8.2)) x0 = cand;
+        }
         if (res.reserve(x0, x0 + 8.2)) {
           add_facing_room(L, w + ".lift", "elevator", F, x0, s.y0, x0 + 2.4, s.y1, s.facing, corridor, no_windows(),
                           x0 + 1.2, 1.0, true, rng);
@@ -161,13 +191,15 @@ GeneratedBuilding generate_angled(std::uint64_t seed, const AngledParams& p) {
         row.hallway = corridor;
         row.id_prefix = w + s.name + (part > 0 ? std::string(1, static_cast<char>('a' + part)) : "");
         row.windows = win;
+        row.far_side_is_facade = true;
         fill_row(L, row, fill, rng);
         ++part;
       }
     }
   }
 
-  return L.assemble("angled (seed " + std::to_string(seed) + ")");
+  return L.assemble(std::string(p.variety.enabled ? "angled calibrated" : "angled") + " (seed " +
+                    std::to_string(seed) + ")");
 }
 
 }  // namespace floorcast

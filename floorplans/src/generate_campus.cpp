@@ -305,6 +305,7 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
   fill.kind_triple = "lab";
   fill.glass_double_probability = 0.1;
   fill.min_room_m = 2.4;  // narrower leftovers widen the last room instead of becoming closets
+  fill.variety = &p.variety;
   for (int j = 0; j < nseg; ++j) {
     for (int s = 0; s < kStripCount; ++s) {
       const StripGeom& g = strips[static_cast<std::size_t>(s)];
@@ -326,7 +327,8 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
     }
   }
 
-  return L.assemble("campus (seed " + std::to_string(seed) + ")");
+  return L.assemble(std::string(p.variety.enabled ? "campus calibrated" : "campus") + " (seed " +
+                    std::to_string(seed) + ")");
 }
 
 }  // namespace floorcast

@@ -665,7 +665,175 @@ void add_stairs(Layout& layout, const std::string& name, const Frame& frame, dou
   }
 }
 
+namespace {
+
+/// Draw from equal-probability quantiles q[0] (u = 0) .. q[n-1] (u = 1), linear in between.
+double draw_quantiles(const std::vector<double>& q, double u) {
+  if (q.empty()) return 0.0;
+  if (q.size() == 1) return q.front();
+  const double pos = u * static_cast<double>(q.size() - 1);
+  const std::size_t lo = std::min(static_cast<std::size_t>(pos), q.size() - 2);
+  return q[lo] + (pos - static_cast<double>(lo)) * (q[lo + 1] - q[lo]);
+}
+
+/// The hallway (piece) in front of local x interval [xa, xb] of a strip.
+int hallway_in_front(const RowStrip& s, double xa, double xb) {
+  if (s.hallway_pieces.empty()) return s.hallway;
+  std::size_t best = 0;
+  double best_overlap = -1e300;
+  for (std::size_t m = 0; m < s.hallway_pieces.size(); ++m) {
+    const double p0 = s.hallway_pieces[m].first;
+    const double p1 = m + 1 < s.hallway_pieces.size() ? s.hallway_pieces[m + 1].first : 1e300;
+    const double o = std::min(xb, p1) - std::max(xa, p0);
+    if (o > best_overlap) {
+      best_overlap = o;
+      best = m;
+    }
+  }
+  return s.hallway_pieces[best].second;
+}
+
+/// fill_row with RoomVariety: widths from the real room-area distribution, door recesses, outline
+/// notches, suites and a dead-end stub.
+std::vector<int> fill_row_varied(Layout& layout, const RowStrip& s, const RowFill& f, const RoomVariety& v,
+                                 Rng& rng) {
+  const BuildingStyle& st = layout.style();
+  std::vector<int> out;
+  const double len = s.x1 - s.x0;
+  const double depth = s.y1 - s.y0;
+  if (len <= 1e-6) return out;
+  const double w_door = st.door_width_m;
+  const double wmin = v.room_width_min_m;
+
+  // A dead-end stub across the row, splitting it into two runs of rooms.
+  struct Piece {
+    double x0, x1;
+    bool stub;
+  };
+  std::vector<Piece> pieces;
+  const double stub_w = snap(rng.uniform(v.stub_width_min_m, v.stub_width_max_m), 0.1);
+  const bool want_stub = rng.bernoulli(v.stub_probability) && len >= stub_w + 4.0 * wmin && depth >= 3.0;
+  if (want_stub) {
+    const double sx0 = snap(rng.uniform(s.x0 + 2.0 * wmin, s.x1 - 2.0 * wmin - stub_w), 0.1);
+    pieces.push_back({s.x0, sx0, false});
+    pieces.push_back({sx0, sx0 + stub_w, true});
+    pieces.push_back({sx0 + stub_w, s.x1, false});
+  } else {
+    pieces.push_back({s.x0, s.x1, false});
+  }
+
+  const double hall_y = s.facing > 0 ? s.y1 : s.y0;
+  int counter = 0;
+  for (const Piece& piece : pieces) {
+    if (piece.stub) {
+      const std::string id = s.id_prefix + ".stub";
+      out.push_back(layout.add_rect(id, "hallway", s.frame, piece.x0, s.y0, piece.x1, s.y1,
+                                    s.far_side_is_facade ? hallway_end_windows(st) : no_windows()));
+      continue;
+    }
+    // Widths: area / depth from the real distribution; the last room takes what is left.
+    std::vector<double> widths;
+    const double plen = piece.x1 - piece.x0;
+    double used = 0.0;
+    while (plen - used > 1e-6) {
+      const double area = draw_quantiles(v.room_area_quantiles_m2, rng.uniform01());
+      double w = snap(std::clamp(area / depth, wmin, v.room_width_max_m), 0.1);
+      const double rest = plen - used;
+      if (rest - w < wmin) w = rest;
+      widths.push_back(w);
+      used += w;
+    }
+    int prev_room = -1;
+    double x = piece.x0;
+    for (std::size_t i = 0; i < widths.size(); ++i) {
+      const double xa = x, xb = (i + 1 == widths.size()) ? piece.x1 : x + widths[i];
+      x = xb;
+      const double w = xb - xa;
+      std::string kind = w < 2.6 ? "storage" : w <= 7.0 ? f.kind_single : w <= 11.0 ? f.kind_double : f.kind_triple;
+      char buf[16];
+      std::snprintf(buf, sizeof buf, "%02d", ++counter);
+      const std::string id = s.id_prefix + "." + buf;
+      // Depth: a notch at the facade.
+      double notch = 0.0;
+      if (s.far_side_is_facade && xa >= s.facade_from_x - 1e-9 && rng.bernoulli(v.notch_probability)) {
+        notch = snap(rng.uniform(v.notch_depth_min_m, v.notch_depth_max_m), 0.1);
+        if (depth - notch < 3.5) notch = 0.0;
+      }
+      // A recess on the hallway side holding the door.
+      double ra = 0.0, rb = 0.0, rdep = 0.0;
+      if (rng.bernoulli(v.recess_probability)) {
+        const double rw = snap(rng.uniform(v.recess_width_min_m, v.recess_width_max_m), 0.1);
+        const double rd = snap(rng.uniform(v.recess_depth_min_m, v.recess_depth_max_m), 0.1);
+        // Flush with a partition or at least 1 m from both (no slivers of room beside it).
+        const int where = rng.integer(0, 2);
+        if (w >= rw + 1.0 && depth - notch - rd >= 2.5 && rw >= w_door + 2.0 * st.door_jamb_m + 0.1) {
+          if (where == 0) {
+            ra = xa;
+            rb = xa + rw;
+          } else if (where == 1 || w < rw + 2.0) {
+            ra = xb - rw;
+            rb = xb;
+          } else {
+            ra = std::clamp(snap(rng.uniform(xa + 1.0, xb - 1.0 - rw), 0.1), xa + 1.0, xb - 1.0 - rw);
+            rb = ra + rw;
+          }
+          rdep = rd;
+        }
+      }
+      // Local y of the hallway wall (h), the far wall (far) and the recess back (back).
+      const double h = hall_y;
+      const double far = s.facing > 0 ? s.y0 + notch : s.y1 - notch;
+      const double back = s.facing > 0 ? h - rdep : h + rdep;
+      std::vector<Vec2> poly;
+      poly.push_back(s.frame.to_world(xa, far));
+      poly.push_back(s.frame.to_world(xb, far));
+      if (!(rdep > 0.0 && rb == xb)) poly.push_back(s.frame.to_world(xb, h));
+      if (rdep > 0.0) {  // skip corners that coincide with the room's own (flush recess)
+        if (rb != xb) poly.push_back(s.frame.to_world(rb, h));
+        poly.push_back(s.frame.to_world(rb, back));
+        poly.push_back(s.frame.to_world(ra, back));
+        if (ra != xa) poly.push_back(s.frame.to_world(ra, h));
+      }
+      if (!(rdep > 0.0 && ra == xa)) poly.push_back(s.frame.to_world(xa, h));
+      const bool glass = kind == f.kind_double && rng.bernoulli(v.glass_wall_probability);
+      if (glass) kind = "meeting";
+      const int room = layout.add_room(id, kind, poly, s.windows);
+      out.push_back(room);
+      const int hall = hallway_in_front(s, xa, xb);
+      const bool closed = kind == "storage" || rng.bernoulli(st.room_door_closed_probability);
+      const bool suite = prev_room >= 0 && rng.bernoulli(v.suite_probability);
+      if (rdep > 0.0) {
+        const int recess =
+            layout.add_rect(id + "_alcove", "hallway", s.frame, ra, std::min(h, back), rb, std::max(h, back), no_windows());
+        layout.add_door(room, recess, w_door, closed, s.frame.to_world(0.5 * (ra + rb), back));
+      } else if (suite) {
+        layout.add_door(room, prev_room, w_door, closed, s.frame.to_world(xa, 0.5 * (h + far)));
+      } else {
+        const double inset = st.door_jamb_m + 0.2 + 0.5 * w_door;
+        const double xd = w > 2.0 * inset ? snap(rng.uniform(xa + inset, xb - inset), 0.05) : 0.5 * (xa + xb);
+        layout.add_door(room, hall, std::min(w_door, w - 2.0 * st.door_jamb_m - 0.05), closed, s.frame.to_world(xd, h));
+        if (w > 7.0) {  // large rooms: a second door
+          const double xd2 = xd - xa > 0.5 * w ? xa + inset : xb - inset;
+          layout.add_door(room, hall, w_door, rng.bernoulli(st.room_door_closed_probability), s.frame.to_world(xd2, h));
+        }
+      }
+      if (glass && rdep <= 0.0) layout.set_glass(room, hall);
+      if (st.furniture) {
+        // Furniture in the part of the room behind the recess line and inside the notch.
+        const double fy0 = s.facing > 0 ? far : back;
+        const double fy1 = s.facing > 0 ? back : far;
+        furnish_room(layout, id, kind, s.frame, xa, fy0, xb, fy1, s.facing, rng);
+      }
+      prev_room = room;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<int> fill_row(Layout& layout, const RowStrip& s, const RowFill& f, Rng& rng) {
+  if (f.variety && f.variety->enabled) return fill_row_varied(layout, s, f, *f.variety, rng);
   const BuildingStyle& st = layout.style();
   const double len = s.x1 - s.x0;
   std::vector<int> out;

@@ -158,6 +158,9 @@ struct RowFill {
   std::string kind_triple = "classroom";
   double glass_double_probability = 0.0;  ///< a two-module room gets a glass wall to the hallway
   double min_room_m = 1.8;            ///< leftovers narrower than this widen the last room
+  /// Calibrated variety (room widths from the real area distribution, recesses, notches, suites,
+  /// stubs); null or disabled: rows of module rooms, exactly as before the calibration.
+  const RoomVariety* variety = nullptr;
 };
 
 /// A strip of a wing's local frame to be cut into rooms facing a hallway.
@@ -172,6 +175,11 @@ struct RowStrip {
   std::vector<std::pair<double, int>> hallway_pieces;
   std::string id_prefix;
   WindowSpec windows;
+  /// The side away from the hallway is the building's facade (rooms may be shallower there:
+  /// outline notches; stubs end in a window).
+  bool far_side_is_facade = false;
+  /// ... only from this local x on (e.g. where another wing's rooms end).
+  double facade_from_x = -1e300;
 };
 
 /// Cuts the strip into rooms of 1-3 modules (leftover narrower than min_room_m widens the last

@@ -51,7 +51,10 @@ GeneratedBuilding generate_office(std::uint64_t seed, const OfficeParams& p) {
 
   // Circulation.
   const int junction = L.add_rect("junction", "hallway", FA, rd, rd, rd + cw, rd + cw, no_windows());
-  const double xfA = snap(D + 0.5 * LA, 0.1);  // fire partition across corridor A
+  const bool varied = p.variety.enabled;
+  const bool irregular = varied && p.variety.irregular_cores;
+  // Fire partition across corridor A: mid-wing (repetitive) or anywhere in its middle half.
+  const double xfA = snap(D + (irregular ? rng.uniform(0.3, 0.7) : 0.5) * LA, 0.1);
   const int corrA1 = L.add_rect("corridorA1", "hallway", FA, rd + cw, rd, xfA, rd + cw, no_windows());
   const int corrA2 = L.add_rect("corridorA2", "hallway", FA, xfA, rd, D + LA, rd + cw, hallway_end_windows(st));
   L.set_solid(corrA1, corrA2);
@@ -60,7 +63,7 @@ GeneratedBuilding generate_office(std::uint64_t seed, const OfficeParams& p) {
 
   // Wing B corridor in its local frame: x in [rd+cw, D+LB], y in [-(rd+cw), -rd].
   const bool fire_b = LB > 35.0;
-  const double xfB = snap(D + 0.5 * LB, 0.1);
+  const double xfB = snap(D + (irregular ? rng.uniform(0.3, 0.7) : 0.5) * LB, 0.1);
   const int corrB1 = L.add_rect("corridorB1", "hallway", FB, rd + cw, -(rd + cw), fire_b ? xfB : D + LB, -rd,
                                 fire_b ? no_windows() : hallway_end_windows(st));
   int corrB2 = corrB1;
@@ -137,8 +140,13 @@ GeneratedBuilding generate_office(std::uint64_t seed, const OfficeParams& p) {
   // row (2 toilets, a tea kitchen).
   {
     const StripDef& d = defs[1];
-    const double x0 = xfA;
     std::array<double, 4> widths = {3.6, 2.4, 2.8, 2.8};
+    double x0 = xfA;
+    if (irregular) {  // anywhere along the row that is free
+      const double span = 3.6 + 2.4 + 2.8 + 2.8;
+      const double cand = snap(rng.uniform(d.x0 + 3.0 * module, d.x1 - span - 4.0), 0.1);
+      if (res[1].fits(cand, cand + span)) x0 = cand;
+    }
     std::array<const char*, 4> kinds = {"stairwell", "elevator", "toilet", "toilet"};
     std::array<const char*, 4> names = {"A.core.stair", "A.core.lift", "A.core.wc1", "A.core.wc2"};
     double total = 0.0;
@@ -157,7 +165,11 @@ GeneratedBuilding generate_office(std::uint64_t seed, const OfficeParams& p) {
   }
   {
     const StripDef& d = defs[2];
-    const double x0 = snap(0.5 * (d.x0 + d.x1), 0.1);
+    double x0 = snap(0.5 * (d.x0 + d.x1), 0.1);
+    if (irregular) {
+      const double cand = snap(rng.uniform(d.x0 + 1.0, d.x1 - 9.2 - 4.0), 0.1);
+      if (res[2].fits(cand, cand + 9.2)) x0 = cand;
+    }
     std::array<double, 3> widths = {2.8, 2.8, 3.6};
     std::array<const char*, 3> kinds = {"toilet", "toilet", "kitchen"};
     std::array<const char*, 3> names = {"B.core.wc1", "B.core.wc2", "B.core.kitchen"};
@@ -209,6 +221,7 @@ GeneratedBuilding generate_office(std::uint64_t seed, const OfficeParams& p) {
   fill.kind_double = "office";
   fill.kind_triple = "meeting";
   fill.glass_double_probability = 0.8;
+  fill.variety = &p.variety;
   for (std::size_t s = 0; s < defs.size(); ++s) {
     const StripDef& d = defs[s];
     int part = 0;
@@ -224,12 +237,14 @@ GeneratedBuilding generate_office(std::uint64_t seed, const OfficeParams& p) {
       row.hallway_pieces = d.halls;
       row.id_prefix = d.name + (part > 0 ? std::string(1, static_cast<char>('a' + part)) : "");
       row.windows = win;
+      row.far_side_is_facade = true;
+      if (s == 3) row.facade_from_x = D;  // wing B's east row backs onto wing A's north row up to D
       fill_row(L, row, fill, rng);
       ++part;
     }
   }
 
-  return L.assemble("office (seed " + std::to_string(seed) + ")");
+  return L.assemble(std::string(varied ? "office calibrated" : "office") + " (seed " + std::to_string(seed) + ")");
 }
 
 }  // namespace floorcast

@@ -53,9 +53,9 @@ Box bounds(const std::vector<Vec2>& poly) {
   return b;
 }
 
-/// Ridge-based width of one room mask (CV_8U, 255 inside, zero border): twice the median
-/// distance-transform value over pixels that are local maxima of the transform.
-double ridge_width_m(const cv::Mat& mask, double res) {
+/// Widths along the ridge of a mask (CV_8U, 255 inside, zero border): twice the distance-transform
+/// value at every pixel that is a local maximum of the transform (the medial axis), in metres.
+std::vector<double> ridge_widths_m(const cv::Mat& mask, double res) {
   cv::Mat dt;
   cv::distanceTransform(mask, dt, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
   std::vector<double> ridge;
@@ -72,11 +72,10 @@ double ridge_width_m(const cv::Mat& mask, double res) {
           }
         }
       }
-      if (is_max) ridge.push_back(static_cast<double>(v));
+      if (is_max) ridge.push_back(2.0 * static_cast<double>(v) * res);
     }
   }
-  if (ridge.empty()) return 0.0;
-  return 2.0 * median(ridge) * res;
+  return ridge;
 }
 
 }  // namespace
@@ -219,28 +218,26 @@ PlanStats plan_stats(const FloorPlan& plan, const PlanStatsParams& params) {
     grid.width_px = static_cast<int>(std::ceil((all.xmax - all.xmin) / res)) + 4;
     grid.height_px = static_cast<int>(std::ceil((all.ymax - all.ymin) / res)) + 4;
     const cv::Mat index = room_index_raster(plan.rooms, grid);
-    std::vector<double> corridor;
-    for (int i : transitional) {
-      const Box b = bounds(plan.rooms[static_cast<std::size_t>(i)].polygon_m);
-      const int c0 = std::max(0, static_cast<int>(std::floor((b.xmin - grid.origin_x_m) / res)) - 1);
-      const int c1 = std::min(grid.width_px - 1, static_cast<int>(std::ceil((b.xmax - grid.origin_x_m) / res)) + 1);
-      const int r0 = std::max(0, static_cast<int>(std::floor((b.ymin - grid.origin_y_m) / res)) - 1);
-      const int r1 = std::min(grid.height_px - 1, static_cast<int>(std::ceil((b.ymax - grid.origin_y_m) / res)) + 1);
-      if (c1 <= c0 || r1 <= r0) continue;
-      const cv::Rect roi(c0, r0, c1 - c0 + 1, r1 - r0 + 1);
-      cv::Mat mask = cv::Mat::zeros(roi.height + 2, roi.width + 2, CV_8U);
-      const cv::Mat sub = index(roi);
-      int inside = 0;
-      for (int r = 0; r < sub.rows; ++r) {
-        for (int c = 0; c < sub.cols; ++c) {
-          if (sub.at<int>(r, c) == i) {
-            mask.at<unsigned char>(r + 1, c + 1) = 255;
-            ++inside;
-          }
+    // One mask for all transitional space: alcoves and corridor pieces labelled as separate rooms
+    // measure as the circulation they form together.
+    std::vector<char> is_transitional(plan.rooms.size(), 0);
+    for (int i : transitional) is_transitional[static_cast<std::size_t>(i)] = 1;
+    cv::Mat mask = cv::Mat::zeros(index.rows + 2, index.cols + 2, CV_8U);
+    int inside = 0;
+    for (int r = 0; r < index.rows; ++r) {
+      for (int c = 0; c < index.cols; ++c) {
+        const int k = index.at<int>(r, c);
+        if (k >= 0 && is_transitional[static_cast<std::size_t>(k)]) {
+          mask.at<unsigned char>(r + 1, c + 1) = 255;
+          ++inside;
         }
       }
-      if (inside < 4) continue;
-      corridor.push_back(ridge_width_m(mask, res));
+    }
+    std::vector<double> corridor;
+    if (inside >= 4) {
+      for (double w : ridge_widths_m(mask, res)) {
+        if (w >= params.min_corridor_width_m) corridor.push_back(w);
+      }
     }
     s.corridor_width_m = describe(corridor);
   }

@@ -105,7 +105,7 @@ TEST(PlanStats, RoomsRepetitionAndCorridorWidth) {
   // The four identical south rooms repeat each other; 5 m (north, 5 x 5 and 8 x 5) repeat too:
   // widths 4,4,4,4 | 3,5,5 -> the 5 x 5 and 8 x 5 rooms are neighbours with width 5.
   EXPECT_NEAR(s.repeated_width_share, 6.0 / 7.0, 1e-9);
-  ASSERT_EQ(s.corridor_width_m.count, 1);
+  ASSERT_GT(s.corridor_width_m.count, 100);  // ridge pixels along the 16 m corridor
   EXPECT_NEAR(s.corridor_width_m.median, 2.0, 0.15);
 }
 

@@ -11,6 +11,7 @@
 #include "floorcast/floorplans/generate.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/floorplans/raster.hpp"
+#include "floorcast/floorplans/stats.hpp"
 #include "floorcast/core/math.hpp"
 #include "generate_checks.hpp"
 
@@ -32,8 +33,24 @@ const GeneratedBuilding& building(Archetype a, std::uint64_t seed) {
   return it->second;
 }
 
+/// The shipped file of an archetype: the repetitive hard cases keep the pre-calibration names
+/// (office.json, ...: the gates and baselines are measured on them), the calibrated archetypes
+/// ship as NAME_calibrated.json.
+std::string shipped_file(Archetype a) {
+  switch (a) {
+    case Archetype::kApartment: return "apartment";
+    case Archetype::kOffice: return "office_calibrated";
+    case Archetype::kCampus: return "campus_calibrated";
+    case Archetype::kAngled: return "angled_calibrated";
+    case Archetype::kOfficeRepetitive: return "office";
+    case Archetype::kCampusRepetitive: return "campus";
+    case Archetype::kAngledRepetitive: return "angled";
+  }
+  return "?";
+}
+
 std::string shipped_path(Archetype a) {
-  return std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/" + archetype_name(a) + ".json";
+  return std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/" + shipped_file(a) + ".json";
 }
 
 TEST(Generate, ArchetypeNamesRoundTripAndUnknownNamesAreRefused) {
@@ -79,7 +96,7 @@ TEST(Generate, ShippedBuildingsEqualAFreshGenerationWithTheirRecordedSeed) {
         << "`; regenerate it with the command in floorplans/README.md";
     // The README records the command that regenerates the file.
     const std::string command = std::string("--archetype ") + archetype_name(a) + " --seed " + std::to_string(seed) +
-                                " -o floorplans/buildings/" + archetype_name(a) + ".json";
+                                " -o floorplans/buildings/" + shipped_file(a) + ".json";
     EXPECT_NE(readme.find(command), std::string::npos) << "floorplans/README.md lacks: " << command;
   }
 }
@@ -175,6 +192,24 @@ TEST(Generate, ManySeedsGiveValidConnectedBuildings) {
           b = generate_apartment(seed, p);
           break;
         }
+        case Archetype::kOfficeRepetitive: {
+          OfficeParams p = OfficeParams::repetitive();
+          p.style = bare;
+          b = generate_office(seed, p);
+          break;
+        }
+        case Archetype::kCampusRepetitive: {
+          CampusParams p = CampusParams::repetitive();
+          p.style.furniture = false;
+          b = generate_campus(seed, p);
+          break;
+        }
+        case Archetype::kAngledRepetitive: {
+          AngledParams p = AngledParams::repetitive();
+          p.style = bare;
+          b = generate_angled(seed, p);
+          break;
+        }
         case Archetype::kOffice: {
           OfficeParams p;
           p.style = bare;
@@ -256,8 +291,11 @@ TEST(Generate, EveryArchetypeHasClosedDoorsWindowsAndGlass) {
 TEST(Generate, FreeFloorAreasAreWithinTheArchetypeRanges) {
   const std::map<Archetype, std::pair<double, double>> ranges = {
       {Archetype::kApartment, {80.0, 150.0}},
-      {Archetype::kOffice, {1500.0, 3000.0}},
+      {Archetype::kOffice, {800.0, 2500.0}},  // calibrated: within the small real levels (180-2,200 m^2)
+      {Archetype::kAngled, {900.0, 2500.0}},
       {Archetype::kCampus, {8000.0, 15000.0}},
+      {Archetype::kOfficeRepetitive, {1500.0, 3000.0}},
+      {Archetype::kCampusRepetitive, {8000.0, 15000.0}},
   };
   for (const auto& [a, range] : ranges) {
     for (std::uint64_t seed = 1; seed <= 5; ++seed) {
@@ -328,7 +366,7 @@ int hallway_junctions(const GeneratedBuilding& b) {
 
 TEST(Generate, CampusHasLongHallwaysIntersectionsLobbyAtriumAndLectureHalls) {
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
-    const GeneratedBuilding& b = building(Archetype::kCampus, seed);
+    const GeneratedBuilding& b = building(Archetype::kCampusRepetitive, seed);
     SCOPED_TRACE("seed " + std::to_string(seed));
     int long_hallways = 0;
     for (const GeneratedRoom& r : b.rooms) {
@@ -353,7 +391,7 @@ TEST(Generate, CampusHasLongHallwaysIntersectionsLobbyAtriumAndLectureHalls) {
 
 TEST(Generate, OfficeHasDoubleLoadedCorridorsStairsAndMeetingRooms) {
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
-    const GeneratedBuilding& b = building(Archetype::kOffice, seed);
+    const GeneratedBuilding& b = building(Archetype::kOfficeRepetitive, seed);
     SCOPED_TRACE("seed " + std::to_string(seed));
     const auto kinds = kind_counts(b);
     ASSERT_GE(kinds.count("stairwell"), 1u);
@@ -361,6 +399,38 @@ TEST(Generate, OfficeHasDoubleLoadedCorridorsStairsAndMeetingRooms) {
     ASSERT_GE(kinds.count("meeting"), 1u);
     EXPECT_GE(largest_identical_group(b, "office"), 20);
     EXPECT_GE(hallway_junctions(b), 2);  // corner junction, fire partitions
+  }
+}
+
+// The calibrated archetypes keep their features but lose the rows of identical rooms: on the
+// structure measures they sit inside the small real levels' range (plan stats on
+// ../shared/realplans: repeated room widths 0-0.75, room-area q3/q1 1.4-27), the repetitive ones
+// outside it.
+TEST(Generate, CalibratedArchetypesVaryTheirRoomsTheRepetitiveOnesDoNot) {
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    for (Archetype a : {Archetype::kOffice, Archetype::kAngled, Archetype::kCampus}) {
+      const PlanStats s = plan_stats(building(a, seed).plan);
+      SCOPED_TRACE(archetype_name(a));
+      EXPECT_LE(s.repeated_width_share, 0.75);
+      EXPECT_GE(s.room_area_m2.q3 / s.room_area_m2.q1, 1.4);
+      EXPECT_GE(s.room_area_m2.cv, 0.4);
+    }
+    for (Archetype a : {Archetype::kOfficeRepetitive, Archetype::kAngledRepetitive}) {
+      const PlanStats s = plan_stats(building(a, seed).plan);
+      SCOPED_TRACE(archetype_name(a));
+      EXPECT_LT(s.room_area_m2.q3 / s.room_area_m2.q1, 1.3);
+      EXPECT_GE(largest_identical_group(building(a, seed), "office"), 20);
+    }
+    // Calibrated office: still two wings with stairwells, a conference room, junctions; recesses
+    // and stubs are hallway pieces open to the corridors.
+    const GeneratedBuilding& office = building(Archetype::kOffice, seed);
+    const auto kinds = kind_counts(office);
+    ASSERT_GE(kinds.count("stairwell"), 1u);
+    EXPECT_GE(kinds.at("stairwell"), 2);
+    EXPECT_GE(kinds.count("meeting"), 1u);
+    EXPECT_GE(hallway_junctions(office), 4);
+    EXPECT_LT(largest_identical_group(office, "office"), 8);
   }
 }
 

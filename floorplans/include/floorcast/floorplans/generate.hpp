@@ -39,6 +39,53 @@ struct BuildingStyle {
   bool furniture = true;
 };
 
+/// Irregularity of rows of rooms and their corridors, calibrated on the real development plans
+/// (`floorcast plan stats` on ../shared/realplans; results/realplans_vs_generated.md). With
+/// `enabled = false` an archetype lays out rows of identical module rooms along featureless
+/// corridors: the repetitive hard case (`office_repetitive`, ...), byte for byte the buildings
+/// generated before the calibration.
+struct RoomVariety {
+  bool enabled = true;
+  /// Room areas (m^2) as equal-probability quantiles (0.1, 0.2, ..., 1.0; drawn by linear
+  /// interpolation): the pooled non-transitional room areas of the 16 small real levels (TUM
+  /// StudiTUM, RWTH PLT, SPbSTU No. 3; 303 rooms) from their 10% quantile up, the top capped at
+  /// 120 m^2 (larger real rooms are lecture halls, laid out separately). A row room's width along
+  /// its corridor is area / depth, clamped to [room_width_min_m, room_width_max_m].
+  std::vector<double> room_area_quantiles_m2 = {6.6, 15.8, 20.8, 22.4, 26.3, 33.4, 44.0, 61.6, 74.3, 120.0};
+  double room_width_min_m = 2.4;
+  double room_width_max_m = 14.0;
+  /// A room's door sits in a recess (alcove) cut from the room's corridor side: the corridor gets
+  /// jogs and niches. Width and depth drawn uniformly in these ranges; the recess is flush with
+  /// one of the room's partitions or at least 1 m from both.
+  double recess_probability = 0.35;
+  double recess_width_min_m = 1.6;
+  double recess_width_max_m = 4.5;
+  double recess_depth_min_m = 0.8;
+  double recess_depth_max_m = 2.0;
+  /// A room on the facade is shallower than its row (a notch in the outline).
+  double notch_probability = 0.25;
+  double notch_depth_min_m = 1.0;
+  double notch_depth_max_m = 2.5;
+  /// A room is entered from its neighbour in the row, not from the corridor (fewer corridor doors).
+  double suite_probability = 0.15;
+  /// Per row: a dead-end side corridor across the row (to the facade where there is one).
+  double stub_probability = 0.35;
+  double stub_width_min_m = 1.6;
+  double stub_width_max_m = 2.6;
+  /// A wide room (kind of a two-module room) gets a glass wall to the corridor. The real plans
+  /// carry no glass; kept low so corridors stay mostly solid.
+  double glass_wall_probability = 0.15;
+  /// Cores (stairs, lifts, toilets) and fire partitions at random positions along a wing instead
+  /// of fixed ones.
+  bool irregular_cores = true;
+
+  static RoomVariety none() {
+    RoomVariety v;
+    v.enabled = false;
+    return v;
+  }
+};
+
 /// Apartment: ~80-150 m^2 of free floor area. A front band (kitchen + living room, the living room
 /// with a glazed corner facade), an entrance hall with a storage closet, a back band of bedrooms
 /// and a bathroom (with a glass shower screen).
@@ -73,20 +120,36 @@ struct ApartmentParams {
 /// identical offices, glass-walled meeting rooms, a core (stairwell, elevator, toilets) per wing,
 /// stairwells and exits at the wing ends, an entrance vestibule with a glass facade at the corner
 /// junction, and double fire doors across the corridors.
+/// The defaults are calibrated on the real development plans (RoomVariety; areas within the small
+/// real levels' range); `repetitive()` is the hard case of rows of identical offices.
 struct OfficeParams {
   BuildingStyle style;
-  double target_area_min_m2 = 1900.0;  ///< the wings are sized for a free area drawn in this range
-  double target_area_max_m2 = 2700.0;
-  double room_depth_min_m = 5.6;       ///< office depth (corridor wall to facade)
-  double room_depth_max_m = 6.2;
-  double corridor_width_min_m = 2.0;
-  double corridor_width_max_m = 2.4;
+  double target_area_min_m2 = 1000.0;  ///< the wings are sized for a free area drawn in this range
+  double target_area_max_m2 = 2200.0;
+  double room_depth_min_m = 4.8;       ///< office depth (corridor wall to facade)
+  double room_depth_max_m = 6.8;
+  double corridor_width_min_m = 2.2;   ///< real small levels: median corridor width 2.5-3.8 m
+  double corridor_width_max_m = 3.0;
   double module_width_min_m = 3.4;     ///< width of the standard (repeated) office
   double module_width_max_m = 3.8;
   double second_wing_share_min = 0.35; ///< share of the total wing length in the second wing
   double second_wing_share_max = 0.45;
   double meeting_room_probability = 0.12;  ///< a room group becomes a glass-walled meeting room
   double lounge_probability = 0.5;     ///< per wing: an open lounge niche off the corridor
+  RoomVariety variety;
+
+  /// The pre-calibration office (`office_repetitive`, floorplans/buildings/office.json).
+  static OfficeParams repetitive() {
+    OfficeParams p;
+    p.target_area_min_m2 = 1900.0;
+    p.target_area_max_m2 = 2700.0;
+    p.room_depth_min_m = 5.6;
+    p.room_depth_max_m = 6.2;
+    p.corridor_width_min_m = 2.0;
+    p.corridor_width_max_m = 2.4;
+    p.variety = RoomVariety::none();
+    return p;
+  }
 };
 
 /// Campus: ~8,000-15,000 m^2. A large block with three long east-west hallways crossed by
@@ -114,6 +177,14 @@ struct CampusParams {
   double lobby_length_max_m = 20.0;
   double cross_hallway_exit_probability = 0.6;  ///< a cross hallway reaches the facade (else stairwell)
   double lounge_probability = 0.4;     ///< per segment: an open lounge niche off a hallway
+  RoomVariety variety;  ///< calibrated by default; none() in repetitive()
+
+  /// The pre-calibration campus (`campus_repetitive`, floorplans/buildings/campus.json).
+  static CampusParams repetitive() {
+    CampusParams p;
+    p.variety = RoomVariety::none();
+    return p;
+  }
 
   static BuildingStyle campus_style() {
     BuildingStyle s;
@@ -126,19 +197,39 @@ struct CampusParams {
 /// Angled: a non-Manhattan building. An irregular convex lobby hub (glass facades, entrance)
 /// with three double-loaded corridor wings pointing west (180 deg), at 30 deg and at -45 deg, so
 /// walls run at 0/90, 30/120 and 45/135 degrees.
+/// The defaults are calibrated on the real development plans (RoomVariety, shorter wings);
+/// `repetitive()` is the hard case of rows of identical offices.
 struct AngledParams {
   BuildingStyle style;
-  double wing_length_min_m = 36.0;
-  double wing_length_max_m = 56.0;
-  double room_depth_min_m = 5.6;
-  double room_depth_max_m = 6.4;
-  double corridor_width_min_m = 2.0;
-  double corridor_width_max_m = 2.4;
+  double wing_length_min_m = 22.0;
+  double wing_length_max_m = 40.0;
+  double room_depth_min_m = 4.8;
+  double room_depth_max_m = 6.8;
+  double corridor_width_min_m = 2.2;
+  double corridor_width_max_m = 3.0;
   double module_width_min_m = 3.4;
   double module_width_max_m = 3.8;
   double meeting_room_probability = 0.15;
   /// Wing directions (degrees, CCW from +x). Must be multiples of 15 degrees, at least 60 apart.
   std::vector<int> wing_directions_deg = {180, 30, -45};
+  /// The lobby hub is sized so every facade edge between two wings keeps at least this length.
+  double hub_facade_min_m = 2.5;
+  /// Calibrated: also a U-shaped stair core standing in the lobby (irregular_cores).
+  RoomVariety variety;
+
+  /// The pre-calibration angled building (`angled_repetitive`, floorplans/buildings/angled.json).
+  static AngledParams repetitive() {
+    AngledParams p;
+    p.wing_length_min_m = 36.0;
+    p.wing_length_max_m = 56.0;
+    p.hub_facade_min_m = 4.0;
+    p.room_depth_min_m = 5.6;
+    p.room_depth_max_m = 6.4;
+    p.corridor_width_min_m = 2.0;
+    p.corridor_width_max_m = 2.4;
+    p.variety = RoomVariety::none();
+    return p;
+  }
 };
 
 /// A room of a generated building: id, kind ("hallway", "office", "lobby", "atrium",
@@ -151,9 +242,12 @@ struct GeneratedBuilding {
   std::vector<GeneratedRoom> rooms;
 };
 
-enum class Archetype { kApartment, kOffice, kCampus, kAngled };
+/// The calibrated archetypes (default parameters) and the repetitive hard cases (`repetitive()`
+/// parameters: the buildings shipped as floorplans/buildings/office.json, campus.json, angled.json).
+enum class Archetype { kApartment, kOffice, kCampus, kAngled, kOfficeRepetitive, kCampusRepetitive, kAngledRepetitive };
 
-/// "apartment", "office", "campus", "angled".
+/// "apartment", "office", "campus", "angled", "office_repetitive", "campus_repetitive",
+/// "angled_repetitive".
 const char* archetype_name(Archetype archetype);
 std::vector<Archetype> all_archetypes();
 /// Parses an archetype name; throws InputError listing the valid names.
@@ -164,7 +258,7 @@ GeneratedBuilding generate_office(std::uint64_t seed, const OfficeParams& params
 GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& params = {});
 GeneratedBuilding generate_angled(std::uint64_t seed, const AngledParams& params = {});
 
-/// The archetype with its default parameters. The plan is validated (validate_floor_plan) before
+/// The archetype with its default parameters (repetitive archetypes: `repetitive()`). The plan is validated (validate_floor_plan) before
 /// it is returned.
 GeneratedBuilding generate_building(Archetype archetype, std::uint64_t seed);
 

@@ -24,6 +24,9 @@ struct PlanStatsParams {
   double repeat_tolerance = 0.05;
   /// Raster resolution for corridor widths (distance transform of each transitional room).
   double resolution_m_per_px = 0.1;
+  /// Corridor ridge samples narrower than this are slivers (gaps between mapped rooms), not
+  /// corridors, and are ignored.
+  double min_corridor_width_m = 0.6;
   /// Non-transitional rooms smaller than this are ignored (slivers, shafts drawn as rooms).
   double min_room_area_m2 = 1.0;
 };
@@ -64,8 +67,10 @@ struct PlanStats {
   /// Share of those rooms whose width is within repeat_tolerance of a neighbouring room's width
   /// (rows of identical offices give ~1, varied rooms ~0). 0 without rooms.
   double repeated_width_share = 0.0;
-  /// Widths of the transitional rooms: per room, twice the median distance-transform value on its
-  /// ridge (medial axis), centreline to centreline; one sample per room.
+  /// Width of the transitional space (all transitional rooms as one region, so alcoves and
+  /// corridor pieces count as the circulation they form): twice the distance-transform value at
+  /// every ridge (medial-axis) pixel, centreline to centreline; samples are ridge pixels, so the
+  /// distribution is weighted by corridor length.
   Distribution corridor_width_m;
 };
 
