@@ -50,14 +50,14 @@ FloorPlan scale_plan(const ScalePlanParams& params) {
   if (!(params.area_m2 > 0.0) || !(params.campus_area_m2 > 0.0)) throw InputError("scale plan: areas must be positive");
   const std::string name = "scale_" + std::to_string(static_cast<long long>(std::llround(params.area_m2))) + "m2";
   if (params.area_m2 < 5000.0) {
-    OfficeParams op;
+    OfficeParams op = OfficeParams::repetitive();  // the buildings results/bench_scale.md was measured on
     op.target_area_min_m2 = op.target_area_max_m2 = params.area_m2;
     FloorPlan plan = generate_office(params.seed, op).plan;
     plan.name = name;
     return plan;
   }
   const int count = std::max(1, static_cast<int>(std::lround(params.area_m2 / params.campus_area_m2)));
-  CampusParams cp;
+  CampusParams cp = CampusParams::repetitive();
   cp.target_area_min_m2 = cp.target_area_max_m2 = params.area_m2 / count;
   FloorPlan plan;
   plan.name = name;
