@@ -209,7 +209,7 @@ PYBIND11_MODULE(_floorcast, m) {
         "Reads a floor-plan JSON file (validated; repairs reported by the loader)");
   m.def("generate_plan", [](const std::string& archetype, std::uint64_t seed) {
     return PyPlan{generate_building(parse_archetype(archetype), seed).plan, "generated " + archetype + " seed " + std::to_string(seed)};
-  }, py::arg("archetype"), py::arg("seed") = 0, "A procedural building: apartment, office, campus or angled");
+  }, py::arg("archetype"), py::arg("seed") = 0, "A procedural building: apartment, office, campus, angled (calibrated on real plans) or office_repetitive, campus_repetitive, angled_repetitive (the hard case of identical rooms)");
 
   // ---- scans ----
   py::class_<DepthView>(m, "View", "One view of a scan: depth, optional colour and masks, intrinsics, pose")
