@@ -104,6 +104,9 @@ void register_bench_match(CLI::App& root) {
       ->check(CLI::Range(1, 100));
   cmd->add_flag("!--no-posteriors", o->params.posteriors, "Skip the full posteriors");
   cmd->add_flag("!--no-kernel", o->params.kernel, "Skip the kernel matcher");
+  cmd->add_option("--ray-bits", o->params.ray_volume_bits, "Ray matcher distance volume bits (8 or 16)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({8, 16}));
   cmd->add_option("--equivalence", o->equivalence,
                   "Instead: compare the search's modes with the posterior's on N seeded observations per plan")
       ->check(CLI::Range(0, 100000));

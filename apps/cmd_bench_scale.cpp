@@ -44,6 +44,7 @@ void register_bench_scale(CLI::App& root) {
   struct Options {
     std::vector<double> areas = {2000.0, 10000.0, 40000.0, 100000.0};
     int rays = 36;
+    int ray_bits = 16;
     int observations = 3;
     int orientations = 10;
     std::uint64_t seed = 1;
@@ -56,6 +57,7 @@ void register_bench_scale(CLI::App& root) {
   auto* cmd = bench.add_subcommand("scale", "Matcher time and peak memory vs floor area (child `bench match` per matcher and area)");
   cmd->add_option("--areas", o->areas, "Floor areas, m^2")->capture_default_str()->delimiter(',')->check(CLI::Range(100.0, 1e6));
   cmd->add_option("--rays", o->rays, "Ray matcher directions")->capture_default_str()->check(CLI::Range(4, 3600));
+  cmd->add_option("--ray-bits", o->ray_bits, "Ray matcher distance volume bits (8 or 16)")->capture_default_str()->check(CLI::IsMember({8, 16}));
   cmd->add_option("--observations", o->observations, "Perfect observations per plan (medians)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
@@ -70,7 +72,7 @@ void register_bench_scale(CLI::App& root) {
     Json rows = Json::array();
     if (!o->json) {
       std::cout << "area m^2 | plan | valid cells | kernel: precompute s, estimate+top-5 CPU s, estimate CPU s, peak MB | ray "
-                << o->rays << ": precompute s, volume MB, bounded top-5 CPU s, exhaustive CPU s, peak MB\n";
+                << o->rays << " (" << o->ray_bits << "-bit): precompute s, volume MB, bounded top-5 CPU s, exhaustive CPU s, peak MB\n";
     }
     for (const double area : o->areas) {
       ScalePlanParams sp;
@@ -88,7 +90,8 @@ void register_bench_scale(CLI::App& root) {
       const std::string ray_out = o->dir + "/" + plan.name + ".ray.json";
       const ChildCost rc = run_child(exe,
                                      {"bench", "match", "--plan", plan_path, "--observations", obs, "--seed", seed,
-                                      "--no-kernel", "--rays", std::to_string(o->rays), "--no-posteriors", "--json"},
+                                      "--no-kernel", "--rays", std::to_string(o->rays), "--ray-bits", std::to_string(o->ray_bits),
+                                      "--no-posteriors", "--json"},
                                      ray_out, "bench scale (ray, " + plan.name + ")");
       const Json kj = read_json_file(kernel_out), rj = read_json_file(ray_out);
       const Json& k = kj.contains("kernel") ? kj["kernel"] : Json::object();
@@ -107,6 +110,7 @@ void register_bench_scale(CLI::App& root) {
       row["kernel_process_cpu_s"] = kc.cpu_s;
       row["kernel_peak_mb"] = kc.max_rss_mb;
       row["ray_directions"] = o->rays;
+      row["ray_volume_bits"] = o->ray_bits;
       row["ray_precompute_s"] = at(r, {"precompute_s"});
       row["ray_volume_mb"] = at(r, {"volume_mb"});
       row["ray_modes_cpu_s"] = at(r, {"modes", "cpu_s"});

@@ -217,6 +217,7 @@ nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams
   for (int D : params.ray_directions) {
     RayMatcherParams rp;
     rp.num_directions = D;
+    rp.volume_bits = params.ray_volume_bits;
     std::vector<double> pre;
     std::unique_ptr<RayMatcher> ray;
     for (int i = 0; i < std::max(1, params.ray_precompute_repeats); ++i) {

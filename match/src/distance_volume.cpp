@@ -74,8 +74,13 @@ void splat_segment(std::vector<float>& zbuf, const GridSpec& grid, const Vec2& a
 
 }  // namespace
 
+int DistanceVolume::max_units() const {
+  return static_cast<int>(std::lround(max_range_m * 1000.0 / step_mm));
+}
+
 DistanceVolume compute_distance_volume(const std::vector<Segment2>& segments, const GridSpec& grid, const cv::Mat& mask,
-                                       int D, double max_range_m) {
+                                       int D, double max_range_m, int bits) {
+  if (bits != 8 && bits != 16) throw std::invalid_argument("compute_distance_volume: bits must be 8 or 16");
   if (D <= 0) throw std::invalid_argument("compute_distance_volume: num_directions must be positive");
   if (!(max_range_m > 0.0) || max_range_m > 65.535) {
     throw std::invalid_argument("compute_distance_volume: max_range_m must be in (0, 65.535]");
@@ -86,6 +91,8 @@ DistanceVolume compute_distance_volume(const std::vector<Segment2>& segments, co
   DistanceVolume v;
   v.grid = grid;
   v.num_directions = D;
+  v.bits = bits;
+  v.step_mm = bits == 8 ? static_cast<int>(std::ceil(std::lround(max_range_m * 1000.0) / 255.0)) : 1;
   v.max_range_m = max_range_m;
   const std::size_t HW = static_cast<std::size_t>(grid.height_px) * grid.width_px;
   v.cell_index.assign(HW, -1);
@@ -100,7 +107,11 @@ DistanceVolume compute_distance_volume(const std::vector<Segment2>& segments, co
     }
   }
   const std::size_t N = v.cells.size();
-  v.mm.assign(N * static_cast<std::size_t>(D), 0);
+  if (bits == 8) {
+    v.q8.assign(N * static_cast<std::size_t>(D), 0);
+  } else {
+    v.mm.assign(N * static_cast<std::size_t>(D), 0);
+  }
 
   tbb::enumerable_thread_specific<std::vector<float>> buffers;
   tbb::parallel_for(0, D, [&](int d) {
@@ -114,9 +125,17 @@ DistanceVolume compute_distance_volume(const std::vector<Segment2>& segments, co
       if (!(cross(u, e) > 1e-12 * e.norm())) continue;
       splat_segment(z, grid, s.a_m, s.b_m, u, max_range_m);
     }
-    std::uint16_t* out = v.mm.data() + static_cast<std::size_t>(d) * N;
-    for (std::size_t i = 0; i < N; ++i) {
-      out[i] = static_cast<std::uint16_t>(std::lround(static_cast<double>(z[static_cast<std::size_t>(v.cells[i])]) * 1000.0));
+    if (bits == 8) {
+      std::uint8_t* out = v.q8.data() + static_cast<std::size_t>(d) * N;
+      const double per_unit = 1000.0 / v.step_mm;
+      for (std::size_t i = 0; i < N; ++i) {
+        out[i] = static_cast<std::uint8_t>(std::lround(static_cast<double>(z[static_cast<std::size_t>(v.cells[i])]) * per_unit));
+      }
+    } else {
+      std::uint16_t* out = v.mm.data() + static_cast<std::size_t>(d) * N;
+      for (std::size_t i = 0; i < N; ++i) {
+        out[i] = static_cast<std::uint16_t>(std::lround(static_cast<double>(z[static_cast<std::size_t>(v.cells[i])]) * 1000.0));
+      }
     }
   });
   return v;

@@ -15,7 +15,7 @@
 namespace floorcast {
 namespace {
 
-constexpr char kMagic[8] = {'F', 'C', 'D', 'V', 'O', 'L', '0', '1'};
+constexpr char kMagic[8] = {'F', 'C', 'D', 'V', 'O', 'L', '0', '2'};  // 02: bits and step
 
 template <typename T>
 void put(std::ofstream& out, const T& v) {
@@ -44,10 +44,13 @@ void save_distance_volume(const std::string& path, const DistanceVolume& v, cons
     put<std::int32_t>(out, v.grid.height_px);
     put<std::int32_t>(out, v.num_directions);
     put(out, v.max_range_m);
+    put<std::int32_t>(out, v.bits);
+    put<std::int32_t>(out, v.step_mm);
     put<std::uint64_t>(out, v.cells.size());
     out.write(reinterpret_cast<const char*>(v.cells.data()),
               static_cast<std::streamsize>(v.cells.size() * sizeof(std::int32_t)));
     out.write(reinterpret_cast<const char*>(v.mm.data()), static_cast<std::streamsize>(v.mm.size() * sizeof(std::uint16_t)));
+    out.write(reinterpret_cast<const char*>(v.q8.data()), static_cast<std::streamsize>(v.q8.size()));
     out.flush();
     if (!out) {
       std::remove(tmp.c_str());
@@ -77,8 +80,12 @@ std::optional<DistanceVolume> load_distance_volume(const std::string& path, cons
   std::int32_t w = 0, h = 0, d = 0;
   std::uint64_t n = 0;
   if (!get(in, v.grid.origin_x_m) || !get(in, v.grid.origin_y_m) || !get(in, v.grid.resolution_m_per_px) ||
-      !get(in, w) || !get(in, h) || !get(in, d) || !get(in, v.max_range_m) || !get(in, n)) {
+      !get(in, w) || !get(in, h) || !get(in, d) || !get(in, v.max_range_m) || !get(in, v.bits) || !get(in, v.step_mm) ||
+      !get(in, n)) {
     throw corrupt("truncated header");
+  }
+  if ((v.bits != 8 && v.bits != 16) || v.step_mm < 1 || v.step_mm > 65535 || (v.bits == 16 && v.step_mm != 1)) {
+    throw corrupt("bad bits or step");
   }
   const std::uint64_t hw = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
   if (w <= 0 || h <= 0 || d <= 0 || d > 100000 || n > hw) throw corrupt("bad sizes");
@@ -86,9 +93,10 @@ std::optional<DistanceVolume> load_distance_volume(const std::string& path, cons
   v.grid.height_px = h;
   v.num_directions = d;
   v.cells.resize(n);
-  v.mm.resize(n * static_cast<std::uint64_t>(d));
+  (v.bits == 8 ? v.q8.resize(n * static_cast<std::uint64_t>(d)) : v.mm.resize(n * static_cast<std::uint64_t>(d)));
   if (!in.read(reinterpret_cast<char*>(v.cells.data()), static_cast<std::streamsize>(n * sizeof(std::int32_t))) ||
-      !in.read(reinterpret_cast<char*>(v.mm.data()), static_cast<std::streamsize>(v.mm.size() * sizeof(std::uint16_t)))) {
+      !in.read(reinterpret_cast<char*>(v.mm.data()), static_cast<std::streamsize>(v.mm.size() * sizeof(std::uint16_t))) ||
+      !in.read(reinterpret_cast<char*>(v.q8.data()), static_cast<std::streamsize>(v.q8.size()))) {
     throw corrupt("truncated data");
   }
   char extra;

@@ -38,15 +38,15 @@ constexpr int kRunCells = 32;
 int tile_cells(int D) { return D <= 64 ? 512 : 128; }
 
 /// acc[o * stride + t] = sum_i |min(V[(o + i) mod D][first + t], clip) - rays[i]| for the
-/// T <= stride cells of one tile, in millimetres. The hot loop of the matcher: 16-bit lanes
-/// (|a - b| = max - min), partial sums over `block` rays (block * range < 2^16 mm: 6 rays at
-/// 10 m) widened into 32-bit sums; vectorised over cells, with an AVX2 clone where the CPU has it.
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void l1_tile(const std::uint16_t* volume, std::size_t N, std::size_t first, int T, int stride, int D,
-             const std::uint16_t* rays_mm, std::uint16_t clip_mm, bool clip, int block, std::int32_t* acc,
-             std::uint16_t* part) {
+/// T <= stride cells of one tile, in the volume's units (mm for 16 bits). The hot loop of the
+/// matcher: 16-bit lanes (|a - b| = max - min), partial sums over `block` rays (block * range <
+/// 2^16 units: 6 rays at 10 m in mm) widened into 32-bit sums; vectorised over cells, with an
+/// AVX2 clone where the CPU has it.
+template <class V>
+inline __attribute__((always_inline)) void l1_tile_body(const V* volume, std::size_t N, std::size_t first, int T,
+                                                        int stride, int D, const std::uint16_t* rays_u,
+                                                        std::uint16_t clip_u, bool clip, int block, std::int32_t* acc,
+                                                        std::uint16_t* part) {
   const int kBlock = block;
   for (int o = 0; o < D; ++o) {
     std::int32_t* a = acc + static_cast<std::size_t>(o) * stride;
@@ -54,11 +54,12 @@ void l1_tile(const std::uint16_t* volume, std::size_t N, std::size_t first, int 
     for (int i0 = 0; i0 < D; i0 += kBlock) {
       for (int t = 0; t < T; ++t) part[t] = 0;
       for (int i = i0; i < std::min(D, i0 + kBlock); ++i) {
-        const std::uint16_t* p = volume + static_cast<std::size_t>((o + i) % D) * N + first;
-        const std::uint16_t r = rays_mm[i];
+        const V* p = volume + static_cast<std::size_t>((o + i) % D) * N + first;
+        const std::uint16_t r = rays_u[i];
         if (clip) {
           for (int t = 0; t < T; ++t) {
-            const std::uint16_t v = p[t] < clip_mm ? p[t] : clip_mm;
+            const std::uint16_t pv = p[t];
+            const std::uint16_t v = pv < clip_u ? pv : clip_u;
             const std::uint16_t hi = v > r ? v : r;
             const std::uint16_t lo = v > r ? r : v;
             part[t] = static_cast<std::uint16_t>(part[t] + static_cast<std::uint16_t>(hi - lo));
@@ -74,6 +75,34 @@ void l1_tile(const std::uint16_t* volume, std::size_t N, std::size_t first, int 
       }
       for (int t = 0; t < T; ++t) a[t] += part[t];
     }
+  }
+}
+
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void l1_tile16(const std::uint16_t* volume, std::size_t N, std::size_t first, int T, int stride, int D,
+               const std::uint16_t* rays_u, std::uint16_t clip_u, bool clip, int block, std::int32_t* acc,
+               std::uint16_t* part) {
+  l1_tile_body(volume, N, first, T, stride, D, rays_u, clip_u, clip, block, acc, part);
+}
+
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void l1_tile8(const std::uint8_t* volume, std::size_t N, std::size_t first, int T, int stride, int D,
+              const std::uint16_t* rays_u, std::uint16_t clip_u, bool clip, int block, std::int32_t* acc,
+              std::uint16_t* part) {
+  l1_tile_body(volume, N, first, T, stride, D, rays_u, clip_u, clip, block, acc, part);
+}
+
+/// l1_tile of the volume's storage (8 or 16 bits).
+void l1_tile(const DistanceVolume& v, std::size_t first, int T, int stride, const std::uint16_t* rays_u,
+             std::uint16_t clip_u, bool clip, int block, std::int32_t* acc, std::uint16_t* part) {
+  if (v.bits == 8) {
+    l1_tile8(v.q8.data(), v.num_cells(), first, T, stride, v.num_directions, rays_u, clip_u, clip, block, acc, part);
+  } else {
+    l1_tile16(v.mm.data(), v.num_cells(), first, T, stride, v.num_directions, rays_u, clip_u, clip, block, acc, part);
   }
 }
 
@@ -116,7 +145,7 @@ void exp_neg_scaled(const std::int32_t* acc, int T, float k, float* out) {
 /// summed over workers, to l1_s and exp_s.
 template <class OnRow, class Consume>
 void score_all_cells(const DistanceVolume& volume, const std::vector<std::int64_t>& row_start,
-                     const std::vector<std::uint16_t>& rays_mm, std::uint16_t clip_mm, bool clip, int block, float k,
+                     const std::vector<std::uint16_t>& rays_u, std::uint16_t clip_u, bool clip, int block, float k,
                      OnRow&& on_row, Consume&& consume, double& l1_s, double& exp_s) {
   const int D = volume.num_directions;
   const int T = tile_cells(D);
@@ -138,8 +167,7 @@ void score_all_cells(const DistanceVolume& volume, const std::vector<std::int64_
     for (std::size_t first = begin; first < end; first += static_cast<std::size_t>(T)) {
       const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(T), end - first));
       const double a = thread_cpu_s();
-      l1_tile(volume.mm.data(), volume.num_cells(), first, n, T, D, rays_mm.data(), clip_mm, clip, block,
-              s.acc.data(), s.part.data());
+      l1_tile(volume, first, n, T, rays_u.data(), clip_u, clip, block, s.acc.data(), s.part.data());
       const double b = thread_cpu_s();
       for (int o = 0; o < D; ++o) {
         exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * T, n, k, s.score.data());
@@ -166,6 +194,7 @@ nlohmann::ordered_json RayMatcherParams::to_json() const {
   j["lambda_m"] = lambda_m;
   j["ray_source"] = enum_name(ray_source, kRaySourceNames);
   j["search"] = enum_name(search, kRaySearchNames);
+  j["volume_bits"] = volume_bits;
   write_blocking(j, blocking);
   return j;
 }
@@ -179,6 +208,8 @@ void RayMatcherParams::apply_overrides(const nlohmann::json& overrides) {
   r.read("lambda_m", lambda_m, 1e-6, 1e9);
   r.read_enum("ray_source", ray_source, kRaySourceNames);
   r.read_enum("search", search, kRaySearchNames);
+  r.read("volume_bits", volume_bits, 8, 16);
+  if (volume_bits != 8 && volume_bits != 16) throw InputError("matcher ray: volume_bits must be 8 or 16");
   read_blocking(r, blocking);
   r.finish();
 }
@@ -193,10 +224,10 @@ DistanceVolume RayMatcher::compute_volume(const FloorPlan& plan, const RayMatche
   // Refused before the volume is allocated: cell index, stored cells and their D 16-bit
   // distances, and the D float posterior slices of a match (every cell counted as valid).
   check_limit("max_rays", params.num_directions, "matcher ray: num_directions", "rays");
-  check_raster_budget(grid, 8.0 + 6.0 * params.num_directions, "matcher ray");
+  check_raster_budget(grid, 8.0 + (params.volume_bits / 8.0 + 4.0) * params.num_directions, "matcher ray");
   const std::vector<Segment2> outline = outline_segments(blocking_outline(plan, params.blocking));
   const cv::Mat valid = matcher_valid_mask(plan, grid, params.blocking);
-  return compute_distance_volume(outline, grid, valid, params.num_directions, params.max_range_m);
+  return compute_distance_volume(outline, grid, valid, params.num_directions, params.max_range_m, params.volume_bits);
 }
 
 std::string RayMatcher::volume_key(const FloorPlan& plan, const RayMatcherParams& params) {
@@ -221,9 +252,9 @@ RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params, Di
   const auto t0 = Clock::now();
   const GridSpec grid = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
   if (!(volume_.grid == grid) || volume_.num_directions != params_.num_directions ||
-      volume_.max_range_m != params_.max_range_m) {
-    throw InputError("ray matcher: the given distance volume was computed for another plan grid, direction count "
-                     "or range than these parameters");
+      volume_.max_range_m != params_.max_range_m || volume_.bits != params_.volume_bits) {
+    throw InputError("ray matcher: the given distance volume was computed for another plan grid, direction count, "
+                     "range or volume_bits than these parameters");
   }
   index_volume();
   precompute_s_ = seconds(t0, Clock::now());
@@ -253,8 +284,7 @@ void RayMatcher::index_volume() {
   const std::size_t N = volume_.num_cells();
   rank_step_ = std::max(1, D / 18);
   rank_count_ = (D + rank_step_ - 1) / rank_step_;
-  const long max_mm = std::lround(volume_.max_range_m * 1000.0);
-  rank_bin_mm_ = static_cast<int>((max_mm + 1 + 255) / 256);
+  rank_bin_mm_ = (volume_.max_units() + 1 + 255) / 256;
   rank_codes_.assign(static_cast<std::size_t>(rank_count_ + 1) * N, 0);
   const int J = rank_count_, q = rank_step_, w = rank_bin_mm_;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs_.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
@@ -263,9 +293,16 @@ void RayMatcher::index_volume() {
       const std::size_t first = static_cast<std::size_t>(runs_[u].first);
       const int n = runs_[u].second;
       std::fill(hist.begin(), hist.end(), 0);
-      for (int d = 0; d < D; ++d) {
-        const std::uint16_t* v = volume_.mm.data() + static_cast<std::size_t>(d) * N + first;
-        for (int t = 0; t < n; ++t) ++hist[static_cast<std::size_t>(t) * 256 + v[t] / w];
+      auto count = [&](const auto* values) {
+        for (int d = 0; d < D; ++d) {
+          const auto* v = values + static_cast<std::size_t>(d) * N + first;
+          for (int t = 0; t < n; ++t) ++hist[static_cast<std::size_t>(t) * 256 + v[t] / w];
+        }
+      };
+      if (volume_.bits == 8) {
+        count(volume_.q8.data());
+      } else {
+        count(volume_.mm.data());
       }
       for (int t = 0; t < n; ++t) {
         const std::uint16_t* h = hist.data() + static_cast<std::size_t>(t) * 256;
@@ -305,21 +342,15 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
   const auto t0 = Clock::now();
   MatchResult result;
   const int D = params_.num_directions;
-  const std::vector<double> rays = observation_rays(obs);
-  // Both sides are clipped at the smaller of the volume's and the observation's range.
-  const double clip_m = std::min(volume_.max_range_m, obs.max_range_m > 0.0 ? obs.max_range_m : volume_.max_range_m);
-  const std::uint16_t clip_mm = static_cast<std::uint16_t>(std::min<long>(std::lround(clip_m * 1000.0), 65535));
-  const bool clip = clip_mm < std::lround(volume_.max_range_m * 1000.0);
+  const RayUnits ru = ray_units(obs);
+  const std::vector<std::uint16_t>& rays_u = ru.rays;
+  const std::uint16_t clip_u = ru.clip;
+  const bool clip = ru.clipped;
   // Rays per 16-bit partial sum (see l1_tile).
-  const int block = std::max(1, 65535 / std::max<int>(1, clip_mm));
-  std::vector<std::uint16_t> rays_mm(static_cast<std::size_t>(D));
-  for (int i = 0; i < D; ++i) {
-    rays_mm[static_cast<std::size_t>(i)] = static_cast<std::uint16_t>(
-        std::min<long>(clip_mm, std::lround(rays[static_cast<std::size_t>(i)] * 1000.0)));
-  }
+  const int block = std::max(1, 65535 / std::max<int>(1, clip_u));
   const auto t1 = Clock::now();
   if (request.output != MatchOutput::kPosterior) {
-    match_modes(rays_mm, clip_mm, clip, block, request, result);
+    match_modes(rays_u, clip_u, clip, block, request, result);
     result.stage_s["observation_rays"] = seconds(t0, t1);
     result.match_s = seconds(t0, Clock::now());
     return result;
@@ -339,12 +370,12 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
   }
   const auto t2 = Clock::now();
 
-  const float k = static_cast<float>(1e-3 / params_.lambda_m);
+  const float k = static_cast<float>(1e-3 * volume_.step_mm / params_.lambda_m);
   const std::size_t W = static_cast<std::size_t>(g.width_px);
   double l1_s = 0.0, exp_s = 0.0;
   // The row of every slice is written once, front to back (0 where no cell is stored).
   score_all_cells(
-      volume_, row_start_, rays_mm, clip_mm, clip, block, k,
+      volume_, row_start_, rays_u, clip_u, clip, block, k,
       [&](int row) {
         const std::size_t row_offset = static_cast<std::size_t>(row) * W;
         for (int o = 0; o < D; ++o) std::memset(slices[static_cast<std::size_t>(o)] + row_offset, 0, W * sizeof(float));
@@ -367,16 +398,14 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
   return result;
 }
 
-int RayMatcher::volume_max_mm() const { return static_cast<int>(std::lround(volume_.max_range_m * 1000.0)); }
-
-RayMatcher::RankTables RayMatcher::rank_tables(const std::vector<std::uint16_t>& rays_mm, int top_mm) const {
+RayMatcher::RankTables RayMatcher::rank_tables(const std::vector<std::uint16_t>& rays_u, int top_mm) const {
   // Lower bound of min over orientations of L1(cell, o): the sorted rays matched rank for rank
   // with the cell's sorted distances (the L1-optimal pairing, so no rotation does better), each
   // distance of rank block j (ranks j q .. (j + 1) q - 1) replaced by the interval its stored
   // rank bins allow (bin of rank j q from below, bin of rank (j + 1) q from above), every value
   // clipped at top_mm as the L1 clips. Per block: a table over the 256 bins of each end.
   const int D = volume_.num_directions, J = rank_count_, q = rank_step_, w = rank_bin_mm_;
-  std::vector<int> sorted_rays(rays_mm.begin(), rays_mm.end());
+  std::vector<int> sorted_rays(rays_u.begin(), rays_u.end());
   std::sort(sorted_rays.begin(), sorted_rays.end());
   RankTables t;
   t.lo.resize(static_cast<std::size_t>(J) * 256);
@@ -408,20 +437,30 @@ void RayMatcher::rank_bounds(const RankTables& t, std::size_t first, int n, std:
   }
 }
 
-std::vector<std::int32_t> RayMatcher::lower_bounds_mm(const Observation2D& obs) const {
+RayMatcher::RayUnits RayMatcher::ray_units(const Observation2D& obs) const {
   const std::vector<double> rays = observation_rays(obs);
+  // Both sides are clipped at the smaller of the volume's and the observation's range.
   const double clip_m = std::min(volume_.max_range_m, obs.max_range_m > 0.0 ? obs.max_range_m : volume_.max_range_m);
-  const int clip_mm = static_cast<int>(std::min<long>(std::lround(clip_m * 1000.0), 65535));
-  std::vector<std::uint16_t> rays_mm(rays.size());
+  const double per_unit = 1000.0 / volume_.step_mm;
+  RayUnits r;
+  r.clip = static_cast<std::uint16_t>(std::min<long>(std::lround(clip_m * per_unit), volume_.max_units()));
+  r.clipped = r.clip < volume_.max_units();
+  r.rays.resize(rays.size());
   for (std::size_t i = 0; i < rays.size(); ++i)
-    rays_mm[i] = static_cast<std::uint16_t>(std::min<long>(clip_mm, std::lround(rays[i] * 1000.0)));
-  const RankTables t = rank_tables(rays_mm, std::min(clip_mm, volume_max_mm()));
+    r.rays[i] = static_cast<std::uint16_t>(std::min<long>(r.clip, std::lround(rays[i] * per_unit)));
+  return r;
+}
+
+std::vector<std::int32_t> RayMatcher::lower_bounds_mm(const Observation2D& obs) const {
+  const RayUnits ru = ray_units(obs);
+  const RankTables t = rank_tables(ru.rays, ru.clip);
   std::vector<std::int32_t> out(volume_.num_cells());
   for (const auto& run : runs_) rank_bounds(t, static_cast<std::size_t>(run.first), run.second, out.data() + run.first);
+  for (std::int32_t& b : out) b *= volume_.step_mm;
   return out;
 }
 
-void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uint16_t clip_mm, bool clip, int block,
+void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint16_t clip_u, bool clip, int block,
                              const MatchRequest& request, MatchResult& result) const {
   // The estimate, top-K modes and max-over-yaw map without the D x H x W posterior (which costs
   // ~200 MB per office-sized match, its first touch dominating the time): one pass keeps each
@@ -432,7 +471,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
   const int D = params_.num_directions;
   const GridSpec& g = volume_.grid;
   const std::size_t N = volume_.num_cells();
-  const float k = static_cast<float>(1e-3 / params_.lambda_m);
+  const float k = static_cast<float>(1e-3 * volume_.step_mm / params_.lambda_m);
   std::vector<float> best(N, 0.0f);
   std::vector<std::uint16_t> best_o(N, 0);
   const auto t0 = Clock::now();
@@ -445,7 +484,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
   std::vector<std::int32_t> run_lb;
   std::vector<std::uint32_t> order;
   std::size_t next_run = 0;
-  std::int32_t margin_mm = 0;
+  std::int32_t margin_u = 0;
   double bound_s = 0.0;
   std::size_t cells_scored = 0;
   auto update_best = [&](std::size_t first, int n, int o, const float* score) {
@@ -475,8 +514,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
         const std::size_t first = static_cast<std::size_t>(runs_[order[u]].first);
         const int n = runs_[order[u]].second;
         const double ta = thread_cpu_s();
-        l1_tile(volume_.mm.data(), N, first, n, kRunCells, D, rays_mm.data(), clip_mm, clip, block, s.acc.data(),
-                s.part.data());
+        l1_tile(volume_, first, n, kRunCells, rays_u.data(), clip_u, clip, block, s.acc.data(), s.part.data());
         const double tb = thread_cpu_s();
         for (int o = 0; o < D; ++o) {
           exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * kRunCells, n, k, s.score.data());
@@ -495,14 +533,14 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
     for (std::size_t u = a; u < b; ++u) cells_scored += static_cast<std::size_t>(runs_[order[u]].second);
   };
   if (!bounded) {
-    score_all_cells(volume_, row_start_, rays_mm, clip_mm, clip, block, k, [](int) {}, update_best, l1_s, exp_s);
+    score_all_cells(volume_, row_start_, rays_u, clip_u, clip, block, k, [](int) {}, update_best, l1_s, exp_s);
   } else {
     // Lower bound of min over orientations of L1(cell, o): the sorted rays matched rank for rank
     // with the cell's sorted distances (the L1-optimal pairing, so no rotation does better), each
     // distance of rank block j replaced by the interval its rank bounds allow. Per block: a
     // table over the 256 bins of the lower end and one over the upper end.
     const double tb0 = thread_cpu_s();
-    const RankTables tables = rank_tables(rays_mm, clip ? clip_mm : volume_max_mm());
+    const RankTables tables = rank_tables(rays_u, clip ? clip_u : volume_.max_units());
     run_lb.resize(runs_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs_.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
       std::int32_t lb[kRunCells];
@@ -519,13 +557,13 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
     });
     // exp_neg_scaled is monotone only up to float rounding (relative ~1e-5 at the largest sums):
     // bounds are lowered by a margin worth 1e-4 of the exponent before they are compared.
-    margin_mm = static_cast<std::int32_t>(std::min(1e9, std::ceil(0.1 * params_.lambda_m)));
+    margin_u = static_cast<std::int32_t>(std::min(1e9, std::ceil(0.1 * params_.lambda_m / volume_.step_mm)));
     bound_s = thread_cpu_s() - tb0;
   }
   // Highest score an unscored cell can reach (0 when every run is scored).
   auto unscored_bound = [&]() -> float {
     if (!bounded || next_run >= order.size()) return 0.0f;
-    const std::int32_t a = std::max<std::int32_t>(0, run_lb[order[next_run]] - margin_mm);
+    const std::int32_t a = std::max<std::int32_t>(0, run_lb[order[next_run]] - margin_u);
     float u = 0.0f;
     exp_neg_scaled(&a, 1, k, &u);
     return u;
@@ -561,8 +599,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_mm, std::uin
       bool missing = false;
       for (int t = 0; t < n && !missing; ++t) missing = !full.count(f + static_cast<std::size_t>(t));
       if (!missing) continue;
-      l1_tile(volume_.mm.data(), N, f, n, kRunCells, D, rays_mm.data(), clip_mm, clip, block, acc_row.data(),
-              part_row.data());
+      l1_tile(volume_, f, n, kRunCells, rays_u.data(), clip_u, clip, block, acc_row.data(), part_row.data());
       for (int o = 0; o < D; ++o) {
         exp_neg_scaled(acc_row.data() + static_cast<std::size_t>(o) * kRunCells, n, k,
                        score_row.data() + static_cast<std::size_t>(o) * kRunCells);

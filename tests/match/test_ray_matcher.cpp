@@ -64,6 +64,17 @@ TEST(DistanceVolume, EqualsBruteForceCaster) {
     EXPECT_GT(checked, 15000);
     EXPECT_LT(grazing, checked / 1000 + 1);
     EXPECT_EQ(v.cell_index[static_cast<std::size_t>(v.cells[5])], 5);
+    // 8 bits: the same distances rounded to the nearest step (10 m / 255 -> 40 mm), so within
+    // half a step (+ the 16-bit rounding) of the millimetre volume, and half the distance bytes.
+    const DistanceVolume v8 = compute_distance_volume(outline, grid, valid, D, 10.0, 8);
+    ASSERT_EQ(v8.step_mm, 40);
+    ASSERT_EQ(v8.max_units(), 250);
+    ASSERT_EQ(v8.q8.size(), v.mm.size());
+    EXPECT_TRUE(v8.mm.empty());
+    EXPECT_EQ(v8.cells, v.cells);
+    for (std::size_t k = 0; k < v.mm.size(); ++k) {
+      ASSERT_LE(std::abs(v8.q8[k] * 40 - static_cast<int>(v.mm[k])), 21) << "value " << k;
+    }
   }
 }
 
@@ -226,6 +237,16 @@ TEST(RayMatcher, DiskCacheRoundTrip) {
   for (int s = 0; s < a.posterior.num_slices(); ++s) {
     EXPECT_EQ(cv::countNonZero(a.posterior.scores[s] != b.posterior.scores[s]), 0) << "slice " << s;
   }
+  // 8-bit volumes round-trip too, under their own key.
+  RayMatcherParams p8 = p;
+  p8.volume_bits = 8;
+  (void)make_cached_ray_matcher(dir, plan, p8, &cached);
+  EXPECT_FALSE(cached);
+  const std::unique_ptr<RayMatcher> third = make_cached_ray_matcher(dir, plan, p8, &cached);
+  EXPECT_TRUE(cached);
+  EXPECT_EQ(third->volume().q8, RayMatcher::compute_volume(plan, p8).q8);
+  EXPECT_EQ(third->volume().step_mm, 40);
+  EXPECT_THROW(RayMatcher(plan, p, RayMatcher::compute_volume(plan, p8)), InputError);
   // Other parameters or another plan: another cache entry.
   RayMatcherParams p2 = p;
   p2.num_directions = 18;
@@ -316,6 +337,10 @@ TEST(RayMatcher, ModesWithoutPosteriorEqualPosteriorModes) {
   RayMatcherParams fine = defaults;
   fine.num_directions = 180;
   expect_modes_equal_posterior("asymmetric, 180 directions", test::asymmetric_floor(), fine, 10, 5, 10.0);
+  RayMatcherParams bits8 = defaults;
+  bits8.volume_bits = 8;
+  expect_modes_equal_posterior("apartment, 8-bit volume", load_floor_plan(std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/apartment.json"),
+                               bits8, 10, 7, 10.0);
   RayMatcherParams coarse = defaults;
   coarse.resolution_m = 0.25;
   coarse.num_directions = 72;
@@ -391,6 +416,11 @@ TEST(RayMatcher, BoundedSearchEqualsExhaustive) {
   odd.num_directions = 7;  // fewer directions than rank blocks: one rank per block
   odd.resolution_m = 0.2;
   expect_bounded_equals_exhaustive("apartment, 7 directions", apartment, odd, 20, 16, 10.0, 0.2);
+  RayMatcherParams bits8 = defaults;
+  bits8.volume_bits = 8;
+  expect_bounded_equals_exhaustive("apartment, 8-bit volume", apartment, bits8, 15, 18, 10.0, 0.1);
+  bits8.num_directions = 180;
+  expect_bounded_equals_exhaustive("apartment, 8-bit volume, 180 directions, 4 m", apartment, bits8, 5, 19, 4.0, 0.05);
   RayMatcherParams flat = defaults;
   flat.lambda_m = 4000.0;  // nearly flat scores: wide margins, deep batches
   expect_bounded_equals_exhaustive("asymmetric, lambda 4000", test::asymmetric_floor(), flat, 10, 17, 10.0, 0.0);

@@ -28,6 +28,7 @@ struct MatchBenchParams {
   bool posteriors = true;
   std::vector<int> ray_directions = {36, 180};
   int ray_precompute_repeats = 1;
+  int ray_volume_bits = 16;  ///< RayMatcherParams::volume_bits
 };
 
 /// Medians and same-run ratios as JSON (keys documented in results/bench_match.md).

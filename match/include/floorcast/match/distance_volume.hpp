@@ -24,28 +24,40 @@ struct DistanceVolume {
   std::vector<std::int32_t> cells;
   /// Per grid cell (row-major), its index into `cells`, or -1.
   std::vector<std::int32_t> cell_index;
-  /// Distances in millimetres (clipped at max_range_m), direction-major:
+  /// Bits per stored distance: 16 (millimetres, in `mm`) or 8 (units of step_mm, rounded to the
+  /// nearest, in `q8`: 10 m in 40 mm steps).
+  int bits = 16;
+  /// Distance unit of the stored values, mm (1 for 16 bits; ceil(max_range / 255) for 8 bits).
+  int step_mm = 1;
+  /// 16 bits: distances in millimetres (clipped at max_range_m), direction-major:
   /// mm[d * cells.size() + i].
   std::vector<std::uint16_t> mm;
+  /// 8 bits: distances in units of step_mm, same layout.
+  std::vector<std::uint8_t> q8;
 
   std::size_t num_cells() const { return cells.size(); }
-  /// Distance of stored cell i along direction d, metres.
-  double range_m(std::size_t i, int d) const {
-    return mm[static_cast<std::size_t>(d) * cells.size() + i] * 1e-3;
+  /// Stored value (units of step_mm) of cell i along direction d.
+  int units(std::size_t i, int d) const {
+    const std::size_t k = static_cast<std::size_t>(d) * cells.size() + i;
+    return bits == 8 ? q8[k] : mm[k];
   }
+  /// Largest stored value (units of step_mm): the clipping range.
+  int max_units() const;
+  /// Distance of stored cell i along direction d, metres.
+  double range_m(std::size_t i, int d) const { return units(i, d) * step_mm * 1e-3; }
   /// Bytes held (cells, index, distances).
   std::size_t bytes() const {
     return cells.size() * sizeof(std::int32_t) + cell_index.size() * sizeof(std::int32_t) +
-           mm.size() * sizeof(std::uint16_t);
+           mm.size() * sizeof(std::uint16_t) + q8.size();
   }
 };
 
 /// Distances from the centre of every non-zero cell of `mask` (CV_8U, on `grid`) along
 /// num_directions directions to the nearest of `segments` (any orientation is a wall surface; a
 /// segment is hit only from its free, left side, as the blocking outline is oriented), clipped at
-/// max_range_m (<= 65.535 m).
+/// max_range_m (<= 65.535 m), stored in `bits` (16: mm; 8: units of ceil(max_range / 255)).
 DistanceVolume compute_distance_volume(const std::vector<Segment2>& segments, const GridSpec& grid,
-                                       const cv::Mat& mask, int num_directions, double max_range_m);
+                                       const cv::Mat& mask, int num_directions, double max_range_m, int bits = 16);
 
 /// The obvious version: min over every segment (either side) of the ray-segment distance, clipped.
 double brute_force_ray_distance(const std::vector<Segment2>& segments, const Vec2& origin_m, double angle_rad,

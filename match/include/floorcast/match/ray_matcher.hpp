@@ -51,6 +51,9 @@ struct RayMatcherParams {
   RaySource ray_source = RaySource::kAuto;
   /// How the modes are found: bounded (exact best-first search) or exhaustive.
   RaySearch search = RaySearch::kBounded;
+  /// Bits per stored distance: 16 (millimetres) or 8 (10 m in 40 mm steps, rounded; half the
+  /// memory; rays are quantised the same way; measured effect: results/bench_match.md).
+  int volume_bits = 16;
   /// What blocks a ray in the plan (keys doors_closed, glass_blocks, obstacles_block,
   /// cut_height_m; PALMS+ sec. 4.4: all doors closed).
   BlockingOptions blocking = closed_door_map();
@@ -107,7 +110,13 @@ class RayMatcher final : public Matcher {
   RankTables rank_tables(const std::vector<std::uint16_t>& rays_mm, int top_mm) const;
   /// lb[0..n) = lower bounds (mm) of stored cells first..first+n-1.
   void rank_bounds(const RankTables& tables, std::size_t first, int n, std::int32_t* lb) const;
-  int volume_max_mm() const;
+  /// The observation's rays and clipping range in the volume's units.
+  struct RayUnits {
+    std::vector<std::uint16_t> rays;
+    std::uint16_t clip = 0;
+    bool clipped = false;  ///< clip below the volume's range
+  };
+  RayUnits ray_units(const Observation2D& observation) const;
   RayMatcherParams params_;
   DistanceVolume volume_;
   std::vector<std::int64_t> row_start_;  ///< first stored cell of each grid row, plus the end
@@ -115,7 +124,7 @@ class RayMatcher final : public Matcher {
   /// unit the bounded search scores.
   std::vector<std::pair<std::int64_t, int>> runs_;
   /// Rank bounds of every stored cell's sorted distances: for j = 0..rank_count_, the 8-bit bin
-  /// (width rank_bin_mm_) of the distance of rank min(j * rank_step_, D - 1), at
+  /// (width rank_bin_mm_, in the volume's units) of the distance of rank min(j * rank_step_, D - 1), at
   /// rank_codes_[j * N + cell].
   std::vector<std::uint8_t> rank_codes_;
   int rank_step_ = 1;
