@@ -239,7 +239,7 @@ nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams
     // The exhaustive search on the same volume, side by side with the bounded one.
     RayMatcherParams ep = rp;
     ep.search = RaySearch::kExhaustive;
-    const RayMatcher exhaustive(plan, ep, ray->volume());
+    const RayMatcher exhaustive(*ray, ep);  // shares the volume
     Series modes, modes_exhaustive, yaw_map, posterior;
     std::vector<std::map<std::string, double>> stages, counters;
     int same_estimate = 0, same_modes = 0;

@@ -242,56 +242,70 @@ std::string RayMatcher::volume_key(const FloorPlan& plan, const RayMatcherParams
 
 RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params) : params_(params) {
   const auto t0 = Clock::now();
-  volume_ = compute_volume(plan, params_);
-  index_volume();
+  pre_ = index_volume(compute_volume(plan, params_));
   precompute_s_ = seconds(t0, Clock::now());
 }
 
-RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params, DistanceVolume volume)
-    : params_(params), volume_(std::move(volume)) {
+RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params, DistanceVolume volume) : params_(params) {
   const auto t0 = Clock::now();
   const GridSpec grid = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
-  if (!(volume_.grid == grid) || volume_.num_directions != params_.num_directions ||
-      volume_.max_range_m != params_.max_range_m || volume_.bits != params_.volume_bits) {
+  if (!(volume.grid == grid) || volume.num_directions != params_.num_directions ||
+      volume.max_range_m != params_.max_range_m || volume.bits != params_.volume_bits) {
     throw InputError("ray matcher: the given distance volume was computed for another plan grid, direction count, "
                      "range or volume_bits than these parameters");
   }
-  index_volume();
+  pre_ = index_volume(std::move(volume));
   precompute_s_ = seconds(t0, Clock::now());
 }
 
-void RayMatcher::index_volume() {
+RayMatcher::RayMatcher(const RayMatcher& other, const RayMatcherParams& params) : params_(params), pre_(other.pre_) {
+  nlohmann::ordered_json a = params.to_json(), b = other.params_.to_json();
+  for (const char* k : {"lambda_m", "ray_source", "search"}) {
+    a.erase(k);
+    b.erase(k);
+  }
+  if (a != b) {
+    throw InputError("ray matcher: cannot share the distance volume of a matcher with other volume parameters (" +
+                     b.dump() + " vs " + a.dump() + ")");
+  }
+}
+
+std::shared_ptr<const RayMatcher::Precomputed> RayMatcher::index_volume(DistanceVolume volume) {
+  auto pre = std::make_shared<Precomputed>();
+  pre->volume = std::move(volume);
+  const DistanceVolume& v = pre->volume;
+  std::vector<std::int64_t>& row_start = pre->row_start;
   // First stored cell of every grid row (cells are sorted row-major).
-  const GridSpec& vg = volume_.grid;
-  row_start_.assign(static_cast<std::size_t>(vg.height_px) + 1, 0);
+  const GridSpec& vg = v.grid;
+  row_start.assign(static_cast<std::size_t>(vg.height_px) + 1, 0);
   std::size_t i = 0;
   for (int r = 0; r <= vg.height_px; ++r) {
     const std::int64_t first_lin = static_cast<std::int64_t>(r) * vg.width_px;
-    while (i < volume_.cells.size() && volume_.cells[i] < first_lin) ++i;
-    row_start_[static_cast<std::size_t>(r)] = static_cast<std::int64_t>(i);
+    while (i < v.cells.size() && v.cells[i] < first_lin) ++i;
+    row_start[static_cast<std::size_t>(r)] = static_cast<std::int64_t>(i);
   }
   // Runs: at most kRunCells consecutive stored cells of one row, each a contiguous index range.
-  runs_.clear();
+  pre->runs.clear();
   for (int r = 0; r < vg.height_px; ++r) {
-    for (std::int64_t a = row_start_[static_cast<std::size_t>(r)]; a < row_start_[static_cast<std::size_t>(r) + 1];
+    for (std::int64_t a = row_start[static_cast<std::size_t>(r)]; a < row_start[static_cast<std::size_t>(r) + 1];
          a += kRunCells) {
-      runs_.emplace_back(a, static_cast<int>(std::min<std::int64_t>(kRunCells, row_start_[static_cast<std::size_t>(r) + 1] - a)));
+      pre->runs.emplace_back(a, static_cast<int>(std::min<std::int64_t>(kRunCells, row_start[static_cast<std::size_t>(r) + 1] - a)));
     }
   }
   // Rank bounds: about 18 ranks of each cell's sorted distances, in 256 bins, counted per run
   // (a histogram of the run's cells, then a walk to each rank).
-  const int D = volume_.num_directions;
-  const std::size_t N = volume_.num_cells();
-  rank_step_ = std::max(1, D / 18);
-  rank_count_ = (D + rank_step_ - 1) / rank_step_;
-  rank_bin_mm_ = (volume_.max_units() + 1 + 255) / 256;
-  rank_codes_.assign(static_cast<std::size_t>(rank_count_ + 1) * N, 0);
-  const int J = rank_count_, q = rank_step_, w = rank_bin_mm_;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs_.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
+  const int D = v.num_directions;
+  const std::size_t N = v.num_cells();
+  pre->rank_step = std::max(1, D / 18);
+  pre->rank_count = (D + pre->rank_step - 1) / pre->rank_step;
+  pre->rank_bin = (v.max_units() + 1 + 255) / 256;
+  pre->rank_codes.assign(static_cast<std::size_t>(pre->rank_count + 1) * N, 0);
+  const int J = pre->rank_count, q = pre->rank_step, w = pre->rank_bin;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pre->runs.size(), 64), [&](const tbb::blocked_range<std::size_t>& range) {
     std::vector<std::uint16_t> hist(static_cast<std::size_t>(kRunCells) * 256);
     for (std::size_t u = range.begin(); u != range.end(); ++u) {
-      const std::size_t first = static_cast<std::size_t>(runs_[u].first);
-      const int n = runs_[u].second;
+      const std::size_t first = static_cast<std::size_t>(pre->runs[u].first);
+      const int n = pre->runs[u].second;
       std::fill(hist.begin(), hist.end(), 0);
       auto count = [&](const auto* values) {
         for (int d = 0; d < D; ++d) {
@@ -299,10 +313,10 @@ void RayMatcher::index_volume() {
           for (int t = 0; t < n; ++t) ++hist[static_cast<std::size_t>(t) * 256 + v[t] / w];
         }
       };
-      if (volume_.bits == 8) {
-        count(volume_.q8.data());
+      if (v.bits == 8) {
+        count(v.q8.data());
       } else {
-        count(volume_.mm.data());
+        count(v.mm.data());
       }
       for (int t = 0; t < n; ++t) {
         const std::uint16_t* h = hist.data() + static_cast<std::size_t>(t) * 256;
@@ -310,11 +324,12 @@ void RayMatcher::index_volume() {
         for (int j = 0; j <= J; ++j) {
           const int rank = std::min(j * q, D - 1);
           while (below <= rank) below += h[++c];
-          rank_codes_[static_cast<std::size_t>(j) * N + first + static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(c);
+          pre->rank_codes[static_cast<std::size_t>(j) * N + first + static_cast<std::size_t>(t)] = static_cast<std::uint8_t>(c);
         }
       }
     }
   });
+  return pre;
 }
 
 RayMatcher::~RayMatcher() = default;
@@ -357,7 +372,7 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
   }
 
   Posterior& post = result.posterior;
-  const GridSpec& g = volume_.grid;
+  const GridSpec& g = pre_->volume.grid;
   post.grid = g;
   post.yaw_rad.resize(static_cast<std::size_t>(D));
   post.scores.resize(static_cast<std::size_t>(D));
@@ -370,18 +385,18 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
   }
   const auto t2 = Clock::now();
 
-  const float k = static_cast<float>(1e-3 * volume_.step_mm / params_.lambda_m);
+  const float k = static_cast<float>(1e-3 * pre_->volume.step_mm / params_.lambda_m);
   const std::size_t W = static_cast<std::size_t>(g.width_px);
   double l1_s = 0.0, exp_s = 0.0;
   // The row of every slice is written once, front to back (0 where no cell is stored).
   score_all_cells(
-      volume_, row_start_, rays_u, clip_u, clip, block, k,
+      pre_->volume, pre_->row_start, rays_u, clip_u, clip, block, k,
       [&](int row) {
         const std::size_t row_offset = static_cast<std::size_t>(row) * W;
         for (int o = 0; o < D; ++o) std::memset(slices[static_cast<std::size_t>(o)] + row_offset, 0, W * sizeof(float));
       },
       [&](std::size_t first, int n, int o, const float* score) {
-        const std::int32_t* cells = volume_.cells.data() + first;
+        const std::int32_t* cells = pre_->volume.cells.data() + first;
         float* dst = slices[static_cast<std::size_t>(o)];
         for (int t = 0; t < n; ++t) dst[cells[t]] = score[t];
       },
@@ -404,7 +419,7 @@ RayMatcher::RankTables RayMatcher::rank_tables(const std::vector<std::uint16_t>&
   // distance of rank block j (ranks j q .. (j + 1) q - 1) replaced by the interval its stored
   // rank bins allow (bin of rank j q from below, bin of rank (j + 1) q from above), every value
   // clipped at top_mm as the L1 clips. Per block: a table over the 256 bins of each end.
-  const int D = volume_.num_directions, J = rank_count_, q = rank_step_, w = rank_bin_mm_;
+  const int D = pre_->volume.num_directions, J = pre_->rank_count, q = pre_->rank_step, w = pre_->rank_bin;
   std::vector<int> sorted_rays(rays_u.begin(), rays_u.end());
   std::sort(sorted_rays.begin(), sorted_rays.end());
   RankTables t;
@@ -426,10 +441,10 @@ RayMatcher::RankTables RayMatcher::rank_tables(const std::vector<std::uint16_t>&
 }
 
 void RayMatcher::rank_bounds(const RankTables& t, std::size_t first, int n, std::int32_t* lb) const {
-  const std::size_t N = volume_.num_cells();
+  const std::size_t N = pre_->volume.num_cells();
   for (int i = 0; i < n; ++i) lb[i] = 0;
-  for (int j = 0; j < rank_count_; ++j) {
-    const std::uint8_t* lo = rank_codes_.data() + static_cast<std::size_t>(j) * N + first;
+  for (int j = 0; j < pre_->rank_count; ++j) {
+    const std::uint8_t* lo = pre_->rank_codes.data() + static_cast<std::size_t>(j) * N + first;
     const std::uint8_t* hi = lo + N;
     const std::int32_t* tl = t.lo.data() + static_cast<std::size_t>(j) * 256;
     const std::int32_t* th = t.hi.data() + static_cast<std::size_t>(j) * 256;
@@ -440,11 +455,11 @@ void RayMatcher::rank_bounds(const RankTables& t, std::size_t first, int n, std:
 RayMatcher::RayUnits RayMatcher::ray_units(const Observation2D& obs) const {
   const std::vector<double> rays = observation_rays(obs);
   // Both sides are clipped at the smaller of the volume's and the observation's range.
-  const double clip_m = std::min(volume_.max_range_m, obs.max_range_m > 0.0 ? obs.max_range_m : volume_.max_range_m);
-  const double per_unit = 1000.0 / volume_.step_mm;
+  const double clip_m = std::min(pre_->volume.max_range_m, obs.max_range_m > 0.0 ? obs.max_range_m : pre_->volume.max_range_m);
+  const double per_unit = 1000.0 / pre_->volume.step_mm;
   RayUnits r;
-  r.clip = static_cast<std::uint16_t>(std::min<long>(std::lround(clip_m * per_unit), volume_.max_units()));
-  r.clipped = r.clip < volume_.max_units();
+  r.clip = static_cast<std::uint16_t>(std::min<long>(std::lround(clip_m * per_unit), pre_->volume.max_units()));
+  r.clipped = r.clip < pre_->volume.max_units();
   r.rays.resize(rays.size());
   for (std::size_t i = 0; i < rays.size(); ++i)
     r.rays[i] = static_cast<std::uint16_t>(std::min<long>(r.clip, std::lround(rays[i] * per_unit)));
@@ -454,9 +469,9 @@ RayMatcher::RayUnits RayMatcher::ray_units(const Observation2D& obs) const {
 std::vector<std::int32_t> RayMatcher::lower_bounds_mm(const Observation2D& obs) const {
   const RayUnits ru = ray_units(obs);
   const RankTables t = rank_tables(ru.rays, ru.clip);
-  std::vector<std::int32_t> out(volume_.num_cells());
-  for (const auto& run : runs_) rank_bounds(t, static_cast<std::size_t>(run.first), run.second, out.data() + run.first);
-  for (std::int32_t& b : out) b *= volume_.step_mm;
+  std::vector<std::int32_t> out(pre_->volume.num_cells());
+  for (const auto& run : pre_->runs) rank_bounds(t, static_cast<std::size_t>(run.first), run.second, out.data() + run.first);
+  for (std::int32_t& b : out) b *= pre_->volume.step_mm;
   return out;
 }
 
@@ -469,9 +484,9 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
   // is recomputed with the same arithmetic (same L1 sums, same exp), so the modes are those
   // top_k finds on the full posterior, ties broken the same way (lowest slice, then row-major).
   const int D = params_.num_directions;
-  const GridSpec& g = volume_.grid;
-  const std::size_t N = volume_.num_cells();
-  const float k = static_cast<float>(1e-3 * volume_.step_mm / params_.lambda_m);
+  const GridSpec& g = pre_->volume.grid;
+  const std::size_t N = pre_->volume.num_cells();
+  const float k = static_cast<float>(1e-3 * pre_->volume.step_mm / params_.lambda_m);
   std::vector<float> best(N, 0.0f);
   std::vector<std::uint16_t> best_o(N, 0);
   const auto t0 = Clock::now();
@@ -511,10 +526,10 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
       s.part.resize(kRunCells);
       s.score.resize(kRunCells);
       for (std::size_t u = range.begin(); u != range.end(); ++u) {
-        const std::size_t first = static_cast<std::size_t>(runs_[order[u]].first);
-        const int n = runs_[order[u]].second;
+        const std::size_t first = static_cast<std::size_t>(pre_->runs[order[u]].first);
+        const int n = pre_->runs[order[u]].second;
         const double ta = thread_cpu_s();
-        l1_tile(volume_, first, n, kRunCells, rays_u.data(), clip_u, clip, block, s.acc.data(), s.part.data());
+        l1_tile(pre_->volume, first, n, kRunCells, rays_u.data(), clip_u, clip, block, s.acc.data(), s.part.data());
         const double tb = thread_cpu_s();
         for (int o = 0; o < D; ++o) {
           exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * kRunCells, n, k, s.score.data());
@@ -530,34 +545,34 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
         s.exp_s += thread_cpu_s() - tb;
       }
     });
-    for (std::size_t u = a; u < b; ++u) cells_scored += static_cast<std::size_t>(runs_[order[u]].second);
+    for (std::size_t u = a; u < b; ++u) cells_scored += static_cast<std::size_t>(pre_->runs[order[u]].second);
   };
   if (!bounded) {
-    score_all_cells(volume_, row_start_, rays_u, clip_u, clip, block, k, [](int) {}, update_best, l1_s, exp_s);
+    score_all_cells(pre_->volume, pre_->row_start, rays_u, clip_u, clip, block, k, [](int) {}, update_best, l1_s, exp_s);
   } else {
     // Lower bound of min over orientations of L1(cell, o): the sorted rays matched rank for rank
     // with the cell's sorted distances (the L1-optimal pairing, so no rotation does better), each
     // distance of rank block j replaced by the interval its rank bounds allow. Per block: a
     // table over the 256 bins of the lower end and one over the upper end.
     const double tb0 = thread_cpu_s();
-    const RankTables tables = rank_tables(rays_u, clip ? clip_u : volume_.max_units());
-    run_lb.resize(runs_.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs_.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
+    const RankTables tables = rank_tables(rays_u, clip ? clip_u : pre_->volume.max_units());
+    run_lb.resize(pre_->runs.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pre_->runs.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
       std::int32_t lb[kRunCells];
       for (std::size_t u = range.begin(); u != range.end(); ++u) {
-        const int n = runs_[u].second;
-        rank_bounds(tables, static_cast<std::size_t>(runs_[u].first), n, lb);
+        const int n = pre_->runs[u].second;
+        rank_bounds(tables, static_cast<std::size_t>(pre_->runs[u].first), n, lb);
         run_lb[u] = *std::min_element(lb, lb + n);
       }
     });
-    order.resize(runs_.size());
+    order.resize(pre_->runs.size());
     for (std::size_t u = 0; u < order.size(); ++u) order[u] = static_cast<std::uint32_t>(u);
     std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
       return run_lb[a] != run_lb[b] ? run_lb[a] < run_lb[b] : a < b;
     });
     // exp_neg_scaled is monotone only up to float rounding (relative ~1e-5 at the largest sums):
     // bounds are lowered by a margin worth 1e-4 of the exponent before they are compared.
-    margin_u = static_cast<std::int32_t>(std::min(1e9, std::ceil(0.1 * params_.lambda_m / volume_.step_mm)));
+    margin_u = static_cast<std::int32_t>(std::min(1e9, std::ceil(0.1 * params_.lambda_m / pre_->volume.step_mm)));
     bound_s = thread_cpu_s() - tb0;
   }
   // Highest score an unscored cell can reach (0 when every run is scored).
@@ -574,7 +589,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
   if (request.output == MatchOutput::kMaxOverYaw) {
     result.max_over_yaw = cv::Mat::zeros(g.height_px, g.width_px, CV_32F);
     float* m = result.max_over_yaw.ptr<float>();
-    for (std::size_t i = 0; i < N; ++i) m[static_cast<std::size_t>(volume_.cells[i])] = best[i];
+    for (std::size_t i = 0; i < N; ++i) m[static_cast<std::size_t>(pre_->volume.cells[i])] = best[i];
   }
 
   // Greedy suppression on the per-cell best over the live orientations.
@@ -589,17 +604,17 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
   std::vector<std::uint16_t> part_row(kRunCells);
   std::vector<float> score_row(static_cast<std::size_t>(D) * kRunCells);
   auto fill_row = [&](int r, int c0, int c1) {
-    const auto rb = volume_.cells.begin() + row_start_[static_cast<std::size_t>(r)];
-    const auto re = volume_.cells.begin() + row_start_[static_cast<std::size_t>(r) + 1];
+    const auto rb = pre_->volume.cells.begin() + pre_->row_start[static_cast<std::size_t>(r)];
+    const auto re = pre_->volume.cells.begin() + pre_->row_start[static_cast<std::size_t>(r) + 1];
     const std::int32_t base = static_cast<std::int32_t>(static_cast<std::size_t>(r) * W);
-    const std::size_t a = static_cast<std::size_t>(std::lower_bound(rb, re, base + c0) - volume_.cells.begin());
-    const std::size_t b = static_cast<std::size_t>(std::upper_bound(rb, re, base + c1) - volume_.cells.begin());
+    const std::size_t a = static_cast<std::size_t>(std::lower_bound(rb, re, base + c0) - pre_->volume.cells.begin());
+    const std::size_t b = static_cast<std::size_t>(std::upper_bound(rb, re, base + c1) - pre_->volume.cells.begin());
     for (std::size_t f = a; f < b; f += kRunCells) {
       const int n = static_cast<int>(std::min<std::size_t>(kRunCells, b - f));
       bool missing = false;
       for (int t = 0; t < n && !missing; ++t) missing = !full.count(f + static_cast<std::size_t>(t));
       if (!missing) continue;
-      l1_tile(volume_, f, n, kRunCells, rays_u.data(), clip_u, clip, block, acc_row.data(), part_row.data());
+      l1_tile(pre_->volume, f, n, kRunCells, rays_u.data(), clip_u, clip, block, acc_row.data(), part_row.data());
       for (int o = 0; o < D; ++o) {
         exp_neg_scaled(acc_row.data() + static_cast<std::size_t>(o) * kRunCells, n, k,
                        score_row.data() + static_cast<std::size_t>(o) * kRunCells);
@@ -632,8 +647,8 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
       return bi;
     }
     for (std::size_t u = 0; u < next_run; ++u) {
-      const std::size_t first = static_cast<std::size_t>(runs_[order[u]].first);
-      for (int t = 0; t < runs_[order[u]].second; ++t) consider(first + static_cast<std::size_t>(t));
+      const std::size_t first = static_cast<std::size_t>(pre_->runs[order[u]].first);
+      for (int t = 0; t < pre_->runs[order[u]].second; ++t) consider(first + static_cast<std::size_t>(t));
     }
     for (const std::size_t i : touched_list) consider(i);
     return bi;
@@ -649,7 +664,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
       bi = find_best();
     }
     if (bi == N) break;
-    const int lin = volume_.cells[bi];
+    const int lin = pre_->volume.cells[bi];
     const int br = lin / g.width_px, bc = lin % g.width_px, bo = best_o[bi];
     PoseHypothesis h;
     const Vec2 p = g.cell_center_m(br, bc);
@@ -665,15 +680,15 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
     for (int o = 0; o < D; ++o) suppress[static_cast<std::size_t>(o)] = angle_distance_rad(yaw_of(o), h.yaw_rad) <= request.mode_separation_rad;
     for (int r = std::max(0, br - rad - 1); r <= std::min(g.height_px - 1, br + rad + 1); ++r) {
       fill_row(r, std::max(0, bc - rad - 1), std::min(g.width_px - 1, bc + rad + 1));
-      const auto rb = volume_.cells.begin() + row_start_[static_cast<std::size_t>(r)];
-      const auto re = volume_.cells.begin() + row_start_[static_cast<std::size_t>(r) + 1];
+      const auto rb = pre_->volume.cells.begin() + pre_->row_start[static_cast<std::size_t>(r)];
+      const auto re = pre_->volume.cells.begin() + pre_->row_start[static_cast<std::size_t>(r) + 1];
       for (int c = std::max(0, bc - rad - 1); c <= std::min(g.width_px - 1, bc + rad + 1); ++c) {
         const double dx = (c - bc) * res, dy = (r - br) * res;
         if (!(std::sqrt(dx * dx + dy * dy) <= request.mode_separation_m + 1e-12)) continue;
         const std::int32_t want = static_cast<std::int32_t>(static_cast<std::size_t>(r) * W + static_cast<std::size_t>(c));
         const auto it = std::lower_bound(rb, re, want);
         if (it == re || *it != want) continue;
-        const std::size_t i = static_cast<std::size_t>(it - volume_.cells.begin());
+        const std::size_t i = static_cast<std::size_t>(it - pre_->volume.cells.begin());
         if (bounded && !touched[i]) {
           touched[i] = 1;
           touched_list.push_back(i);

@@ -247,6 +247,7 @@ TEST(RayMatcher, DiskCacheRoundTrip) {
   EXPECT_EQ(third->volume().q8, RayMatcher::compute_volume(plan, p8).q8);
   EXPECT_EQ(third->volume().step_mm, 40);
   EXPECT_THROW(RayMatcher(plan, p, RayMatcher::compute_volume(plan, p8)), InputError);
+  EXPECT_THROW(RayMatcher(*third, p), InputError);  // sharing needs the same volume parameters
   // Other parameters or another plan: another cache entry.
   RayMatcherParams p2 = p;
   p2.num_directions = 18;
@@ -364,7 +365,8 @@ void expect_bounded_equals_exhaustive(const std::string& what, const FloorPlan& 
   params.search = RaySearch::kBounded;
   const RayMatcher bounded(plan, params);
   params.search = RaySearch::kExhaustive;
-  const RayMatcher exhaustive(plan, params, bounded.volume());
+  const RayMatcher exhaustive(bounded, params);
+  EXPECT_EQ(&exhaustive.volume(), &bounded.volume()) << "shared, not copied";
   const GridSpec& g = bounded.volume().grid;
   PerfectObservationParams op;
   op.max_range_m = obs_range_m;

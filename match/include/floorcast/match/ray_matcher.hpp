@@ -72,12 +72,16 @@ class RayMatcher final : public Matcher {
   /// by the caller: distance_volume_io.hpp); throws InputError when its grid, direction count
   /// or range do not match the parameters.
   RayMatcher(const FloorPlan& plan, const RayMatcherParams& params, DistanceVolume volume);
+  /// Shares `other`'s precomputation (no copy) with other parameters: lambda_m, ray_source or
+  /// search may differ; throws InputError when the volume's parameters (resolution, margin,
+  /// directions, range, bits, blocking) differ.
+  RayMatcher(const RayMatcher& other, const RayMatcherParams& params);
   ~RayMatcher() override;
 
   std::string name() const override { return "ray"; }
   nlohmann::ordered_json parameters() const override { return params_.to_json(); }
   double precompute_s() const override { return precompute_s_; }
-  std::size_t precompute_bytes() const override { return volume_.bytes() + rank_codes_.size(); }
+  std::size_t precompute_bytes() const override { return pre_->volume.bytes() + pre_->rank_codes.size(); }
   BlockingOptions blocking() const override { return params_.blocking; }
   using Matcher::match;
   MatchResult match(const Observation2D& observation, const MatchRequest& request) const override;
@@ -89,8 +93,8 @@ class RayMatcher final : public Matcher {
   /// uses it (exposed for tests and analyses).
   std::vector<std::int32_t> lower_bounds_mm(const Observation2D& observation) const;
 
-  const DistanceVolume& volume() const { return volume_; }
-  const GridSpec& grid() const { return volume_.grid; }
+  const DistanceVolume& volume() const { return pre_->volume; }
+  const GridSpec& grid() const { return pre_->volume.grid; }
   const RayMatcherParams& params() const { return params_; }
 
   /// The volume the matcher precomputes for a plan (what the first constructor computes).
@@ -102,8 +106,6 @@ class RayMatcher final : public Matcher {
   /// The estimate, top-K modes and (if asked) the max-over-yaw map without the full posterior.
   void match_modes(const std::vector<std::uint16_t>& rays_mm, std::uint16_t clip_mm, bool clip, int block,
                    const MatchRequest& request, MatchResult& result) const;
-  /// Row index, runs and rank bounds of the volume (both constructors).
-  void index_volume();
   struct RankTables {
     std::vector<std::int32_t> lo, hi;  ///< per rank block j: [j * 256 + bin]
   };
@@ -118,18 +120,24 @@ class RayMatcher final : public Matcher {
   };
   RayUnits ray_units(const Observation2D& observation) const;
   RayMatcherParams params_;
-  DistanceVolume volume_;
-  std::vector<std::int64_t> row_start_;  ///< first stored cell of each grid row, plus the end
-  /// Runs of at most kRunCells consecutive stored cells of one grid row (first cell, count): the
-  /// unit the bounded search scores.
-  std::vector<std::pair<std::int64_t, int>> runs_;
-  /// Rank bounds of every stored cell's sorted distances: for j = 0..rank_count_, the 8-bit bin
-  /// (width rank_bin_mm_, in the volume's units) of the distance of rank min(j * rank_step_, D - 1), at
-  /// rank_codes_[j * N + cell].
-  std::vector<std::uint8_t> rank_codes_;
-  int rank_step_ = 1;
-  int rank_count_ = 0;
-  int rank_bin_mm_ = 1;
+  /// The per-plan precomputation: volume, row index, runs and rank bounds. Shared (read-only)
+  /// by matchers built from one another (same volume, other lambda or search).
+  struct Precomputed {
+    DistanceVolume volume;
+    std::vector<std::int64_t> row_start;  ///< first stored cell of each grid row, plus the end
+    /// Runs of at most kRunCells consecutive stored cells of one grid row (first cell, count):
+    /// the unit the bounded search scores.
+    std::vector<std::pair<std::int64_t, int>> runs;
+    /// Rank bounds of every stored cell's sorted distances: for j = 0..rank_count, the 8-bit bin
+    /// (width rank_bin, in the volume's units) of the distance of rank min(j * rank_step, D - 1),
+    /// at rank_codes[j * N + cell].
+    std::vector<std::uint8_t> rank_codes;
+    int rank_step = 1;
+    int rank_count = 0;
+    int rank_bin = 1;
+  };
+  static std::shared_ptr<const Precomputed> index_volume(DistanceVolume volume);
+  std::shared_ptr<const Precomputed> pre_;
   double precompute_s_ = 0.0;
 };
 
