@@ -550,11 +550,8 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
   if (!bounded) {
     score_all_cells(pre_->volume, pre_->row_start, rays_u, clip_u, clip, block, k, [](int) {}, update_best, l1_s, exp_s);
   } else {
-    // Lower bound of min over orientations of L1(cell, o): the sorted rays matched rank for rank
-    // with the cell's sorted distances (the L1-optimal pairing, so no rotation does better), each
-    // distance of rank block j replaced by the interval its rank bounds allow. Per block: a
-    // table over the 256 bins of the lower end and one over the upper end.
-    const double tb0 = thread_cpu_s();
+    // Every run's smallest lower bound (rank_tables), then the runs in ascending bound order.
+    const auto tb0 = Clock::now();
     const RankTables tables = rank_tables(rays_u, clip ? clip_u : pre_->volume.max_units());
     run_lb.resize(pre_->runs.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pre_->runs.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
@@ -573,7 +570,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
     // exp_neg_scaled is monotone only up to float rounding (relative ~1e-5 at the largest sums):
     // bounds are lowered by a margin worth 1e-4 of the exponent before they are compared.
     margin_u = static_cast<std::int32_t>(std::min(1e9, std::ceil(0.1 * params_.lambda_m / pre_->volume.step_mm)));
-    bound_s = thread_cpu_s() - tb0;
+    bound_s = seconds(tb0, Clock::now());
   }
   // Highest score an unscored cell can reach (0 when every run is scored).
   auto unscored_bound = [&]() -> float {
@@ -714,7 +711,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
       l1_s += sc.l1_s;
       exp_s += sc.exp_s;
     }
-    result.stage_s["bounds"] = bound_s;
+    result.stage_s["bounds_wall"] = bound_s;
     result.counters["cells_scored"] = static_cast<double>(cells_scored);
     result.counters["cells_scored_share"] = N ? static_cast<double>(cells_scored) / static_cast<double>(N) : 0.0;
   }
