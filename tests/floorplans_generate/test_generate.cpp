@@ -434,6 +434,33 @@ TEST(Generate, CalibratedArchetypesVaryTheirRoomsTheRepetitiveOnesDoNot) {
   }
 }
 
+// Every variety feature at its extreme (always / never) still gives valid, connected buildings.
+TEST(Generate, ExtremeVarietyStillGivesValidConnectedBuildings) {
+  for (double p : {0.0, 1.0}) {
+    RoomVariety v;
+    v.recess_probability = v.notch_probability = v.suite_probability = v.stub_probability = p;
+    v.glass_wall_probability = p;
+    v.irregular_cores = p > 0.5;
+    for (std::uint64_t seed = 200; seed < 206; ++seed) {
+      SCOPED_TRACE("p " + std::to_string(p) + " seed " + std::to_string(seed));
+      OfficeParams op;
+      op.style.furniture = false;
+      op.variety = v;
+      AngledParams ap;
+      ap.style.furniture = false;
+      ap.variety = v;
+      CampusParams cp;
+      cp.style.furniture = false;
+      cp.variety = v;
+      for (const GeneratedBuilding& b : {generate_office(seed, op), generate_angled(seed, ap), generate_campus(seed, cp)}) {
+        SCOPED_TRACE(b.plan.name);
+        EXPECT_NO_THROW(validate_floor_plan(b.plan, "generated"));
+        EXPECT_EQ(test::interior_components_doors_open(b.plan, 0.2), 1);
+      }
+    }
+  }
+}
+
 TEST(Generate, ApartmentHasTheUsualRooms) {
   for (std::uint64_t seed = 1; seed <= 6; ++seed) {
     const auto kinds = kind_counts(building(Archetype::kApartment, seed));
