@@ -221,10 +221,11 @@ void RayMatcherParams::apply_shared(const SharedParams& shared) {
 
 DistanceVolume RayMatcher::compute_volume(const FloorPlan& plan, const RayMatcherParams& params) {
   const GridSpec grid = grid_for_plan(plan, params.resolution_m, params.grid_margin_m);
-  // Refused before the volume is allocated: cell index, stored cells and their D 16-bit
-  // distances, and the D float posterior slices of a match (every cell counted as valid).
+  // Refused before the volume is allocated: cell index, stored cells, their D distances (8 or 16
+  // bits), their rank bounds (at most 19 bytes) and the per-match best score, orientation and
+  // flag (7 bytes), and the D float posterior slices of a match (every cell counted as valid).
   check_limit("max_rays", params.num_directions, "matcher ray: num_directions", "rays");
-  check_raster_budget(grid, 8.0 + (params.volume_bits / 8.0 + 4.0) * params.num_directions, "matcher ray");
+  check_raster_budget(grid, 8.0 + 19.0 + 7.0 + (params.volume_bits / 8.0 + 4.0) * params.num_directions, "matcher ray");
   const std::vector<Segment2> outline = outline_segments(blocking_outline(plan, params.blocking));
   const cv::Mat valid = matcher_valid_mask(plan, grid, params.blocking);
   return compute_distance_volume(outline, grid, valid, params.num_directions, params.max_range_m, params.volume_bits);
@@ -296,7 +297,7 @@ std::shared_ptr<const RayMatcher::Precomputed> RayMatcher::index_volume(Distance
   // (a histogram of the run's cells, then a walk to each rank).
   const int D = v.num_directions;
   const std::size_t N = v.num_cells();
-  pre->rank_step = std::max(1, D / 18);
+  pre->rank_step = std::max(1, (D + 17) / 18);  // at most 18 blocks, 19 ranks
   pre->rank_count = (D + pre->rank_step - 1) / pre->rank_step;
   pre->rank_bin = (v.max_units() + 1 + 255) / 256;
   pre->rank_codes.assign(static_cast<std::size_t>(pre->rank_count + 1) * N, 0);
