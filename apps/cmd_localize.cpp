@@ -18,6 +18,7 @@
 #include "floorcast/scenarios/run_directory.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/match/matcher.hpp"
+#include "floorcast/eval/heatmap.hpp"
 #include "floorcast/match/plan_raster.hpp"
 #include "floorcast/core/observation_io.hpp"
 #include "floorcast/core/scan_io.hpp"

@@ -20,6 +20,7 @@
 #include "floorcast/floorplans/raster.hpp"
 #include "floorcast/scenarios/sampling.hpp"
 #include "floorcast/match/matcher.hpp"
+#include "floorcast/eval/heatmap.hpp"
 #include "floorcast/observe/observation_module.hpp"
 #include "floorcast/observe/observe_planes.hpp"
 #include "floorcast/sim/perfect_observation.hpp"

@@ -1,4 +1,4 @@
-// The kernel matcher's exact branch-and-bound search (match/src/kernel_search.hpp): the same
+// The kernel matcher's exact branch-and-bound search (localization/match/src/kernel_search.hpp): the same
 // estimate and top-K modes as the exhaustive FFT posterior on seeded observations of every
 // shipped building, admissible bounds, exact cell values, the no-pose state, determinism.
 // Larger comparisons (hundreds of observations per shipped building): `floorcast bench match

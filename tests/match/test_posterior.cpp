@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "floorcast/match/posterior.hpp"
+#include "floorcast/eval/heatmap.hpp"
 #include "floorcast/core/math.hpp"
 
 namespace floorcast {

@@ -124,7 +124,7 @@ TEST(ObserveSim, MonoScanLocalisesWithTheKernelMatcher) {
   // Realistic monocular depth (per-view scale, warp, noise, flying pixels, glass): PALMS+ itself
   // is right about a third of the time on its campus data; here at least 2 of 3 scans of the
   // spot (different headings and noise seeds) must localise within 1 m and 30 deg. The
-  // measured rate over 12 headings/seeds at this spot is 9/12 (observe/README.md).
+  // measured rate over 12 headings/seeds at this spot is 9/12 (localization/observe/README.md).
   int ok = 0;
   for (std::size_t k = 0; k < distinctive_poses().size(); ++k) {
     const Pose2& truth = distinctive_poses()[k];
