@@ -15,7 +15,7 @@
 namespace floorcast {
 namespace {
 
-constexpr char kMagic[8] = {'F', 'C', 'D', 'V', 'O', 'L', '0', '2'};  // 02: bits and step
+constexpr char kMagic[8] = {'F', 'C', 'D', 'V', 'O', 'L', '0', '3'};  // 02: bits and step; 03: cast point
 
 template <typename T>
 void put(std::ofstream& out, const T& v) {
@@ -46,6 +46,7 @@ void save_distance_volume(const std::string& path, const DistanceVolume& v, cons
     put(out, v.max_range_m);
     put<std::int32_t>(out, v.bits);
     put<std::int32_t>(out, v.step_mm);
+    put(out, v.sample_offset);
     put<std::uint64_t>(out, v.cells.size());
     out.write(reinterpret_cast<const char*>(v.cells.data()),
               static_cast<std::streamsize>(v.cells.size() * sizeof(std::int32_t)));
@@ -81,12 +82,13 @@ std::optional<DistanceVolume> load_distance_volume(const std::string& path, cons
   std::uint64_t n = 0;
   if (!get(in, v.grid.origin_x_m) || !get(in, v.grid.origin_y_m) || !get(in, v.grid.resolution_m_per_px) ||
       !get(in, w) || !get(in, h) || !get(in, d) || !get(in, v.max_range_m) || !get(in, v.bits) || !get(in, v.step_mm) ||
-      !get(in, n)) {
+      !get(in, v.sample_offset) || !get(in, n)) {
     throw corrupt("truncated header");
   }
   if ((v.bits != 8 && v.bits != 16) || v.step_mm < 1 || v.step_mm > 65535 || (v.bits == 16 && v.step_mm != 1)) {
     throw corrupt("bad bits or step");
   }
+  if (!(v.sample_offset >= 0.0 && v.sample_offset < 1.0)) throw corrupt("bad cast point");
   const std::uint64_t hw = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
   if (w <= 0 || h <= 0 || d <= 0 || d > 100000 || n > hw) throw corrupt("bad sizes");
   v.grid.width_px = w;

@@ -29,6 +29,57 @@ const std::vector<std::pair<const char*, RaySource>> kRaySourceNames = {
     {"auto", RaySource::kAuto}, {"ranges", RaySource::kRanges}, {"segments", RaySource::kSegments}};
 const std::vector<std::pair<const char*, RaySearch>> kRaySearchNames = {{"bounded", RaySearch::kBounded},
                                                                        {"exhaustive", RaySearch::kExhaustive}};
+const std::vector<std::pair<const char*, RayCastPoint>> kCastPointNames = {{"centre", RayCastPoint::kCentre},
+                                                                         {"corner", RayCastPoint::kCorner}};
+const std::vector<std::pair<const char*, RayDistances>> kDistancesNames = {{"exact", RayDistances::kExact},
+                                                                          {"raster", RayDistances::kRaster}};
+const std::vector<std::pair<const char*, RayConvention>> kConventionNames = {
+    {"floorcast", RayConvention::kFloorcast},   {"f3loc", RayConvention::kF3Loc},
+    {"one_bin_off", RayConvention::kOneBinOff}, {"mirrored", RayConvention::kMirrored},
+    {"heading_ray0", RayConvention::kHeadingRay0}};
+const std::vector<std::pair<const char*, RayCells>> kCellsNames = {{"valid", RayCells::kValid}, {"all", RayCells::kAll}};
+
+/// Parameters that only change how an observation is compared, not the volume.
+const char* const kObservationSideKeys[] = {"lambda_m", "ray_source", "search", "ray_convention", "fov_deg",
+                                            "clip_observation"};
+
+/// resolution_m / raster_resolution_m when it is a whole number (within 1e-6), else 0.
+int raster_ratio(const RayMatcherParams& p) {
+  const double q = p.resolution_m / p.raster_resolution_m;
+  const long n = std::lround(q);
+  return n >= 1 && std::abs(q - static_cast<double>(n)) < 1e-6 ? static_cast<int>(n) : 0;
+}
+
+/// F3Loc's occupancy image of the plan over `grid` at ratio x its resolution (blocked = a fine
+/// pixel whose centre lies in a blocking footprint, or that a wall axis crosses:
+/// rasterize_occupancy), painted in tiles of rows into one bit per pixel.
+BitRaster fine_occupancy(const FloorPlan& plan, const GridSpec& grid, int ratio, const BlockingOptions& blocking) {
+  BitRaster fine(grid.width_px * ratio, grid.height_px * ratio);
+  const double fine_res = grid.resolution_m_per_px / ratio;
+  const int tile_rows = std::max(1, (1 << 24) / std::max(1, fine.width));
+  for (int row0 = 0; row0 < fine.height; row0 += tile_rows) {
+    GridSpec tile;
+    tile.origin_x_m = grid.origin_x_m;
+    tile.origin_y_m = grid.origin_y_m + row0 * fine_res;
+    tile.resolution_m_per_px = fine_res;
+    tile.width_px = fine.width;
+    tile.height_px = std::min(tile_rows, fine.height - row0);
+    const cv::Mat occ = rasterize_occupancy(plan, tile, blocking);
+    for (int r = 0; r < tile.height_px; ++r) {
+      const std::uint8_t* p = occ.ptr<std::uint8_t>(r);
+      for (int c = 0; c < tile.width_px; ++c)
+        if (p[c]) fine.set(row0 + r, c);
+    }
+  }
+  return fine;
+}
+
+/// The parameters the distance volume depends on (to_json without the observation-side keys).
+nlohmann::ordered_json volume_parameters(const RayMatcherParams& p) {
+  nlohmann::ordered_json j = p.to_json();
+  for (const char* k : kObservationSideKeys) j.erase(k);
+  return j;
+}
 
 /// Stored cells per run of the bounded search (one grid row, 3.2 m at 0.1 m).
 constexpr int kRunCells = 32;
@@ -37,24 +88,25 @@ constexpr int kRunCells = 32;
 /// int32) stay in L1/L2.
 int tile_cells(int D) { return D <= 64 ? 512 : 128; }
 
-/// acc[o * stride + t] = sum_i |min(V[(o + i) mod D][first + t], clip) - rays[i]| for the
-/// T <= stride cells of one tile, in the volume's units (mm for 16 bits). The hot loop of the
-/// matcher: 16-bit lanes (|a - b| = max - min), partial sums over `block` rays (block * range <
-/// 2^16 units: 6 rays at 10 m in mm) widened into 32-bit sums; vectorised over cells, with an
-/// AVX2 clone where the CPU has it.
+/// acc[o * stride + t] = sum_j |min(V[(o + off_j) mod D][first + t], clip) - rays[j]| over the
+/// R compared rays (offsets off_j, RayMatcher::ComparedRays) for the T <= stride cells of one
+/// tile, in the volume's units (mm for 16 bits). The hot loop of the matcher: 16-bit lanes
+/// (|a - b| = max - min), partial sums over `block` rays (block * range < 2^16 units: 6 rays at
+/// 10 m in mm) widened into 32-bit sums; vectorised over cells, with an AVX2 clone where the CPU
+/// has it.
 template <class V>
 inline __attribute__((always_inline)) void l1_tile_body(const V* volume, std::size_t N, std::size_t first, int T,
-                                                        int stride, int D, const std::uint16_t* rays_u,
-                                                        std::uint16_t clip_u, bool clip, int block, std::int32_t* acc,
-                                                        std::uint16_t* part) {
+                                                        int stride, int D, const int* offsets, int R,
+                                                        const std::uint16_t* rays_u, std::uint16_t clip_u, bool clip,
+                                                        int block, std::int32_t* acc, std::uint16_t* part) {
   const int kBlock = block;
   for (int o = 0; o < D; ++o) {
     std::int32_t* a = acc + static_cast<std::size_t>(o) * stride;
     for (int t = 0; t < T; ++t) a[t] = 0;
-    for (int i0 = 0; i0 < D; i0 += kBlock) {
+    for (int i0 = 0; i0 < R; i0 += kBlock) {
       for (int t = 0; t < T; ++t) part[t] = 0;
-      for (int i = i0; i < std::min(D, i0 + kBlock); ++i) {
-        const V* p = volume + static_cast<std::size_t>((o + i) % D) * N + first;
+      for (int i = i0; i < std::min(R, i0 + kBlock); ++i) {
+        const V* p = volume + static_cast<std::size_t>((o + offsets[i]) % D) * N + first;
         const std::uint16_t r = rays_u[i];
         if (clip) {
           for (int t = 0; t < T; ++t) {
@@ -82,27 +134,39 @@ inline __attribute__((always_inline)) void l1_tile_body(const V* volume, std::si
 __attribute__((target_clones("avx2", "default")))
 #endif
 void l1_tile16(const std::uint16_t* volume, std::size_t N, std::size_t first, int T, int stride, int D,
-               const std::uint16_t* rays_u, std::uint16_t clip_u, bool clip, int block, std::int32_t* acc,
-               std::uint16_t* part) {
-  l1_tile_body(volume, N, first, T, stride, D, rays_u, clip_u, clip, block, acc, part);
+               const int* offsets, int R, const std::uint16_t* rays_u, std::uint16_t clip_u, bool clip, int block,
+               std::int32_t* acc, std::uint16_t* part) {
+  l1_tile_body(volume, N, first, T, stride, D, offsets, R, rays_u, clip_u, clip, block, acc, part);
 }
 
 #if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
 __attribute__((target_clones("avx2", "default")))
 #endif
 void l1_tile8(const std::uint8_t* volume, std::size_t N, std::size_t first, int T, int stride, int D,
-              const std::uint16_t* rays_u, std::uint16_t clip_u, bool clip, int block, std::int32_t* acc,
-              std::uint16_t* part) {
-  l1_tile_body(volume, N, first, T, stride, D, rays_u, clip_u, clip, block, acc, part);
+              const int* offsets, int R, const std::uint16_t* rays_u, std::uint16_t clip_u, bool clip, int block,
+              std::int32_t* acc, std::uint16_t* part) {
+  l1_tile_body(volume, N, first, T, stride, D, offsets, R, rays_u, clip_u, clip, block, acc, part);
 }
 
+/// The observation's compared rays in the volume's units (RayMatcher::RayUnits, public here).
+struct TileRays {
+  const int* offsets;
+  int count;
+  const std::uint16_t* rays;
+  std::uint16_t clip;
+  bool clipped;
+  int block;
+};
+
 /// l1_tile of the volume's storage (8 or 16 bits).
-void l1_tile(const DistanceVolume& v, std::size_t first, int T, int stride, const std::uint16_t* rays_u,
-             std::uint16_t clip_u, bool clip, int block, std::int32_t* acc, std::uint16_t* part) {
+void l1_tile(const DistanceVolume& v, std::size_t first, int T, int stride, const TileRays& r, std::int32_t* acc,
+             std::uint16_t* part) {
   if (v.bits == 8) {
-    l1_tile8(v.q8.data(), v.num_cells(), first, T, stride, v.num_directions, rays_u, clip_u, clip, block, acc, part);
+    l1_tile8(v.q8.data(), v.num_cells(), first, T, stride, v.num_directions, r.offsets, r.count, r.rays, r.clip,
+             r.clipped, r.block, acc, part);
   } else {
-    l1_tile16(v.mm.data(), v.num_cells(), first, T, stride, v.num_directions, rays_u, clip_u, clip, block, acc, part);
+    l1_tile16(v.mm.data(), v.num_cells(), first, T, stride, v.num_directions, r.offsets, r.count, r.rays, r.clip,
+              r.clipped, r.block, acc, part);
   }
 }
 
@@ -144,9 +208,8 @@ void exp_neg_scaled(const std::int32_t* acc, int T, float k, float* out) {
 /// stored cells first..first+n-1. Adds the thread CPU seconds of the L1 sums and of exp + consume,
 /// summed over workers, to l1_s and exp_s.
 template <class OnRow, class Consume>
-void score_all_cells(const DistanceVolume& volume, const std::vector<std::int64_t>& row_start,
-                     const std::vector<std::uint16_t>& rays_u, std::uint16_t clip_u, bool clip, int block, float k,
-                     OnRow&& on_row, Consume&& consume, double& l1_s, double& exp_s) {
+void score_all_cells(const DistanceVolume& volume, const std::vector<std::int64_t>& row_start, const TileRays& rays,
+                     float k, OnRow&& on_row, Consume&& consume, double& l1_s, double& exp_s) {
   const int D = volume.num_directions;
   const int T = tile_cells(D);
   struct Scratch {
@@ -167,7 +230,7 @@ void score_all_cells(const DistanceVolume& volume, const std::vector<std::int64_
     for (std::size_t first = begin; first < end; first += static_cast<std::size_t>(T)) {
       const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(T), end - first));
       const double a = thread_cpu_s();
-      l1_tile(volume, first, n, T, rays_u.data(), clip_u, clip, block, s.acc.data(), s.part.data());
+      l1_tile(volume, first, n, T, rays, s.acc.data(), s.part.data());
       const double b = thread_cpu_s();
       for (int o = 0; o < D; ++o) {
         exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * T, n, k, s.score.data());
@@ -196,6 +259,13 @@ nlohmann::ordered_json RayMatcherParams::to_json() const {
   j["search"] = enum_name(search, kRaySearchNames);
   j["volume_bits"] = volume_bits;
   write_blocking(j, blocking);
+  j["cast_point"] = enum_name(cast_point, kCastPointNames);
+  j["distances"] = enum_name(distances, kDistancesNames);
+  j["raster_resolution_m"] = raster_resolution_m;
+  j["ray_convention"] = enum_name(ray_convention, kConventionNames);
+  j["fov_deg"] = fov_deg;
+  j["clip_observation"] = clip_observation;
+  j["cells"] = enum_name(cells, kCellsNames);
   return j;
 }
 
@@ -211,6 +281,16 @@ void RayMatcherParams::apply_overrides(const nlohmann::json& overrides) {
   r.read("volume_bits", volume_bits, 8, 16);
   if (volume_bits != 8 && volume_bits != 16) throw InputError("matcher ray: volume_bits must be 8 or 16");
   read_blocking(r, blocking);
+  r.read_enum("cast_point", cast_point, kCastPointNames);
+  r.read_enum("distances", distances, kDistancesNames);
+  r.read("raster_resolution_m", raster_resolution_m, 0.001, 1.0);
+  r.read_enum("ray_convention", ray_convention, kConventionNames);
+  r.read("fov_deg", fov_deg, 1.0, 360.0);
+  r.read("clip_observation", clip_observation);
+  r.read_enum("cells", cells, kCellsNames);
+  if (distances == RayDistances::kRaster && raster_ratio(*this) < 1) {
+    r.fail("raster_resolution_m", "must divide resolution_m (" + std::to_string(resolution_m) + " m) a whole number of times");
+  }
   r.finish();
 }
 
@@ -221,21 +301,53 @@ void RayMatcherParams::apply_shared(const SharedParams& shared) {
 
 DistanceVolume RayMatcher::compute_volume(const FloorPlan& plan, const RayMatcherParams& params) {
   const GridSpec grid = grid_for_plan(plan, params.resolution_m, params.grid_margin_m);
+  const bool raster = params.distances == RayDistances::kRaster;
+  const int ratio = raster ? raster_ratio(params) : 1;
+  if (ratio < 1) throw InputError("matcher ray: raster_resolution_m must divide resolution_m a whole number of times");
   // Refused before the volume is allocated: cell index, stored cells, their D distances (8 or 16
   // bits), their rank bounds (at most 19 bytes) and the per-match best score, orientation and
-  // flag (7 bytes), and the D float posterior slices of a match (every cell counted as valid).
+  // flag (7 bytes), the D float posterior slices of a match (every cell counted as valid), and for
+  // raster distances the fine occupancy bits (ratio^2 per cell) and one tile of bytes.
   check_limit("max_rays", params.num_directions, "matcher ray: num_directions", "rays");
-  check_raster_budget(grid, 8.0 + 19.0 + 7.0 + (params.volume_bits / 8.0 + 4.0) * params.num_directions, "matcher ray");
+  check_raster_budget(grid,
+                      8.0 + 19.0 + 7.0 + (params.volume_bits / 8.0 + 4.0) * params.num_directions +
+                          (raster ? ratio * ratio / 8.0 : 0.0),
+                      "matcher ray");
+  const double off = params.cast_point == RayCastPoint::kCorner ? 0.0 : 0.5;
+  const cv::Mat mask = params.cells == RayCells::kAll ? cv::Mat(grid.height_px, grid.width_px, CV_8U, cv::Scalar(255))
+                                                      : matcher_valid_mask(plan, grid, params.blocking);
+  if (raster) {
+    return compute_distance_volume_raster(fine_occupancy(plan, grid, ratio, params.blocking), ratio, grid, mask,
+                                          params.num_directions, params.max_range_m, params.volume_bits, off);
+  }
   const std::vector<Segment2> outline = outline_segments(blocking_outline(plan, params.blocking));
-  const cv::Mat valid = matcher_valid_mask(plan, grid, params.blocking);
-  return compute_distance_volume(outline, grid, valid, params.num_directions, params.max_range_m, params.volume_bits);
+  DistanceVolume v =
+      compute_distance_volume(outline, grid, mask, params.num_directions, params.max_range_m, params.volume_bits, off);
+  if (params.cells == RayCells::kAll) {
+    // A cast point inside a wall or a door leaf sees the wall at 0 m in every direction (as a
+    // march through the occupancy does), where the outline's back faces would let it see through.
+    GridSpec at_cast = grid;
+    at_cast.origin_x_m += (off - 0.5) * grid.resolution_m_per_px;
+    at_cast.origin_y_m += (off - 0.5) * grid.resolution_m_per_px;
+    const cv::Mat blocked = rasterize_occupancy(plan, at_cast, params.blocking);
+    const std::size_t N = v.num_cells();
+    for (std::size_t i = 0; i < N; ++i) {
+      if (!blocked.data[static_cast<std::size_t>(v.cells[i])]) continue;
+      for (int d = 0; d < v.num_directions; ++d) {
+        const std::size_t k = static_cast<std::size_t>(d) * N + i;
+        if (v.bits == 8) {
+          v.q8[k] = 0;
+        } else {
+          v.mm[k] = 0;
+        }
+      }
+    }
+  }
+  return v;
 }
 
 std::string RayMatcher::volume_key(const FloorPlan& plan, const RayMatcherParams& params) {
-  nlohmann::ordered_json k = params.to_json();
-  k.erase("lambda_m");
-  k.erase("ray_source");
-  k.erase("search");
+  nlohmann::ordered_json k = volume_parameters(params);
   k["plan_hash"] = hex64(plan_hash(plan));
   k["algorithm"] = "zbuffer-parallelogram-v1";
   return k.dump();
@@ -250,21 +362,18 @@ RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params) : 
 RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params, DistanceVolume volume) : params_(params) {
   const auto t0 = Clock::now();
   const GridSpec grid = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
+  const double off = params_.cast_point == RayCastPoint::kCorner ? 0.0 : 0.5;
   if (!(volume.grid == grid) || volume.num_directions != params_.num_directions ||
-      volume.max_range_m != params_.max_range_m || volume.bits != params_.volume_bits) {
+      volume.max_range_m != params_.max_range_m || volume.bits != params_.volume_bits || volume.sample_offset != off) {
     throw InputError("ray matcher: the given distance volume was computed for another plan grid, direction count, "
-                     "range or volume_bits than these parameters");
+                     "range, volume_bits or cast point than these parameters");
   }
   pre_ = index_volume(std::move(volume));
   precompute_s_ = seconds(t0, Clock::now());
 }
 
 RayMatcher::RayMatcher(const RayMatcher& other, const RayMatcherParams& params) : params_(params), pre_(other.pre_) {
-  nlohmann::ordered_json a = params.to_json(), b = other.params_.to_json();
-  for (const char* k : {"lambda_m", "ray_source", "search"}) {
-    a.erase(k);
-    b.erase(k);
-  }
+  const nlohmann::ordered_json a = volume_parameters(params), b = volume_parameters(other.params_);
   if (a != b) {
     throw InputError("ray matcher: cannot share the distance volume of a matcher with other volume parameters (" +
                      b.dump() + " vs " + a.dump() + ")");
@@ -354,19 +463,80 @@ std::vector<double> RayMatcher::observation_rays(const Observation2D& obs) const
   return rays;
 }
 
+RayMatcher::ComparedRays RayMatcher::compared_rays(const Observation2D& obs) const {
+  const std::vector<double> r = observation_rays(obs);
+  const int D = params_.num_directions;
+  // Rays within +-fov/2 of the heading: V = 2 h + 1 of them, or all D.
+  const int half = static_cast<int>(std::floor(0.5 * params_.fov_deg / (360.0 / D) + 1e-9));
+  const int V = 2 * half + 1 < D ? 2 * half + 1 : D;
+  ComparedRays out;
+  auto ray_at = [&](int relative_bins) { return r[static_cast<std::size_t>(((relative_bins % D) + D) % D)]; };
+  if (params_.ray_convention == RayConvention::kFloorcast) {
+    // Ray i (at 2 pi i / D from the heading) against direction o + i, in increasing i.
+    for (int i = 0; i < D; ++i) {
+      const int signed_i = i <= D / 2 ? i : i - D;
+      if (V < D && std::abs(signed_i) > half) continue;
+      out.offset.push_back(i);
+      out.range_m.push_back(r[static_cast<std::size_t>(i)]);
+    }
+    return out;
+  }
+  // F3Loc's localize(): given[k] (left to right) is flipped, and flipped[k] = given[V - 1 - k] is
+  // compared with direction o - V//2 + k. given[m] holds the ray at relative angle rel(m) bins.
+  const int c = V - 1 - V / 2;  // the given index localize() takes as the heading
+  auto rel = [&](int m) {
+    switch (params_.ray_convention) {
+      case RayConvention::kF3Loc: return c - m;
+      case RayConvention::kOneBinOff: return V / 2 - m;
+      case RayConvention::kMirrored: return m - c;
+      case RayConvention::kHeadingRay0: return -m;
+      case RayConvention::kFloorcast: break;
+    }
+    return 0;
+  };
+  for (int k = 0; k < V; ++k) {
+    out.offset.push_back(((k - V / 2) % D + D) % D);
+    out.range_m.push_back(ray_at(rel(V - 1 - k)));
+  }
+  return out;
+}
+
+RayMatcher::RayUnits RayMatcher::ray_units(const Observation2D& obs) const {
+  const ComparedRays cr = compared_rays(obs);
+  // Both sides are clipped at the smaller of the volume's and the observation's range, unless the
+  // observation is left unclipped (then only the volume's own range applies, to its side).
+  const double clip_m = std::min(pre_->volume.max_range_m, obs.max_range_m > 0.0 ? obs.max_range_m : pre_->volume.max_range_m);
+  const double per_unit = 1000.0 / pre_->volume.step_mm;
+  RayUnits r;
+  r.offsets = cr.offset;
+  r.rays.resize(cr.range_m.size());
+  if (params_.clip_observation) {
+    r.clip = static_cast<std::uint16_t>(std::min<long>(std::lround(clip_m * per_unit), pre_->volume.max_units()));
+    r.clipped = r.clip < pre_->volume.max_units();
+    for (std::size_t i = 0; i < cr.range_m.size(); ++i)
+      r.rays[i] = static_cast<std::uint16_t>(std::min<long>(r.clip, std::lround(cr.range_m[i] * per_unit)));
+  } else {
+    r.clip = static_cast<std::uint16_t>(pre_->volume.max_units());
+    r.clipped = false;
+    for (std::size_t i = 0; i < cr.range_m.size(); ++i)
+      r.rays[i] = static_cast<std::uint16_t>(std::min<long>(65535, std::lround(cr.range_m[i] * per_unit)));
+  }
+  // Rays per 16-bit partial sum: each |v - r| is at most the larger of the clip and the longest ray.
+  int top = r.clip;
+  for (const std::uint16_t x : r.rays) top = std::max<int>(top, x);
+  r.block = std::max(1, 65535 / std::max(1, top));
+  return r;
+}
+
 MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& request) const {
   const auto t0 = Clock::now();
   MatchResult result;
   const int D = params_.num_directions;
   const RayUnits ru = ray_units(obs);
-  const std::vector<std::uint16_t>& rays_u = ru.rays;
-  const std::uint16_t clip_u = ru.clip;
-  const bool clip = ru.clipped;
-  // Rays per 16-bit partial sum (see l1_tile).
-  const int block = std::max(1, 65535 / std::max<int>(1, clip_u));
+  const TileRays rays{ru.offsets.data(), static_cast<int>(ru.offsets.size()), ru.rays.data(), ru.clip, ru.clipped, ru.block};
   const auto t1 = Clock::now();
   if (request.output != MatchOutput::kPosterior) {
-    match_modes(rays_u, clip_u, clip, block, request, result);
+    match_modes(ru, request, result);
     result.stage_s["observation_rays"] = seconds(t0, t1);
     result.match_s = seconds(t0, Clock::now());
     return result;
@@ -391,7 +561,7 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
   double l1_s = 0.0, exp_s = 0.0;
   // The row of every slice is written once, front to back (0 where no cell is stored).
   score_all_cells(
-      pre_->volume, pre_->row_start, rays_u, clip_u, clip, block, k,
+      pre_->volume, pre_->row_start, rays, k,
       [&](int row) {
         const std::size_t row_offset = static_cast<std::size_t>(row) * W;
         for (int o = 0; o < D; ++o) std::memset(slices[static_cast<std::size_t>(o)] + row_offset, 0, W * sizeof(float));
@@ -409,6 +579,12 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
   result.stage_s["exp_scatter"] = exp_s;
   const auto t3 = Clock::now();
   finish_from_posterior(result, request);
+  // Poses at each cell's cast point (the posterior's modes are at cell centres).
+  for (PoseHypothesis& h : result.modes) {
+    const Vec2 p = volume_cast_point(pre_->volume, h.row, h.col);
+    h.x_m = p.x();
+    h.y_m = p.y();
+  }
   result.stage_s["modes"] = seconds(t3, Clock::now());
   result.match_s = seconds(t0, Clock::now());
   return result;
@@ -453,20 +629,6 @@ void RayMatcher::rank_bounds(const RankTables& t, std::size_t first, int n, std:
   }
 }
 
-RayMatcher::RayUnits RayMatcher::ray_units(const Observation2D& obs) const {
-  const std::vector<double> rays = observation_rays(obs);
-  // Both sides are clipped at the smaller of the volume's and the observation's range.
-  const double clip_m = std::min(pre_->volume.max_range_m, obs.max_range_m > 0.0 ? obs.max_range_m : pre_->volume.max_range_m);
-  const double per_unit = 1000.0 / pre_->volume.step_mm;
-  RayUnits r;
-  r.clip = static_cast<std::uint16_t>(std::min<long>(std::lround(clip_m * per_unit), pre_->volume.max_units()));
-  r.clipped = r.clip < pre_->volume.max_units();
-  r.rays.resize(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i)
-    r.rays[i] = static_cast<std::uint16_t>(std::min<long>(r.clip, std::lround(rays[i] * per_unit)));
-  return r;
-}
-
 std::vector<std::int32_t> RayMatcher::lower_bounds_mm(const Observation2D& obs) const {
   const RayUnits ru = ray_units(obs);
   const RankTables t = rank_tables(ru.rays, ru.clip);
@@ -476,8 +638,8 @@ std::vector<std::int32_t> RayMatcher::lower_bounds_mm(const Observation2D& obs) 
   return out;
 }
 
-void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint16_t clip_u, bool clip, int block,
-                             const MatchRequest& request, MatchResult& result) const {
+void RayMatcher::match_modes(const RayUnits& ru, const MatchRequest& request, MatchResult& result) const {
+  const TileRays rays{ru.offsets.data(), static_cast<int>(ru.offsets.size()), ru.rays.data(), ru.clip, ru.clipped, ru.block};
   // The estimate, top-K modes and max-over-yaw map without the D x H x W posterior (which costs
   // ~200 MB per office-sized match, its first touch dominating the time): one pass keeps each
   // stored cell's best orientation; the greedy suppression of Posterior::top_k then needs the
@@ -492,7 +654,10 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
   std::vector<std::uint16_t> best_o(N, 0);
   const auto t0 = Clock::now();
   double l1_s = 0.0, exp_s = 0.0;
-  const bool bounded = params_.search == RaySearch::kBounded && request.output == MatchOutput::kModes;
+  // The rank bound pairs all D distances with all D rays: a field of view narrower than 360 deg
+  // is searched exhaustively.
+  const bool bounded = params_.search == RaySearch::kBounded && request.output == MatchOutput::kModes &&
+                       static_cast<int>(ru.offsets.size()) == D;
   // Cells whose best is final: recomputed over the live orientations by a suppression.
   std::vector<std::uint8_t> touched(bounded ? N : 0, 0);
   // Bounded search: runs ordered by the smallest lower bound of their cells' L1 (mm), scored in
@@ -530,7 +695,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
         const std::size_t first = static_cast<std::size_t>(pre_->runs[order[u]].first);
         const int n = pre_->runs[order[u]].second;
         const double ta = thread_cpu_s();
-        l1_tile(pre_->volume, first, n, kRunCells, rays_u.data(), clip_u, clip, block, s.acc.data(), s.part.data());
+        l1_tile(pre_->volume, first, n, kRunCells, rays, s.acc.data(), s.part.data());
         const double tb = thread_cpu_s();
         for (int o = 0; o < D; ++o) {
           exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * kRunCells, n, k, s.score.data());
@@ -549,11 +714,11 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
     for (std::size_t u = a; u < b; ++u) cells_scored += static_cast<std::size_t>(pre_->runs[order[u]].second);
   };
   if (!bounded) {
-    score_all_cells(pre_->volume, pre_->row_start, rays_u, clip_u, clip, block, k, [](int) {}, update_best, l1_s, exp_s);
+    score_all_cells(pre_->volume, pre_->row_start, rays, k, [](int) {}, update_best, l1_s, exp_s);
   } else {
     // Every run's smallest lower bound (rank_tables), then the runs in ascending bound order.
     const auto tb0 = Clock::now();
-    const RankTables tables = rank_tables(rays_u, clip ? clip_u : pre_->volume.max_units());
+    const RankTables tables = rank_tables(ru.rays, ru.clipped ? ru.clip : pre_->volume.max_units());
     run_lb.resize(pre_->runs.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pre_->runs.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
       std::int32_t lb[kRunCells];
@@ -612,7 +777,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
       bool missing = false;
       for (int t = 0; t < n && !missing; ++t) missing = !full.count(f + static_cast<std::size_t>(t));
       if (!missing) continue;
-      l1_tile(pre_->volume, f, n, kRunCells, rays_u.data(), clip_u, clip, block, acc_row.data(), part_row.data());
+      l1_tile(pre_->volume, f, n, kRunCells, rays, acc_row.data(), part_row.data());
       for (int o = 0; o < D; ++o) {
         exp_neg_scaled(acc_row.data() + static_cast<std::size_t>(o) * kRunCells, n, k,
                        score_row.data() + static_cast<std::size_t>(o) * kRunCells);
@@ -665,7 +830,7 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
     const int lin = pre_->volume.cells[bi];
     const int br = lin / g.width_px, bc = lin % g.width_px, bo = best_o[bi];
     PoseHypothesis h;
-    const Vec2 p = g.cell_center_m(br, bc);
+    const Vec2 p = volume_cast_point(pre_->volume, br, bc);
     h.x_m = p.x();
     h.y_m = p.y();
     h.yaw_rad = yaw_of(bo);
@@ -720,6 +885,12 @@ void RayMatcher::match_modes(const std::vector<std::uint16_t>& rays_u, std::uint
   result.stage_s["exp_best_orientation"] = exp_s;
   result.stage_s["modes"] = seconds(t1, Clock::now());
   result.stage_s["scores"] = seconds(t0, t1);
+}
+
+Vec2 volume_cast_point(const DistanceVolume& v, int row, int col) {
+  const GridSpec& g = v.grid;
+  return {g.origin_x_m + (col + v.sample_offset) * g.resolution_m_per_px,
+          g.origin_y_m + (row + v.sample_offset) * g.resolution_m_per_px};
 }
 
 std::vector<double> ray_scores_reference(const DistanceVolume& v, std::size_t cell, const std::vector<double>& rays,

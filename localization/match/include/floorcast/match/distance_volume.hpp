@@ -1,11 +1,15 @@
 // The F3Loc "desdf": for every valid grid cell and each of D equiangular world directions, the
-// distance from the cell centre to the first wall surface, clipped at a maximum range.
+// distance from the cell centre (or corner: sample_offset) to the first wall surface, clipped at a
+// maximum range.
 //
 // Computed exactly in 2D, per direction, by z-buffering: the origins whose ray along u meets a
 // front-facing outline segment (a, b) within the range form the parallelogram
 // {a, b, b - range*u, a - range*u}; every cell centre inside it gets t = distance to the segment
 // along u, and each cell keeps the minimum. Directions run in parallel (TBB), each with its own
 // buffer, so results do not depend on the thread count.
+//
+// compute_distance_volume_raster is F3Loc's own way (generate_desdf.raycast_desdf with
+// utils.ray_cast): a march through a fine occupancy image, reproduced arithmetic for arithmetic.
 #pragma once
 
 #include <cstdint>
@@ -20,6 +24,9 @@ struct DistanceVolume {
   GridSpec grid;
   int num_directions = 0;   ///< direction d points at world angle 2 pi d / num_directions (CCW from +x)
   double max_range_m = 0.0;
+  /// Where the distances of cell (row, col) are cast from: grid origin + (col + sample_offset,
+  /// row + sample_offset) * resolution (0.5: the cell centre; 0: its corner, as F3Loc's desdf).
+  double sample_offset = 0.5;
   /// Stored cells in row-major order: linear index row * width + col.
   std::vector<std::int32_t> cells;
   /// Per grid cell (row-major), its index into `cells`, or -1.
@@ -52,12 +59,61 @@ struct DistanceVolume {
   }
 };
 
-/// Distances from the centre of every non-zero cell of `mask` (CV_8U, on `grid`) along
-/// num_directions directions to the nearest of `segments` (any orientation is a wall surface; a
-/// segment is hit only from its free, left side, as the blocking outline is oriented), clipped at
-/// max_range_m (<= 65.535 m), stored in `bits` (16: mm; 8: units of ceil(max_range / 255)).
+/// Distances from the cast point (sample_offset) of every non-zero cell of `mask` (CV_8U, on
+/// `grid`) along num_directions directions to the nearest of `segments` (any orientation is a wall
+/// surface; a segment is hit only from its free, left side, as the blocking outline is oriented),
+/// clipped at max_range_m (<= 65.535 m), stored in `bits` (16: mm; 8: units of
+/// ceil(max_range / 255)).
 DistanceVolume compute_distance_volume(const std::vector<Segment2>& segments, const GridSpec& grid,
-                                       const cv::Mat& mask, int num_directions, double max_range_m, int bits = 16);
+                                       const cv::Mat& mask, int num_directions, double max_range_m, int bits = 16,
+                                       double sample_offset = 0.5);
+
+/// A binary image, one bit per pixel (set = blocked), row-major: fine occupancy images of whole
+/// buildings (0.01 m/px: 100 pixels per 0.1 m cell) without a byte per pixel.
+struct BitRaster {
+  BitRaster() = default;
+  BitRaster(int width_px, int height_px);
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint64_t> words;
+  bool blocked(int row, int col) const;
+  void set(int row, int col);
+  std::size_t bytes() const { return words.size() * sizeof(std::uint64_t); }
+};
+
+/// F3Loc's ray_cast (utils/utils.py), arithmetic for arithmetic: from (pos_row, pos_col) in pixel
+/// units (pixel (r, c) covers [r, r + 1) x [c, c + 1); the angle counter-clockwise in the
+/// (col = x, row = y) frame), cardinal directions step one pixel at a time, other directions walk
+/// the pixel-boundary crossings (the next row or column boundary, by comparing tan(angle) with the
+/// slope to the next corner), and each crossing tests the pixel at (int(row), int(col)) of the
+/// crossing point: the pixel entered when moving up or right, the pixel just crossed when moving
+/// down or left (F3Loc's own asymmetry, kept); the start pixel is never tested. Returns the
+/// Euclidean distance (pixels) from the start to the crossing point of the first blocked pixel, or
+/// dist_max_px when the ray leaves the image. F3Loc marches until a hit or the image border;
+/// here the march also stops (returning dist_max_px) once it is farther than stop_px, which gives
+/// the same distance after clipping at any range <= stop_px.
+///
+/// With a skip map the march jumps over empty space (see RasterSkipMap): the same pixels are
+/// tested up to the hit except free ones, and the hit's crossing point is recomputed from the
+/// landing point, so distances agree with the literal march to round-off (a crossing that passes
+/// exactly through a pixel corner may then fall to the other side: at most one pixel).
+struct RasterSkipMap {
+  int ratio = 1;   ///< pixels per block side
+  cv::Mat blocks;  ///< CV_8U per block: chessboard distance (blocks, saturated at 255) to the
+                   ///< nearest block holding a blocked pixel (0: the block holds one)
+};
+RasterSkipMap make_raster_skip_map(const BitRaster& occupancy, int ratio);
+double f3loc_ray_cast(const BitRaster& occupancy, double pos_row, double pos_col, double angle_rad, double dist_max_px,
+                      double stop_px, const RasterSkipMap* skip = nullptr);
+
+/// F3Loc's desdf (generate_desdf.raycast_desdf): for every non-zero cell of `mask`, f3loc_ray_cast
+/// from fine pixel ((row + sample_offset) * ratio, (col + sample_offset) * ratio) of `occupancy`
+/// (which covers `grid` at ratio x its resolution: F3Loc 0.01 m/px for a 0.1 m desdf) along
+/// theta_d = d / D * pi * 2, times the fine resolution, clipped at max_range_m (F3Loc truncates the
+/// desdf at 10 m when loading it).
+DistanceVolume compute_distance_volume_raster(const BitRaster& occupancy, int ratio, const GridSpec& grid,
+                                              const cv::Mat& mask, int num_directions, double max_range_m,
+                                              int bits = 16, double sample_offset = 0.5);
 
 /// The obvious version: min over every segment (either side) of the ray-segment distance, clipped.
 double brute_force_ray_distance(const std::vector<Segment2>& segments, const Vec2& origin_m, double angle_rad,

@@ -35,6 +35,43 @@ enum class RaySearch {
   kExhaustive,
 };
 
+/// Where each cell's distances are cast from and its pose is reported.
+enum class RayCastPoint {
+  kCentre,  ///< the cell centre
+  kCorner,  ///< the cell's corner (lowest x and y), as F3Loc: raycast_desdf casts cell (row, col)
+            ///< from occupancy pixel [row, col] * ratio, and its evaluation reports pose_pred * 0.1
+};
+
+/// How the distance volume is computed.
+enum class RayDistances {
+  kExact,   ///< exact 2D distances to the plan's wall surfaces (z-buffered parallelograms)
+  kRaster,  ///< F3Loc: a march through a fine occupancy image (raster_resolution_m; F3Loc 0.01 m/px)
+};
+
+/// How the observation's rays are handed to the score: their order and which ray is the heading.
+/// All but kFloorcast run F3Loc's localize() arithmetic literally on a ray array `given` (V rays,
+/// left to right): it flips them (then counter-clockwise), pads the volume circularly by V//2 in
+/// front, and compares flipped ray k with direction o - V//2 + k, so slice o is the heading of the
+/// ray that lands at flipped index V//2, i.e. given index V - 1 - V//2 (V//2 for odd V, V//2 - 1
+/// for even V). With b the ray bin width, given[k] holds the observed ray at relative angle:
+enum class RayConvention {
+  kFloorcast,    ///< (not localize()) ray i at 2 pi i / D from the heading compared with direction o + i
+  kF3Loc,        ///< (V - 1 - V//2 - k) b: left to right, heading where localize() expects it (correct)
+  kOneBinOff,    ///< (V//2 - k) b: heading at index V//2 as localize()'s docstring suggests; for even
+                 ///< V (36 rays over 360 deg) every heading comes out one bin (10 deg) off
+  kMirrored,     ///< (k - (V - 1 - V//2)) b: rays handed over counter-clockwise; localize() flips them
+                 ///< again, so the observation is matched mirror-imaged
+  kHeadingRay0,  ///< -k b: left to right but starting at the heading (ray 0 = heading), as a caster
+                 ///< going clockwise from the heading produces them
+};
+
+/// Which grid cells are scored.
+enum class RayCells {
+  kValid,  ///< the plan's valid area minus blocked cells (matcher_valid_mask)
+  kAll,    ///< every cell of the grid, walls and outside included (F3Loc: argmax over the whole map;
+           ///< a cell whose cast point is blocked sees 0 m in every direction)
+};
+
 struct RayMatcherParams {
   /// Grid resolution of the volume (F3Loc: 0.1 m desdf).
   double resolution_m = 0.1;
@@ -57,6 +94,26 @@ struct RayMatcherParams {
   /// What blocks a ray in the plan (keys doors_closed, glass_blocks, obstacles_block,
   /// cut_height_m; PALMS+ sec. 4.4: all doors closed).
   BlockingOptions blocking = closed_door_map();
+
+  // Paper-faithful variants (defaults: floorcast's own choices; results/paper_4_4.md measures each).
+  /// Cast point of each cell's distances and of its reported pose: centre, or corner (F3Loc).
+  RayCastPoint cast_point = RayCastPoint::kCentre;
+  /// exact, or raster (F3Loc's fine-occupancy march, generate_desdf.raycast_desdf + utils.ray_cast).
+  RayDistances distances = RayDistances::kExact;
+  /// Occupancy resolution of the raster distances (F3Loc: original_resolution 0.01 m/px); must
+  /// divide resolution_m.
+  double raster_resolution_m = 0.01;
+  /// Ray order and heading convention (see RayConvention).
+  RayConvention ray_convention = RayConvention::kFloorcast;
+  /// Field of view of the compared rays, centred on the heading: 360 (every ray) or less (the
+  /// rays within +-fov/2 of the heading; F3Loc: 11 rays at 10 deg over +-50 deg, fov_deg 100).
+  double fov_deg = 360.0;
+  /// Clip the observation's rays at the clipping range (true: both sides clipped), or leave them
+  /// as observed while the volume is clipped (F3Loc's evaluation: desdf truncated at 10 m on load,
+  /// predicted rays up to 15 m).
+  bool clip_observation = true;
+  /// Cells scored: valid (default) or all (F3Loc).
+  RayCells cells = RayCells::kValid;
 
   /// Takes the experiment's shared range and blocking flags (max_range_m, blocking).
   void apply_shared(const SharedParams& shared);
@@ -86,8 +143,16 @@ class RayMatcher final : public Matcher {
   using Matcher::match;
   MatchResult match(const Observation2D& observation, const MatchRequest& request) const override;
 
-  /// The observation's rays (metres, ray i at 2 pi i / D), as match() uses them.
+  /// The observation's rays (metres, ray i at 2 pi i / D), before the ray convention.
   std::vector<double> observation_rays(const Observation2D& observation) const;
+
+  /// What the score compares: at slice o, range_m[j] with the volume's direction
+  /// (o + offset[j]) mod D, for the rays of the field of view under the ray convention.
+  struct ComparedRays {
+    std::vector<int> offset;
+    std::vector<double> range_m;
+  };
+  ComparedRays compared_rays(const Observation2D& observation) const;
 
   /// Per stored cell, a lower bound (mm) of its L1 at every orientation, as the bounded search
   /// uses it (exposed for tests and analyses).
@@ -103,22 +168,23 @@ class RayMatcher final : public Matcher {
   static std::string volume_key(const FloorPlan& plan, const RayMatcherParams& params);
 
  private:
+  /// The observation's rays and clipping range in the volume's units.
+  struct RayUnits {
+    std::vector<int> offsets;          ///< ComparedRays::offset
+    std::vector<std::uint16_t> rays;   ///< ComparedRays::range_m in the volume's units
+    std::uint16_t clip = 0;
+    bool clipped = false;  ///< clip the volume's values below its range
+    int block = 1;         ///< rays per 16-bit partial sum
+  };
+  RayUnits ray_units(const Observation2D& observation) const;
   /// The estimate, top-K modes and (if asked) the max-over-yaw map without the full posterior.
-  void match_modes(const std::vector<std::uint16_t>& rays_mm, std::uint16_t clip_mm, bool clip, int block,
-                   const MatchRequest& request, MatchResult& result) const;
+  void match_modes(const RayUnits& ru, const MatchRequest& request, MatchResult& result) const;
   struct RankTables {
     std::vector<std::int32_t> lo, hi;  ///< per rank block j: [j * 256 + bin]
   };
   RankTables rank_tables(const std::vector<std::uint16_t>& rays_mm, int top_mm) const;
   /// lb[0..n) = lower bounds (mm) of stored cells first..first+n-1.
   void rank_bounds(const RankTables& tables, std::size_t first, int n, std::int32_t* lb) const;
-  /// The observation's rays and clipping range in the volume's units.
-  struct RayUnits {
-    std::vector<std::uint16_t> rays;
-    std::uint16_t clip = 0;
-    bool clipped = false;  ///< clip below the volume's range
-  };
-  RayUnits ray_units(const Observation2D& observation) const;
   RayMatcherParams params_;
   /// The per-plan precomputation: volume, row index, runs and rank bounds. Shared (read-only)
   /// by matchers built from one another (same volume, other lambda or search).
@@ -144,5 +210,9 @@ class RayMatcher final : public Matcher {
 /// Reference scores of one cell (slow, obvious): exp(-L1/lambda) for every slice.
 std::vector<double> ray_scores_reference(const DistanceVolume& volume, std::size_t cell,
                                          const std::vector<double>& rays_m, double clip_m, double lambda_m);
+
+/// The cast point of grid cell (row, col) of a volume (its centre or corner, sample_offset), where
+/// the ray matcher reports a pose in that cell.
+Vec2 volume_cast_point(const DistanceVolume& volume, int row, int col);
 
 }  // namespace floorcast
