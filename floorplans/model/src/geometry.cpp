@@ -370,4 +370,26 @@ bool clip_segment_to_box(Vec2& a, Vec2& b, double x0, double y0, double x1, doub
   return true;
 }
 
+FloorPlan rotate_plan(const FloorPlan& plan, double yaw_rad) {
+  const double c = std::cos(yaw_rad), s = std::sin(yaw_rad);
+  auto R = [&](const Vec2& v) { return Vec2(c * v.x() - s * v.y(), s * v.x() + c * v.y()); };
+  FloorPlan out = plan;
+  for (Wall& w : out.walls) {
+    w.a_m = R(w.a_m);
+    w.b_m = R(w.b_m);
+  }
+  for (Door& d : out.doors) d.center_m = R(d.center_m);
+  for (Window& w : out.windows) w.center_m = R(w.center_m);
+  for (Obstacle& o : out.obstacles) {
+    o.center_m = R(o.center_m);
+    o.yaw_rad += yaw_rad;
+  }
+  for (Room& room : out.rooms) {
+    for (Vec2& v : room.polygon_m) v = R(v);
+    for (std::vector<Vec2>& hole : room.holes_m)
+      for (Vec2& v : hole) v = R(v);
+  }
+  return out;
+}
+
 }  // namespace floorcast

@@ -6,15 +6,14 @@
 #include <cmath>
 
 namespace floorcast {
-namespace {
-
-
 double wrap_2pi(double a) {
   a = std::fmod(a, 2.0 * kPi);
   if (a < 0.0) a += 2.0 * kPi;
   if (a >= 2.0 * kPi) a -= 2.0 * kPi;
   return a;
 }
+
+namespace {
 
 std::vector<double> dense_candidates(double step_deg) {
   const int n = std::max(1, static_cast<int>(std::lround(360.0 / step_deg)));
@@ -227,6 +226,115 @@ std::vector<double> orientation_candidates(const OrientationParams& params, cons
 std::vector<double> orientation_candidates(const OrientationParams& params, const std::vector<Segment2>& plan_segments,
                                            const std::vector<Segment2>& obs_segments) {
   return orientation_candidates(params, make_plan_orientation_cache(params, plan_segments), obs_segments);
+}
+
+namespace {
+
+/// Python's divmod for floats (Objects/floatobject.c float_divmod): (a // b, a % b).
+std::pair<double, double> python_divmod(double a, double b) {
+  double mod = std::fmod(a, b);
+  double div = (a - mod) / b;
+  if (mod != 0.0) {
+    if ((b < 0) != (mod < 0)) {
+      mod += b;
+      div -= 1.0;
+    }
+  } else {
+    mod = std::copysign(0.0, b);
+  }
+  double floordiv;
+  if (div != 0.0) {
+    floordiv = std::floor(div);
+    if (div - floordiv > 0.5) floordiv += 1.0;
+  } else {
+    floordiv = std::copysign(0.0, a / b);
+  }
+  return {floordiv, mod};
+}
+
+/// np.radians(x): x * (pi / 180).
+double np_radians(double deg) { return deg * (kPi / 180.0); }
+
+/// PALMS get_segment_orientations: atan2 folded into [-pi/2, pi/2].
+double palms_orientation(const Segment2& s) {
+  double o = std::atan2(s.b_m.y() - s.a_m.y(), s.b_m.x() - s.a_m.x());
+  if (o < -kPi / 2) {
+    o += kPi;
+  } else if (o > kPi / 2) {
+    o -= kPi;
+  }
+  return o;
+}
+
+/// PALMS angular_diff: |a - b| folded into [0, pi], after both are taken mod 2 pi (np.mod).
+double palms_angular_diff(double a, double b) {
+  a = python_divmod(a, 2 * kPi).second;
+  b = python_divmod(b, 2 * kPi).second;
+  double d = std::abs(a - b);
+  if (d > kPi) d = 2 * kPi - d;
+  return d;
+}
+
+}  // namespace
+
+std::array<double, 2> palms_principal_orientations(const std::vector<Segment2>& segments, int num_bins,
+                                                   double threshold) {
+  std::vector<double> ori, len;
+  for (const Segment2& s : segments) {
+    ori.push_back(palms_orientation(s));
+    len.push_back(std::sqrt((s.a_m.x() - s.b_m.x()) * (s.a_m.x() - s.b_m.x()) + (s.a_m.y() - s.b_m.y()) * (s.a_m.y() - s.b_m.y())));
+  }
+  std::vector<double> bins(static_cast<std::size_t>(num_bins), 0.0);
+  const double step = 180.0 / num_bins;
+  for (int k = 0; k < num_bins; ++k) {
+    const double delta = k * step;  // np.arange(0, 180, 180 / num_bins)
+    const double theta = -kPi / 2 + np_radians(delta);
+    double t1 = theta - threshold, t2 = theta + threshold;
+    if (t1 < -kPi / 2) t1 = python_divmod(t1, -kPi / 2).first * (kPi / 2) - python_divmod(t1, kPi / 2).second;
+    if (t2 > kPi / 2) t2 = python_divmod(t2, kPi / 2).first * (-kPi / 2) + python_divmod(t2, kPi / 2).second;
+    for (std::size_t i = 0; i < ori.size(); ++i)
+      if (t1 <= ori[i] && ori[i] <= t2) bins[static_cast<std::size_t>(k)] += len[i];
+  }
+  double best = 0.0, best_score = 0.0;
+  for (int i1 = 0; i1 < num_bins / 2 + num_bins % 2; ++i1) {
+    const int i2 = static_cast<int>(python_divmod(i1 + 90.0 / step, num_bins).second);
+    const double score = bins[static_cast<std::size_t>(i1)] + bins[static_cast<std::size_t>(i2)];
+    if (score > best_score) {
+      best = np_radians(i1 * step) - kPi / 2;
+      best_score = score;
+    }
+  }
+  double ortho = best + kPi / 2;
+  if (ortho > kPi / 2) ortho = python_divmod(ortho, kPi / 2).first * (-kPi / 2) + python_divmod(ortho, kPi / 2).second;
+  return {best, ortho};
+}
+
+double palms_landscape_rotation_rad(const std::vector<Segment2>& segments) {
+  if (segments.empty()) return 0.0;
+  const double original = palms_principal_orientations(segments, 360, np_radians(0.5))[1];
+  double theta = 0.0 - original;  // get_R_from_orientations(original, 0)
+  auto span = [&](double t, double& sx, double& sy) {
+    const double c = std::cos(t), s = std::sin(t);
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (const Segment2& seg : segments)
+      for (const Vec2& p : {seg.a_m, seg.b_m}) {
+        const double x = c * p.x() - s * p.y(), y = s * p.x() + c * p.y();
+        x0 = std::min(x0, x);
+        x1 = std::max(x1, x);
+        y0 = std::min(y0, y);
+        y1 = std::max(y1, y);
+      }
+    sx = x1 - x0;
+    sy = y1 - y0;
+  };
+  double sx = 0.0, sy = 0.0;
+  span(theta, sx, sy);
+  if (sy > sx) {
+    double final_orientation = kPi / 2;
+    if (palms_angular_diff(original, kPi / 2) > kPi / 2) final_orientation *= -1;
+    theta = final_orientation - original;
+  }
+  return theta;
 }
 
 }  // namespace floorcast

@@ -57,4 +57,8 @@ double ray_segment_distance(const Vec2& origin, const Vec2& direction, const Seg
 /// not meet; otherwise a and b become the ends of the clipped piece.
 bool clip_segment_to_box(Vec2& a, Vec2& b, double x0, double y0, double x1, double y1);
 
+/// The plan rotated by yaw_rad about the world origin: wall ends, door, window and obstacle
+/// centres (obstacles also turn by yaw_rad), room polygons and holes.
+FloorPlan rotate_plan(const FloorPlan& plan, double yaw_rad);
+
 }  // namespace floorcast

@@ -51,6 +51,48 @@ enum class ModesSearch {
   kPosterior,       ///< the full FFT posterior, then Posterior::top_k
 };
 
+/// How the two kernels of an (orientation, scale) are built.
+enum class KernelConstruction {
+  kFloorcast,  ///< centred on the observer's cell (see the file comment)
+  /// The PALMS authors' code (layout_matching_module/CES.py ConvCES.initialize_kernels and
+  /// create_heatmap), arithmetic for arithmetic: a kernel grid from the triangles' smallest corner
+  /// (np.arange), CES by point-in-triangle at its grid points, RW by PALMS' Bresenham, both padded
+  /// by 10 px, the CES shrunk by resizing the image (cv2.resize, nearest) about the observer's
+  /// truncated index, its square window centred 10 px off (the code's own index), RW blurred and
+  /// weighted by a Gaussian at the observer's fractional position, normalised with the 1e-8
+  /// floor; the heatmap shifted as create_heatmap shifts it (including its "-9" correction),
+  /// which places the kernel pixel of the observer's truncated index one pixel before the centre,
+  /// and zero where the shift brings in nothing (scipy shift, cval 0).
+  kPalmsCode,
+};
+
+/// What lies outside the plan raster in the correlation.
+enum class MapBorder {
+  kMargin,   ///< the grid has grid_margin_m of free space around the plan; beyond it, nothing
+  kReflect,  ///< PALMS: the raster spans exactly the plan's wall lines (no margin, origin at their
+             ///< smallest corner, ceil((max - min) / resolution) cells: lines on the far edge fall
+             ///< outside) and cv2.filter2D reflects it at the border (BORDER_REFLECT_101)
+};
+
+/// Where an observer may stand.
+enum class ValidArea {
+  kFree,        ///< matcher_valid_mask: the plan's interior free space
+  kAlphaShape,  ///< PALMS: the alpha shape (alpha_shape_alpha) of the wall centrelines sampled
+                ///< every metre, wall bodies included (alpha_shape_mask)
+};
+
+/// Where the pose of a cell is reported.
+enum class ReportPoint {
+  kCentre,
+  kCorner,  ///< PALMS: pose_pred = pixel index * resolution (and the alpha mask sampled there)
+};
+
+/// The CES erosion's structuring element.
+enum class ErodeShape {
+  kSquare,   ///< (2e+1)^2 square (see "Occluding corners")
+  kEllipse,  ///< PALMS: cv2.getStructuringElement(MORPH_ELLIPSE, (2e+1)^2): a cross at 3 x 3
+};
+
 struct KernelMatcherParams {
   /// Grid resolution (PALMS+ configs: `resolution: 0.1`; PALMS+ sec. 3: 0.1 m raster).
   double resolution_m = 0.1;
@@ -111,6 +153,27 @@ struct KernelMatcherParams {
   /// 0.1 m; measured fastest on the campus and the office). Changes the time, never the modes.
   int search_levels = 5;
 
+
+  // Paper-faithful variants (defaults: floorcast's own choices; results/paper_4_4.md measures each).
+  /// Kernel construction: floorcast (default) or palms_code (the authors' arithmetic; searched
+  /// through the posterior).
+  KernelConstruction kernel_construction = KernelConstruction::kFloorcast;
+  /// margin (default) or reflect (PALMS: no margin, reflected border; searched through the
+  /// posterior).
+  MapBorder map_border = MapBorder::kMargin;
+  /// PALMS: rotate the plan by palms_landscape_rotation_rad before rasterising it (its principal
+  /// orientation onto the raster axes, landscape); poses are rotated back, posteriors resampled
+  /// (nearest) onto the plan's own grid.
+  bool map_tilt = false;
+  /// free (default) or alpha_shape (PALMS).
+  ValidArea valid_area = ValidArea::kFree;
+  /// PALMS alpha_shape(alpha = 0.15).
+  double alpha_shape_alpha = 0.15;
+  /// centre (default) or corner (PALMS).
+  ReportPoint report_point = ReportPoint::kCentre;
+  /// square (default) or ellipse (PALMS).
+  ErodeShape ces_erode_shape = ErodeShape::kSquare;
+
   /// Takes the experiment's shared range and blocking flags (max_range_m, blocking).
   void apply_shared(const SharedParams& shared);
   nlohmann::ordered_json to_json() const;
@@ -123,7 +186,16 @@ struct KernelMatcherParams {
 struct LayoutKernels {
   cv::Mat p;    ///< normalised RW (sums to 1, or all zero without segments)
   cv::Mat ces;  ///< 0/1; the correlated kernel is p - alpha * ces
+  /// palms_code: create_heatmap's shift (rows, cols): heatmap cell p holds the correlation at
+  /// p - shift, and 0 where p - shift leaves the map.
+  int shift_row = 0, shift_col = 0;
 };
+
+/// The PALMS authors' kernels of one (orientation, scale) (KernelConstruction::kPalmsCode),
+/// embedded in (2R + 1)^2 so that correlating them centred reproduces create_heatmap's shifted
+/// filter2D; parts beyond R are dropped.
+LayoutKernels make_palms_code_kernels(const KernelMatcherParams& params, const std::vector<Segment2>& obs_segments,
+                                      double yaw_rad, double scale, int radius_px);
 
 /// Builds the kernels for observer-frame segments rotated by yaw_rad and scaled by scale.
 LayoutKernels make_layout_kernels(const KernelMatcherParams& params, const std::vector<Segment2>& obs_segments,
@@ -167,7 +239,8 @@ class KernelMatcher final : public Matcher {
                          const MatchRequest& request) const;
   /// The exact heatmap value h(yaw, scale) of one cell (before clipping and the valid mask), as
   /// the branch-and-bound search computes it: the correlation summed directly, float products in
-  /// double sums (the FFT's is within its round-off of it).
+  /// double sums (the FFT's is within its round-off of it). yaw and cell in the matcher's frame
+  /// (the world's unless map_tilt).
   double cell_score(const Observation2D& observation, double yaw_rad, double scale, int row, int col) const;
   /// The branch-and-bound search's maps (null when modes_search is posterior) and the RW distance
   /// weight image; for white-box tests of the search (localization/match/src/kernel_search.hpp).
@@ -177,7 +250,13 @@ class KernelMatcher final : public Matcher {
   /// posterior; part of precompute_bytes).
   std::size_t search_bytes() const;
 
+  /// The grid the matcher works on (the tilted plan's with map_tilt; posteriors are returned on
+  /// output_grid()).
   const GridSpec& grid() const { return grid_; }
+  /// The grid of returned posteriors (grid() unless map_tilt turns the plan).
+  const GridSpec& output_grid() const { return output_grid_; }
+  /// The plan rotation of map_tilt (0 without it): the matcher's frame is the world turned by it.
+  double tilt_rad() const { return tilt_rad_; }
   /// Plan raster (CV_8U, 255 = wall surface) and valid-area mask (CV_8U, 255 = valid).
   const cv::Mat& plan_raster() const { return plan_raster_; }
   /// The raster the CES is correlated with (equals plan_raster() unless ces_through_doorways
@@ -191,11 +270,20 @@ class KernelMatcher final : public Matcher {
 
  private:
   struct Impl;
+  /// match_yaws in the matcher's frame (yaws and results before to_world).
+  MatchResult match_frame(const Observation2D& observation, const std::vector<double>& yaws_rad,
+                          const MatchRequest& request) const;
   MatchResult posterior_yaws(const Observation2D& observation, const std::vector<double>& yaws_rad) const;
   MatchResult search_modes(const Observation2D& observation, const std::vector<double>& yaws_rad,
                            const MatchRequest& request) const;
+  /// Modes (and posterior) from the matcher's frame to the world: report point, tilt.
+  void to_world(MatchResult& result) const;
   KernelMatcherParams params_;
   GridSpec grid_;
+  GridSpec output_grid_;
+  double tilt_rad_ = 0.0;
+  /// map_border reflect: the correlated maps carry this many reflected pixels on every side.
+  int border_px_ = 0;
   cv::Mat plan_raster_;
   cv::Mat ces_raster_;
   cv::Mat valid_;

@@ -13,6 +13,7 @@
 // - dense  (F3Loc-style, and PALMS as run in PALMS+ sec. 4.2): every step (10 deg).
 #pragma once
 
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -44,6 +45,9 @@ struct OrientationParams {
   /// no measurable difference on the shipped buildings.
   bool refine = false;
 };
+
+/// An angle in [0, 2 pi) (candidate yaws are given in this range).
+double wrap_2pi(double a_rad);
 
 /// Length-weighted histogram of segment directions folded into [0, 180) deg: bin
 /// floor(direction / (180 deg / bins)). Zero-length segments are ignored.
@@ -87,6 +91,19 @@ double refine_orientation(const std::vector<std::pair<double, double>>& plan_dir
                           double kernel_rad);
 PlanOrientationCache make_plan_orientation_cache(const OrientationParams& params,
                                                  const std::vector<Segment2>& plan_segments);
+
+/// PALMS' find_principal_orientations (utils/geometry_utils.py), arithmetic for arithmetic: each
+/// segment's direction folded into [-pi/2, pi/2]; bin k of num_bins (theta_k = -pi/2 + k * 180 /
+/// num_bins deg) sums the lengths of the segments within +-threshold of theta_k, its window ends
+/// wrapped by the code's own formulas (Python // and % on floats); the best k in the first half by
+/// bins[k] + bins[k + num_bins / 2]. Returns {best, best + pi/2 wrapped as the code wraps it}.
+std::array<double, 2> palms_principal_orientations(const std::vector<Segment2>& segments, int num_bins,
+                                                   double threshold_rad);
+
+/// The rotation PALMS applies to a floor plan before rasterising it (rotate_segments_to_landscape:
+/// principal orientations with 360 bins and a 0.5 deg threshold; the second one turned onto 0, or
+/// onto +-90 deg when the plan would then be taller than wide).
+double palms_landscape_rotation_rad(const std::vector<Segment2>& plan_segments);
 std::vector<double> orientation_candidates(const OrientationParams& params, const PlanOrientationCache& plan,
                                            const std::vector<Segment2>& obs_segments);
 

@@ -24,9 +24,27 @@ namespace floorcast {
 enum class LineRule {
   kClosed,    ///< closed pixel squares: symmetric, 2 px where a line runs on a pixel boundary
   kHalfOpen,  ///< half-open squares [c - 1/2, c + 1/2): 1 px everywhere, ties to the +x / +y side
+  /// PALMS' Bresenham (utils/geometry_utils.py Bresenham.seg): both ends floored to their pixel
+  /// (negative indices clamped to 0), then integer Bresenham from the first to the second end,
+  /// "enhanced": every minor-axis step also marks the pixel at the old major coordinate (so lines
+  /// are 4-connected). Not symmetric (the line depends on which end comes first).
+  kBresenham,
 };
 void draw_segment_lines(cv::Mat& image_8u, const std::vector<Segment2>& segments_m, const Vec2& origin_m,
                         double resolution_m_per_px, LineRule rule = LineRule::kClosed);
+
+/// PALMS' Bresenham line (LineRule::kBresenham) between two points given in pixel coordinates
+/// (pixel (c, r) covers [c, c + 1) x [r, r + 1)); pixels outside the image are skipped.
+void draw_bresenham_line(cv::Mat& image_8u, double x0_px, double y0_px, double x1_px, double y1_px);
+
+/// PALMS' valid-area mask (utils/geometry_utils.py alpha_shape, alphashape package): points
+/// sampled along `lines` (every sample_m, ends included: ceil(length / sample_m) steps), their
+/// Delaunay triangles with circumradius < 1 / alpha kept, holes of their union filled (shapely's
+/// polygonize + unary_union); a cell is valid when its sample point (grid origin + (col +
+/// sample_offset, row + sample_offset) * resolution) lies in the union (edges included). CV_8U,
+/// 255 = valid. PALMS: alpha 0.15, sample 1 m, points sampled at cell corners (sample_offset 0).
+cv::Mat alpha_shape_mask(const std::vector<Segment2>& lines, double alpha, double sample_m, const GridSpec& grid,
+                         double sample_offset);
 
 /// Fills triangles (value 255) into a CV_8U image: exactly the pixels whose centre lies strictly
 /// inside one of them (symmetric, no tie-breaking; centres exactly on an edge are left out).
