@@ -196,14 +196,14 @@ std::string format_pose(const Pose2& p) {
 }
 
 
-void add_override(nlohmann::json& overrides, const std::string& text) {
+void add_override(nlohmann::json& overrides, const std::string& text, const std::string& option) {
   const auto eq = text.find('=');
-  if (eq == std::string::npos || eq == 0) throw InputError("--param \"" + text + "\": expected KEY=VALUE");
+  if (eq == std::string::npos || eq == 0) throw InputError(option + " \"" + text + "\": expected KEY=VALUE");
   const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
   // Valid JSON is taken as JSON (depth-limited); anything else is the string itself.
   nlohmann::json parsed;
   try {
-    parsed = parse_json_text(value, "--param " + key);
+    parsed = parse_json_text(value, option + " " + key);
   } catch (const LimitError&) {
     throw;
   } catch (const InputError&) {
@@ -213,6 +213,18 @@ void add_override(nlohmann::json& overrides, const std::string& text) {
 }
 
 void ensure_directory(const std::string& path) { create_directories_or_throw(path); }
+
+void deprecation_note(const std::string& old_spelling, const std::string& current_spelling) {
+  static std::mutex mutex;
+  static std::vector<std::string> said;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (std::find(said.begin(), said.end(), old_spelling) != said.end()) return;
+  said.push_back(old_spelling);
+  std::cerr << "floorcast: note: " << old_spelling << " is deprecated, use " << current_spelling
+            << " (the command-line grammar: docs/cli.md)\n";
+}
+
+bool is_random_pose(const std::string& text) { return text == "random"; }
 
 std::string duration_text(double s) {
   if (!std::isfinite(s) || s < 0) return "--";

@@ -39,8 +39,19 @@ Pose2 parse_pose(const std::string& text, const std::string& option = "--pose");
 std::string format_pose(const Pose2& pose);
 
 /// Adds "KEY=VALUE" to a JSON object of parameter overrides: the value parsed as JSON when it is
-/// valid JSON, else taken as a string.
-void add_override(nlohmann::json& overrides, const std::string& text);
+/// valid JSON, else taken as a string. Errors name `option` (the flag the text came with).
+void add_override(nlohmann::json& overrides, const std::string& text, const std::string& option = "--matcher-param");
+
+/// One CLI grammar (docs/cli.md): an old spelling of an option stays accepted, hidden from
+/// --help, with a note on stderr naming the current spelling. Adds `old_name` storing into
+/// `target` and excluding `current` (both given is a usage error). Returns the old option.
+template <typename T>
+CLI::Option* add_deprecated_option(CLI::App& cmd, const std::string& old_name, CLI::Option* current, T& target);
+/// Prints "floorcast: note: OLD is deprecated, use NEW (docs/cli.md)" on stderr.
+void deprecation_note(const std::string& old_spelling, const std::string& current_spelling);
+
+/// "random" or "X,Y,YAW_DEG": what --pose takes in every command that places an observer.
+bool is_random_pose(const std::string& text);
 
 /// Creates a directory (and parents); throws InputError naming it on failure.
 void ensure_directory(const std::string& path);
@@ -59,9 +70,20 @@ struct CommandExit {
 };
 
 /// Runs a scenario (or shard "I/N" of it) into the run directory `out` (resuming what is there),
-/// with progress on stderr unless quiet, and writes and prints the report when every unit is
-/// done: the one experiment engine behind `run` and `compare-matchers`.
-void run_scenario(const Scenario& scenario, const std::string& out, int jobs, const std::string& shard, bool quiet);
+/// with progress and notes on stderr unless quiet, the summary table on stdout when
+/// print_summary (the CLI's result; Python's run_scenario(quiet=True) prints nothing at all),
+/// and writes the report when every unit is done: the one experiment engine behind `run` and
+/// `compare-matchers`.
+void run_scenario(const Scenario& scenario, const std::string& out, int jobs, const std::string& shard, bool quiet,
+                  bool print_summary = true);
+
+/// Combines shard run directories into one run at `out` (creating or completing it) and writes
+/// its report (summary.md/json, observations.csv, plots/); prints the summary unless quiet.
+/// Throws InputError when the shards disagree, come from different scenarios, or miss units.
+void merge_runs(const std::vector<std::string>& inputs, const std::string& out, bool quiet);
+
+/// Writes DIR/report.html (the self-contained page `floorcast report` writes) of a finished run.
+void write_html_report(const std::string& run_dir);
 
 /// "12s", "3m05s", "1h02m"; "--" when unknown.
 std::string duration_text(double seconds);
@@ -113,6 +135,16 @@ struct ChildCost {
 /// not exit with status 0.
 ChildCost run_child(const std::string& exe, const std::vector<std::string>& args, const std::string& stdout_path,
                     const std::string& what);
+
+template <typename T>
+CLI::Option* add_deprecated_option(CLI::App& cmd, const std::string& old_name, CLI::Option* current, T& target) {
+  const std::string now = current->get_name(false, true);
+  CLI::Option* old = cmd.add_option(old_name, target, "Deprecated spelling of " + now);
+  old->group("");  // hidden from --help
+  old->excludes(current);
+  old->each([old_name, now](const std::string&) { deprecation_note(old_name, now); });
+  return old;
+}
 
 }  // namespace floorcast::cli
 

@@ -49,7 +49,7 @@ void register_bench_scale(CLI::App& root) {
     int orientations = 10;
     std::uint64_t seed = 1;
     std::string dir = "out/bench_scale";
-    std::string output;
+    std::string old_dir;
     bool json = false;
   };
   auto o = std::make_shared<Options>();
@@ -63,10 +63,24 @@ void register_bench_scale(CLI::App& root) {
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--orientations", o->orientations, "Kernel orientations (PALMS+ O = 10)")->capture_default_str()->check(CLI::Range(0, 720));
   cmd->add_option("--seed", o->seed, "Seed of the plans and observation points")->capture_default_str();
-  cmd->add_option("--dir", o->dir, "Work directory (plans, children's JSON)")->capture_default_str();
-  cmd->add_option("-o,--output", o->output, "Also write the table as JSON to this file");
+  cmd->add_option("-o,--output", o->dir,
+                                         "Output folder: the table as bench_scale.json, the generated plans and the "
+                                         "children's JSON (a path ending in .json: deprecated, the table file)")
+                             ->capture_default_str();
+  // The old work-folder option (with -o FILE.json for the table, so it does not exclude -o).
+  cmd->add_option("--dir", o->old_dir, "Deprecated: the work folder; use -o DIR")->group("")->each([](const std::string&) {
+    deprecation_note("bench scale --dir", "bench scale -o DIR");
+  });
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
+    // The old grammar: --dir was the work folder and -o FILE.json the table.
+    std::string table_path = o->dir + "/bench_scale.json";
+    if (std::filesystem::path(o->dir).extension() == ".json") {
+      deprecation_note("bench scale -o FILE.json", "bench scale -o DIR (writes DIR/bench_scale.json)");
+      table_path = o->dir;
+      o->dir = "out/bench_scale";
+    }
+    if (!o->old_dir.empty()) o->dir = o->old_dir;
     ensure_directory(o->dir);
     const std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
     Json rows = Json::array();
@@ -134,7 +148,7 @@ void register_bench_scale(CLI::App& root) {
     out["observations"] = o->observations;
     out["seed"] = o->seed;
     out["rows"] = rows;
-    if (!o->output.empty()) write_json(o->output, out);
+    write_json(table_path, out);
     if (o->json) std::cout << out.dump(2) << "\n";
   });
 }

@@ -1,5 +1,6 @@
 // `floorcast localize PLAN OBS --matcher kernel|ray`: one observation -> posterior over the plan,
 // estimate.json and posterior.png.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -7,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 #include "cli_common.hpp"
 #include "floorcast/core/file_io.hpp"
@@ -90,6 +92,77 @@ void check_argument_order(const std::string& plan, const std::string& obs) {
   }
 }
 
+/// Writes the posterior volume as `mode` asks (npy, npz-f16, top-k) slice by slice, without a
+/// copy of the volume; returns the file name ("" for none).
+std::string write_posterior(const std::string& dir, const std::string& mode, const Posterior& post, int cells) {
+  if (mode == "none") return "";
+  const std::size_t S = static_cast<std::size_t>(post.num_slices()), H = static_cast<std::size_t>(post.grid.height_px),
+                    W = static_cast<std::size_t>(post.grid.width_px);
+  if (mode == "npy") {
+    NpyStreamWriter w(dir + "/posterior.npy", {S, H, W}, NpyDtype::kFloat32);
+    for (const cv::Mat& slice : post.scores) w.append(slice);
+    w.close();
+    return "posterior.npy";
+  }
+  if (mode == "npz-f16") {
+    NpzWriter z(dir + "/posterior.npz");
+    z.add_slices("posterior", {S, H, W}, NpyDtype::kFloat16, post.scores);
+    z.close();
+    return "posterior.npz";
+  }
+  // top-k: the best cells of the volume (ties by index), found with a bounded heap per slice.
+  struct Cell {
+    float score;
+    std::uint32_t s, r, c;
+  };
+  auto worse = [](const Cell& a, const Cell& b) {
+    return a.score != b.score ? a.score > b.score : std::tie(a.s, a.r, a.c) < std::tie(b.s, b.r, b.c);
+  };
+  std::vector<Cell> heap;  // a min-heap under `worse`: heap.front() is the weakest kept cell
+  const std::size_t K = static_cast<std::size_t>(cells);
+  for (std::size_t s = 0; s < S; ++s)
+    for (std::size_t r = 0; r < H; ++r) {
+      const float* row = post.scores[s].ptr<float>(static_cast<int>(r));
+      for (std::size_t c = 0; c < W; ++c) {
+        if (!(row[c] > 0.0f)) continue;
+        const Cell cell{row[c], static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(r), static_cast<std::uint32_t>(c)};
+        if (heap.size() < K) {
+          heap.push_back(cell);
+          std::push_heap(heap.begin(), heap.end(), worse);
+        } else if (worse(cell, heap.front())) {
+          std::pop_heap(heap.begin(), heap.end(), worse);
+          heap.back() = cell;
+          std::push_heap(heap.begin(), heap.end(), worse);
+        }
+      }
+    }
+  std::sort(heap.begin(), heap.end(), worse);
+  const std::size_t N = heap.size();
+  cv::Mat index(static_cast<int>(std::max<std::size_t>(N, 1)), 3, CV_32S, cv::Scalar(0));
+  std::vector<float> x(N), y(N), yaw(N), score(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    const Cell& c = heap[i];
+    const int k = static_cast<int>(i);
+    index.at<int>(k, 0) = static_cast<int>(c.s);
+    index.at<int>(k, 1) = static_cast<int>(c.r);
+    index.at<int>(k, 2) = static_cast<int>(c.c);
+    const Vec2 p = post.grid.cell_center_m(static_cast<int>(c.r), static_cast<int>(c.c));
+    x[i] = static_cast<float>(p.x());
+    y[i] = static_cast<float>(p.y());
+    yaw[i] = static_cast<float>(post.yaw_rad[c.s] * 180.0 / kPi);
+    score[i] = c.score;
+  }
+  NpzWriter z(dir + "/posterior_top.npz");
+  if (N > 0) z.add("index", index);
+  else z.add("index", {0, 3}, {});  // no cell scored above 0: an empty (0, 3) array
+  z.add("x_m", {N}, x);
+  z.add("y_m", {N}, y);
+  z.add("yaw_deg", {N}, yaw);
+  z.add("score", {N}, score);
+  z.close();
+  return "posterior_top.npz";
+}
+
 nlohmann::ordered_json hypothesis_json(const PoseHypothesis& h) {
   nlohmann::ordered_json j;
   j["x_m"] = h.x_m;
@@ -104,6 +177,9 @@ void register_localize(CLI::App& root) {
     std::string plan, obs, matcher = "kernel", orientations, out;
     int rays = 0;
     int top_k = 5;
+    double range_m = SharedParams{}.range_m;
+    std::string posterior = "none";
+    int posterior_cells = 10000;
     std::vector<std::string> params;
     ObserveCliOptions observe;
     bool quiet = false;
@@ -122,12 +198,26 @@ void register_localize(CLI::App& root) {
       ->check(CLI::IsMember({"palms", "palms+", "dense"}));
   cmd->add_option("--rays", o->rays, "Ray matcher: equiangular rays = volume directions (default 36)")
       ->check(CLI::Range(4, 3600));
-  cmd->add_option("--param", o->params, "Matcher parameter override KEY=VALUE (repeatable; keys as in estimate.json)");
+  CLI::Option* matcher_param = cmd->add_option(
+      "--matcher-param", o->params, "Matcher parameter override KEY=VALUE (repeatable; keys as in estimate.json's parameters)");
+  add_deprecated_option(*cmd, "--param", matcher_param, o->params);
+  CLI::Option* range_opt = cmd->add_option("--range", o->range_m, "Matching range, metres (the matcher's max_range_m; PALMS+ 4.4: 10)")
+                               ->capture_default_str()
+                               ->check(CLI::Range(0.5, 60.0));
   cmd->add_option("--top-k", o->top_k, "Modes to report (NMS 1 m, 30 deg)")->capture_default_str()->check(CLI::Range(1, 100));
+  cmd->add_option("--posterior", o->posterior,
+                  "Posterior volume written: none (estimate, modes and the max-over-heading heatmap only; memory "
+                  "bounded), npy (posterior.npy float32), npz-f16 (posterior.npz: float16, deflated), top-k "
+                  "(posterior_top.npz: the --posterior-cells best cells)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "npy", "npz-f16", "top-k"}));
+  cmd->add_option("--posterior-cells", o->posterior_cells, "Cells kept by --posterior top-k")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000000));
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
   cmd->add_flag("--quiet", o->quiet, "No progress output on stderr");
   add_observation_options(*cmd, o->observe);
-  cmd->callback([o] {
+  cmd->callback([o, range_opt] {
     check_argument_order(o->plan, o->obs);
     refuse_output_inside_inputs(o->out, {o->obs});
     const FloorPlan plan = load_floor_plan(o->plan);
@@ -145,7 +235,12 @@ void register_localize(CLI::App& root) {
                 << " (another building or another version of the plan): the estimate may be meaningless\n";
     }
     nlohmann::json overrides = nlohmann::json::object();
-    for (const std::string& p : o->params) add_override(overrides, p);
+    for (const std::string& p : o->params) add_override(overrides, p, "--matcher-param");
+    if (range_opt->count() > 0 && overrides.contains("max_range_m")) {
+      throw InputError("--range and --matcher-param max_range_m both set the matching range: give one");
+    }
+    SharedParams shared;
+    shared.range_m = o->range_m;
     if (!o->orientations.empty()) {
       if (o->matcher != "kernel") throw InputError("--orientations applies to the kernel matcher only");
       overrides["orientations"] = o->orientations;
@@ -157,7 +252,7 @@ void register_localize(CLI::App& root) {
     std::unique_ptr<Matcher> matcher;
     {
       const Heartbeat hb("localize: preparing the " + o->matcher + " matcher on " + o->plan, o->quiet);
-      matcher = make_matcher(o->matcher, plan, overrides);
+      matcher = make_matcher_config(o->matcher, overrides, shared)->build(plan);
     }
     // Said, not silent: ray ranges the ray matcher cannot use (auto casts rays on the segments).
     std::vector<std::string> notes;
@@ -170,18 +265,26 @@ void register_localize(CLI::App& root) {
                       " directions of the ray matcher: rays are cast on its segments instead (ray_source auto)");
       std::cerr << "note: " << notes.back() << "\n";
     }
+    // The full volume only when it is written: otherwise the modes and the max over heading (the
+    // heatmap), which the matchers compute without holding every heading slice.
+    MatchRequest request = MatchRequest::modes(o->top_k, 1.0, kPi / 6.0);
+    request.output = o->posterior == "none" ? MatchOutput::kMaxOverYaw : MatchOutput::kPosterior;
     MatchResult result;
     {
       const Heartbeat hb("localize: matching", o->quiet);
-      result = matcher->match(input.record.observation);
+      result = matcher->match(input.record.observation, request);
     }
-    const Posterior& post = result.posterior;
-    const PoseHypothesis best = post.argmax();
-    const std::vector<PoseHypothesis> modes = post.top_k(o->top_k, 1.0, kPi / 6.0);
-
-    // An empty posterior (every cell scored 0: e.g. the observation collides with the map
-    // everywhere) is "no pose", never a made-up pose at the grid's first cell.
-    const bool found = best.score > 0.0;
+    const std::vector<PoseHypothesis>& modes = result.modes;
+    // No mode (every cell scored 0: e.g. the observation collides with the map everywhere) is
+    // "no pose", never a made-up pose at the grid's first cell.
+    const bool found = !modes.empty() && modes.front().score > 0.0;
+    const PoseHypothesis best = found ? modes.front() : PoseHypothesis{};
+    // What the heatmap draws: the max over heading (one slice).
+    Posterior post;
+    post.grid = result.grid;
+    post.yaw_rad = {0.0};
+    post.scores = {result.posterior.num_slices() > 0 ? result.posterior.max_over_yaw() : result.max_over_yaw};
+    if (post.scores.front().empty()) post.scores.front() = cv::Mat::zeros(post.grid.height_px, post.grid.width_px, CV_32F);
     nlohmann::ordered_json j;
     j["status"] = found ? "ok" : "no pose: empty posterior (every cell scored 0)";
     j["x_m"] = found ? nlohmann::ordered_json(best.x_m) : nlohmann::ordered_json(nullptr);
@@ -222,8 +325,9 @@ void register_localize(CLI::App& root) {
     grid["origin_m"] = {post.grid.origin_x_m, post.grid.origin_y_m};
     grid["resolution_m"] = post.grid.resolution_m_per_px;
     grid["size_px"] = {post.grid.width_px, post.grid.height_px};
-    grid["slices"] = post.num_slices();
+    grid["slices"] = result.posterior.num_slices() > 0 ? nlohmann::ordered_json(result.posterior.num_slices()) : nlohmann::ordered_json(nullptr);
     j["grid"] = grid;
+    j["posterior_output"] = o->posterior;
 
     ensure_directory(o->out);
     write_json(o->out + "/estimate.json", j);
@@ -248,30 +352,32 @@ void register_localize(CLI::App& root) {
                                   : "estimate " + format_pose(Pose2{best.x_m, best.y_m, best.yaw_rad}));
     const cv::Mat img = render_posterior_heatmap(post, raster, truth,
                                                  found ? std::optional<PoseHypothesis>(best) : std::nullopt, style);
-    // The posterior volume for numpy (yaw, y, x) with its grid, and the observation drawn over
-    // the plan at the true and the estimated pose.
+    // The posterior volume for numpy (yaw, y, x) as asked, with its grid, and the observation
+    // drawn over the plan at the true and the estimated pose.
     {
-      std::vector<float> values;
-      values.reserve(static_cast<std::size_t>(post.num_slices()) * post.grid.width_px * post.grid.height_px);
-      for (const cv::Mat& slice : post.scores)
-        for (int r = 0; r < post.grid.height_px; ++r) values.insert(values.end(), slice.ptr<float>(r), slice.ptr<float>(r) + post.grid.width_px);
-      write_npy(o->out + "/posterior.npy", {static_cast<std::size_t>(post.num_slices()), static_cast<std::size_t>(post.grid.height_px),
-                                            static_cast<std::size_t>(post.grid.width_px)}, values);
-      nlohmann::ordered_json gj;
-      gj["file"] = "posterior.npy";
-      gj["axes"] = {"yaw", "y", "x"};
-      gj["shape"] = {post.num_slices(), post.grid.height_px, post.grid.width_px};
-      gj["dtype"] = "float32";
-      gj["origin_m"] = {post.grid.origin_x_m, post.grid.origin_y_m};
-      gj["resolution_m"] = post.grid.resolution_m_per_px;
-      std::vector<double> yaw_deg;
-      for (double y : post.yaw_rad) yaw_deg.push_back(y * 180.0 / kPi);
-      gj["yaw_deg"] = yaw_deg;
-      gj["cell_centre"] = "posterior[s, row, col] is the observer at x = origin_m[0] + (col + 0.5) * resolution_m, "
-                          "y = origin_m[1] + (row + 0.5) * resolution_m (row 0 = lowest y), heading yaw_deg[s]";
-      gj["values"] = "unnormalised scores >= 0, higher is better; all zero = no pose";
-      gj["matcher"] = matcher->name();
-      write_json(o->out + "/posterior_grid.json", gj);
+      const std::string file = write_posterior(o->out, o->posterior, result.posterior, o->posterior_cells);
+      if (!file.empty()) {
+        const Posterior& full = result.posterior;
+        nlohmann::ordered_json gj;
+        gj["file"] = file;
+        gj["axes"] = {"yaw", "y", "x"};
+        gj["shape"] = {full.num_slices(), full.grid.height_px, full.grid.width_px};
+        gj["dtype"] = o->posterior == "npz-f16" ? "float16" : "float32";
+        if (o->posterior == "top-k") {
+          gj["top_k"] = "posterior_top.npz holds the best cells in descending score: arrays index (N x 3: yaw slice, row, "
+                        "col), x_m, y_m, yaw_deg, score";
+        }
+        gj["origin_m"] = {full.grid.origin_x_m, full.grid.origin_y_m};
+        gj["resolution_m"] = full.grid.resolution_m_per_px;
+        std::vector<double> yaw_deg;
+        for (double y : full.yaw_rad) yaw_deg.push_back(y * 180.0 / kPi);
+        gj["yaw_deg"] = yaw_deg;
+        gj["cell_centre"] = "posterior[s, row, col] is the observer at x = origin_m[0] + (col + 0.5) * resolution_m, "
+                            "y = origin_m[1] + (row + 0.5) * resolution_m (row 0 = lowest y), heading yaw_deg[s]";
+        gj["values"] = "unnormalised scores >= 0, higher is better; all zero = no pose";
+        gj["matcher"] = matcher->name();
+        write_json(o->out + "/posterior_grid.json", gj);
+      }
 
       std::vector<TrajectoryLayer> layers;
       std::vector<MarkerLayer> markers;

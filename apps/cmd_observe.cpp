@@ -1,4 +1,4 @@
-// `floorcast observe SCAN_DIR -o OBS.json`: the observation module on a scan folder.
+// `floorcast observe SCAN_DIR -o DIR`: the observation module on a scan folder.
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -193,19 +193,29 @@ void register_observe(CLI::App& root) {
                   "Folder for the module's point clouds as PLY (Open3D, CloudCompare): back_projected.ply, scaled.ply, "
                   "slice.ply");
   cmd->add_option("-o,--output", o->out,
-                  "Observation JSON to write; diagnostics (scales, ground, point counts, timings, parameters) "
-                  "go next to it as <name>.diagnostics.json")
+                  "Output folder: observation.json (what `localize` takes) and observation.diagnostics.json (scales, "
+                  "ground, point counts, timings, parameters). A path ending in .json is the deprecated spelling: the "
+                  "observation file itself, diagnostics next to it as <name>.diagnostics.json")
       ->required();
   cmd->callback([o] {
     refuse_output_inside_inputs(o->out, {o->scan_dir});
     const Scan scan = load_scan_for_observation(o->scan_dir, o->obs);
     const ObservationParams params = observation_params_from_cli(o->obs, &scan);
     const ObservationResult r = observe_scan(scan, params);
-    const std::filesystem::path out(o->out);
-    if (out.has_parent_path()) ensure_directory(out.parent_path().string());
-    save_observation(o->out, observation_record(scan, o->scan_dir, r));
-    std::filesystem::path diag = out;
-    diag.replace_extension(".diagnostics.json");
+    namespace fs = std::filesystem;
+    fs::path obs_path, diag;
+    if (fs::path(o->out).extension() == ".json") {  // the old grammar: -o names the observation file
+      deprecation_note("observe -o FILE.json", "observe -o DIR (writes DIR/observation.json)");
+      obs_path = o->out;
+      if (obs_path.has_parent_path()) ensure_directory(obs_path.parent_path().string());
+      diag = obs_path;
+      diag.replace_extension(".diagnostics.json");
+    } else {
+      ensure_directory(o->out);
+      obs_path = fs::path(o->out) / "observation.json";
+      diag = fs::path(o->out) / "observation.diagnostics.json";
+    }
+    save_observation(obs_path.string(), observation_record(scan, o->scan_dir, r));
     write_json(diag.string(), observation_diagnostics_json(params, r));
     if (!o->clouds.empty()) write_observation_clouds(o->clouds, scan, params, r);
     const ObservationDiagnostics& d = r.diagnostics;
@@ -223,7 +233,7 @@ void register_observe(CLI::App& root) {
       std::cout << "  planes: " << d.planes_total << " (" << d.wall_planes << " walls)\n";
     }
     for (const std::string& w : d.warnings) std::cout << "  warning: " << w << "\n";
-    std::cout << "  -> " << o->out << ", " << diag.string() << "\n";
+    std::cout << "  -> " << obs_path.string() << ", " << diag.string() << "\n";
   });
 }
 

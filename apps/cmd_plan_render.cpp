@@ -25,7 +25,7 @@ void register_plan_render(CLI::App& root) {
   CLI::App& plan = group(root, "plan", "Floor plans: inspect, validate, import, generate, render");
   auto* cmd = plan.add_subcommand(
       "render", "Draw a plan as PNG or SVG: walls black, glass blue, doors (open: swing arc, closed: orange "
-                "leaf), obstacles grey, scale bar, name");
+                "leaf), obstacles grey, metre coordinates, scale bar, name");
   struct Options {
     std::string file;
     std::string output;
@@ -33,6 +33,7 @@ void register_plan_render(CLI::App& root) {
     double margin_m = 1.5;
     bool no_obstacles = false;
     bool no_interior = false;
+    bool no_coordinates = false;
   };
   auto opts = std::make_shared<Options>();
   cmd->add_option("FILE", opts->file, "Floor-plan JSON")->required();
@@ -42,6 +43,7 @@ void register_plan_render(CLI::App& root) {
   cmd->add_option("--margin-m", opts->margin_m, "Blank border around the plan, metres")->capture_default_str();
   cmd->add_flag("--no-obstacles", opts->no_obstacles, "Leave out clutter obstacles");
   cmd->add_flag("--no-interior", opts->no_interior, "Do not tint the building interior");
+  cmd->add_flag("--no-coordinates", opts->no_coordinates, "Leave out the metre coordinates along the left and bottom edges");
   cmd->callback([opts, px_opt] {
     const std::string ext = lower_extension(opts->output);
     if (ext != "png" && ext != "svg") {
@@ -52,6 +54,7 @@ void register_plan_render(CLI::App& root) {
     ro.margin_m = opts->margin_m;
     ro.draw_obstacles = !opts->no_obstacles;
     ro.draw_interior = !opts->no_interior;
+    ro.draw_coordinates = !opts->no_coordinates;
     if (px_opt->count() > 0) {  // given: used as is (0 or less is refused), else automatic
       ro.px_per_m = opts->px_per_m;
     } else {

@@ -20,6 +20,7 @@
 #include "floorcast/sim/perfect_observation.hpp"
 #include "floorcast/sim/scan_io.hpp"
 #include "floorcast/sim/scan_sim.hpp"
+#include "floorcast/sim/walk.hpp"
 #include "floorcast/core/hash.hpp"
 #include "floorcast/core/json_text.hpp"
 #include "floorcast/core/math.hpp"
@@ -27,6 +28,18 @@
 namespace floorcast::cli {
 namespace {
 
+constexpr const char* kPoseHelp =
+    "Observer pose X,Y,YAW_DEG (metres, degrees), or 'random': a seeded pose (--seed) in the largest free region, "
+    "heading uniform";
+
+/// --pose: "X,Y,YAW_DEG", or "random" drawn with `seed` where a walker could stand (the free space
+/// of the largest connected region, as `sim walk` starts).
+Pose2 observer_pose(const FloorPlan& plan, const std::string& text, std::uint64_t seed) {
+  if (!is_random_pose(text)) return parse_pose(text);
+  WalkParams wp;
+  wp.seed = seed;
+  return random_start_pose(plan, wp);
+}
 
 /// Options shared by the commands that build a 3D building.
 struct BuildingOptions {
@@ -80,7 +93,7 @@ void register_sim(CLI::App& root) {
   auto so = std::make_shared<ScanOptions>();
   auto* scan = sim.add_subcommand("scan", "Simulate a rotating scan and write a scan folder");
   scan->add_option("PLAN", so->plan, "Floor-plan JSON")->required();
-  scan->add_option("--pose", so->pose, "Observer pose X,Y,YAW_DEG (metres, degrees)")->required();
+  scan->add_option("--pose", so->pose, kPoseHelp)->required();
   scan->add_option("--sensor", so->sensor, "Preset: perfect, lidar, mono, phone")
       ->capture_default_str()
       ->check(CLI::IsMember(scan_preset_names()));
@@ -90,7 +103,8 @@ void register_sim(CLI::App& root) {
   scan->add_option("--center-view", so->center_view, "View the partial/single settings keep")->capture_default_str();
   scan->add_option("--seed", so->seed, "Random seed (sensor noise, clutter)")->capture_default_str();
   // Given or not is told by the option's count (no sentinel value: -1 or NaN must be refused).
-  CLI::Option* max_range_opt = scan->add_option("--max-range", so->max_range_m, "Override the preset's maximum range, metres");
+  CLI::Option* max_range_opt = scan->add_option("--range", so->max_range_m, "Override the preset's maximum range, metres");
+  add_deprecated_option(*scan, "--max-range", max_range_opt, so->max_range_m);
   CLI::Option* scale_sigma_opt = scan->add_option("--scale-sigma", so->scale_sigma, "Override the mono per-view log scale sigma");
   scan->add_option("--depth-model", so->depth_model,
                    "Monocular error level of a published network (mono and phone sensors; default depth_pro)")
@@ -106,18 +120,18 @@ void register_sim(CLI::App& root) {
                  "PALMS+ 4.4)");
   add_building_options(scan, so->building);
   scan->add_option("-o,--output", so->out, "Output scan folder")->required();
-  scan->callback([so, max_range_opt, scale_sigma_opt] {
+  scan->callback([so, scan, scale_sigma_opt] {
     const auto t0 = std::chrono::steady_clock::now();
     const FloorPlan given = load_floor_plan(so->plan);
     FloorPlan plan = given;
     if (!so->doors_open)
       for (Door& d : plan.doors) d.closed = true;  // the one door default: closed (see --doors-open)
-    const Pose2 pose = parse_pose(so->pose);
+    const Pose2 pose = observer_pose(given, so->pose, so->seed);
     ScanParams params = scan_preset(so->sensor);
     parse_scan_setting(so->setting, params.setting);
     params.center_view = so->center_view;
     params.seed = so->seed;
-    if (max_range_opt->count() > 0) params.sensor.max_range_m = so->max_range_m;
+    if (scan->count("--range") + scan->count("--max-range") > 0) params.sensor.max_range_m = so->max_range_m;
     if (!so->depth_model.empty()) params.sensor.mono = mono_model_preset(so->depth_model);
     if (!so->sensor_params.empty()) {
       apply_scan_overrides(params, parse_json_text(so->sensor_params, "--sensor-params"), "--sensor-params");
@@ -160,6 +174,7 @@ void register_sim(CLI::App& root) {
   // ---- sim perfect ----
   struct PerfectOptions {
     std::string plan, pose, out;
+    std::uint64_t seed = 0;
     int rays = PerfectObservationParams{}.num_rays;
     double range_m = PerfectObservationParams{}.max_range_m;
     bool doors_open = false;
@@ -167,7 +182,8 @@ void register_sim(CLI::App& root) {
   auto po = std::make_shared<PerfectOptions>();
   auto* perfect = sim.add_subcommand("perfect", "Exact 2D observation (visible wall segments, ray ranges) as JSON");
   perfect->add_option("PLAN", po->plan, "Floor-plan JSON")->required();
-  perfect->add_option("--pose", po->pose, "Observer pose X,Y,YAW_DEG (metres, degrees)")->required();
+  perfect->add_option("--pose", po->pose, kPoseHelp)->required();
+  perfect->add_option("--seed", po->seed, "Seed of --pose random")->capture_default_str();
   perfect->add_option("--rays", po->rays, "Equiangular rays (F3Loc: 36 or 180; 0 = none)")
       ->capture_default_str()
       ->check(CLI::Range(0, 100000));
@@ -178,7 +194,7 @@ void register_sim(CLI::App& root) {
   perfect->add_option("-o,--output", po->out, "Output folder (writes observation.json)")->required();
   perfect->callback([po] {
     const FloorPlan plan = load_floor_plan(po->plan);
-    const Pose2 pose = parse_pose(po->pose);
+    const Pose2 pose = observer_pose(plan, po->pose, po->seed);
     check_observer_pose(plan, pose, po->plan);
     PerfectObservationParams params;
     params.num_rays = po->rays;

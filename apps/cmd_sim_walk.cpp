@@ -39,6 +39,7 @@ void register_sim_walk(CLI::App& root) {
     double scan_every_m = 0.0;
     bool no_initial = false;
     int rays = PerfectObservationParams{}.num_rays;
+    double range_m = 0.0;  ///< 0: not given
     bool doors_open = false;
     std::uint64_t seed = 1;
     std::string walk_params, odometry_params;
@@ -47,8 +48,10 @@ void register_sim_walk(CLI::App& root) {
   CLI::App& sim = group(root, "sim", "Simulator: rotating scans, perfect observations, 3D buildings");
   auto* cmd = sim.add_subcommand("walk", "Simulate a walk (truth, odometry, observations along it) into a walk folder");
   cmd->add_option("PLAN", o->plan, "Floor-plan JSON")->required();
-  cmd->add_option("--start", o->start, "Start pose X,Y,YAW_DEG or 'random' (in the largest free region)")
-      ->capture_default_str();
+  CLI::Option* pose_opt =
+      cmd->add_option("--pose", o->start, "Start pose X,Y,YAW_DEG, or 'random' (seeded by --seed, in the largest free region)")
+          ->capture_default_str();
+  add_deprecated_option(*cmd, "--start", pose_opt, o->start);
   cmd->add_option("--steps", o->steps, "Samples of the walk (steps and pauses)")->capture_default_str()->check(CLI::Range(2, 1000000));
   cmd->add_option("--odometry", o->odometry, "Odometry model: exact, vio (ARKit-like), pdr (step counting)")
       ->capture_default_str()
@@ -68,6 +71,9 @@ void register_sim_walk(CLI::App& root) {
       ->capture_default_str()
       ->check(CLI::IsMember({"full", "partial", "single"}));
   cmd->add_option("--rays", o->rays, "Perfect observations: equiangular rays")->capture_default_str()->check(CLI::Range(0, 3600));
+  cmd->add_option("--range", o->range_m,
+                  "Observation range, metres (perfect observations: default 10; scans: default the preset's maximum range)")
+      ->check(CLI::Range(0.01, 1e4));
   cmd->add_flag("--doors-open", o->doors_open, "Perfect observations: open doors stay open (default: all closed)");
   cmd->add_option("--walk-params", o->walk_params, "JSON object of walk parameter overrides (keys of walk.json walk_params)");
   cmd->add_option("--odometry-params", o->odometry_params, "JSON object of odometry parameter overrides");
@@ -89,7 +95,7 @@ void register_sim_walk(CLI::App& root) {
       op.apply_overrides(j);
     }
     op.apply_overrides({{"model", o->odometry}});
-    const Pose2 start = o->start == "random" ? random_start_pose(plan, wp) : parse_pose(o->start, "--start");
+    const Pose2 start = is_random_pose(o->start) ? random_start_pose(plan, wp) : parse_pose(o->start, "--pose");
 
     WalkRecord rec;
     rec.walk = simulate_walk(plan, start, wp);
@@ -104,6 +110,7 @@ void register_sim_walk(CLI::App& root) {
     if (o->sensor == "perfect") {
       PerfectObservationParams pp;
       pp.num_rays = o->rays;
+      if (o->range_m > 0.0) pp.max_range_m = o->range_m;
       pp.blocking.open_doors_block = !o->doors_open;
       rec.observation_settings = {{"source", "perfect"}, {"perfect_observer", pp.to_json()}};
       const PerfectObserver observer(plan, pp);
@@ -122,6 +129,7 @@ void register_sim_walk(CLI::App& root) {
     } else {
       ScanParams sp = scan_preset(o->sensor);
       parse_scan_setting(o->setting, sp.setting);
+      if (o->range_m > 0.0) sp.sensor.max_range_m = o->range_m;
       validate_scan_params(sp);
       rec.observation_settings = {{"source", "scan"}, {"sensor", scan_params_to_json(sp)}};
       const RayScene scene(extrude_plan(plan));
@@ -148,6 +156,7 @@ void register_sim_walk(CLI::App& root) {
     const cv::Mat img = draw_plan_with_trajectories(
         plan, {{"true path", truth, series_colour(2), 3}, {"odometry (" + o->odometry + ")", odom, series_colour(1), 2}},
         {{"start", {truth.front()}, cv::Scalar(0, 160, 0), 7, true},
+         {"end", {truth.back()}, cv::Scalar(0, 0, 0), 6, true},
          {"observation", observed, series_colour(0), 5, false}},
         title.str());
     write_png(o->out + "/walk.png", img);

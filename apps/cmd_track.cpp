@@ -35,6 +35,7 @@ void register_track(CLI::App& root) {
     std::string plan, walk, filter = "pf", init, matcher, out;
     std::vector<std::string> params, matcher_params;
     std::uint64_t seed = 1;
+    double range_m = SharedParams{}.range_m;
     ObserveCliOptions observe;
     bool quiet = false;
   };
@@ -48,13 +49,19 @@ void register_track(CLI::App& root) {
   cmd->add_option("--init", o->init, "pf: palms (default), proportional, uniform, uniform-ori; hist: posterior, uniform");
   cmd->add_option("--matcher", o->matcher, "Matcher turning observations into posteriors (default: kernel for pf, ray for hist)")
       ->check(CLI::IsMember(matcher_names()));
-  cmd->add_option("--param", o->params, "Tracker parameter override KEY=VALUE (repeatable)");
-  cmd->add_option("--matcher-param", o->matcher_params, "Matcher parameter override KEY=VALUE (repeatable)");
+  CLI::Option* tracker_param = cmd->add_option(
+      "--tracker-param", o->params, "Tracker parameter override KEY=VALUE (repeatable; keys as in metrics.json's tracker_parameters)");
+  add_deprecated_option(*cmd, "--param", tracker_param, o->params);
+  cmd->add_option("--matcher-param", o->matcher_params,
+                  "Matcher parameter override KEY=VALUE (repeatable; keys as in metrics.json's matcher_parameters)");
+  CLI::Option* range_opt = cmd->add_option("--range", o->range_m, "Matching range, metres (the matcher's max_range_m; PALMS+ 4.4: 10)")
+                               ->capture_default_str()
+                               ->check(CLI::Range(0.5, 60.0));
   cmd->add_option("--seed", o->seed, "Tracker seed")->capture_default_str();
   add_observation_options(*cmd, o->observe);
   cmd->add_flag("--quiet", o->quiet, "No progress output on stderr");
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
-  cmd->callback([o] {
+  cmd->callback([o, range_opt] {
     refuse_output_inside_inputs(o->out, {o->walk});
     if (!o->observe.depth_dir.empty()) {
       throw InputError("--depth-dir applies to one scan (observe, localize); a walk's scans keep their depth maps in "
@@ -64,13 +71,18 @@ void register_track(CLI::App& root) {
     const WalkRecord walk = load_walk(o->walk);
     if (walk.observations.empty()) throw InputError(o->walk + ": the walk has no observation to start from");
     nlohmann::json tracker_overrides = nlohmann::json::object();
-    for (const std::string& p : o->params) add_override(tracker_overrides, p);
+    for (const std::string& p : o->params) add_override(tracker_overrides, p, "--tracker-param");
     if (!o->init.empty()) tracker_overrides["init"] = o->init;
     if (o->filter == "pf" && !tracker_overrides.contains("seed")) tracker_overrides["seed"] = o->seed;
     nlohmann::json matcher_overrides = nlohmann::json::object();
-    for (const std::string& p : o->matcher_params) add_override(matcher_overrides, p);
+    for (const std::string& p : o->matcher_params) add_override(matcher_overrides, p, "--matcher-param");
+    if (range_opt->count() > 0 && matcher_overrides.contains("max_range_m")) {
+      throw InputError("--range and --matcher-param max_range_m both set the matching range: give one");
+    }
+    SharedParams shared;
+    shared.range_m = o->range_m;
     const std::string matcher_name = !o->matcher.empty() ? o->matcher : (o->filter == "hist" ? "ray" : "kernel");
-    const std::unique_ptr<Matcher> matcher = make_matcher(matcher_name, plan, matcher_overrides);
+    const std::unique_ptr<Matcher> matcher = make_matcher_config(matcher_name, matcher_overrides, shared)->build(plan);
     const std::unique_ptr<Tracker> tracker = make_tracker(o->filter, plan, tracker_overrides);
 
     // Observations by step: perfect observation files, or scan folders through the observation module.
@@ -184,17 +196,26 @@ void register_track(CLI::App& root) {
       markers.push_back({"particles (end)", pts, cv::Scalar(160, 160, 160), 2, true});
     }
     markers.push_back({"start", {truth_path.front()}, cv::Scalar(0, 160, 0), 7, true});
+    markers.push_back({"true end", {truth_path.back()}, cv::Scalar(0, 0, 0), 6, true});
+    if (!est_path.empty()) markers.push_back({"estimated end", {est_path.back()}, series_colour(0), 6, true});
     if (!conv.empty()) markers.push_back({"converged", conv, cv::Scalar(0, 0, 220), 8, false});
+    // The estimate as pieces between jumps (an argmax that moves across the plan between steps is
+    // a jump, not a walk through the walls): more than 1.5 m between consecutive steps.
+    std::vector<TrajectoryLayer> lines = {{"true path", truth_path, series_colour(2), 3},
+                                          {"odometry", odom_path, series_colour(1), 1}};
+    int jumps = 0;
+    for (std::size_t i = 0; i < est_path.size(); ++i) {
+      if (i == 0 || (est_path[i] - est_path[i - 1]).norm() > 1.5) {
+        if (i > 0) ++jumps;
+        lines.push_back({lines.size() == 2 ? "estimate" : "", {}, series_colour(0), 2});
+      }
+      lines.back().points_m.push_back(est_path[i]);
+    }
     std::ostringstream title;
     title << std::fixed << std::setprecision(2) << plan.name << ": " << tracker->name() << " (" << matcher->name()
           << "), RMSE " << out.rmse_m << " m, last-10 " << out.rmse_last_m << " m, "
-          << (out.converged ? "converged" : "not converged");
-    const cv::Mat img = draw_plan_with_trajectories(
-        plan,
-        {{"true path", truth_path, series_colour(2), 3},
-         {"odometry", odom_path, series_colour(1), 1},
-         {"estimate", est_path, series_colour(0), 2}},
-        markers, title.str());
+          << (out.converged ? "converged" : "not converged") << (jumps ? ", " + std::to_string(jumps) + " jumps (gaps)" : "");
+    const cv::Mat img = draw_plan_with_trajectories(plan, lines, markers, title.str());
     write_png(o->out + "/track.png", img);
 
     std::cout << std::fixed << std::setprecision(2) << tracker->name() << " (" << matcher->name() << "): "

@@ -5,6 +5,7 @@ find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 # ...) would be loaded by every floorcast process at start-up; PNG goes through libpng.
 find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc)
 find_package(PNG REQUIRED)
+find_package(ZLIB REQUIRED)
 find_package(embree 3 REQUIRED)
 find_package(TinyGLTF REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)

@@ -6,7 +6,11 @@
 #include <cstring>
 #include <filesystem>
 #include <iomanip>
+#include <fstream>
+#include <functional>
 #include <sstream>
+
+#include <zlib.h>
 
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/image_io.hpp"
@@ -379,5 +383,251 @@ NpyArray parse_npy(const std::string& bytes, const std::string& source) {
 }
 
 NpyArray read_npy(const std::string& path) { return parse_npy(read_text_file(path), path); }
+
+}  // namespace floorcast
+
+// ---- streamed .npy and .npz writers ----
+
+namespace floorcast {
+namespace {
+
+const char* dtype_descr(NpyDtype d) { return d == NpyDtype::kFloat16 ? "<f2" : "<f4"; }
+
+/// The bytes of a CV_32F block as `dtype`, rows in order.
+std::string block_bytes(const cv::Mat& block, NpyDtype dtype) {
+  if (block.depth() != CV_32F || block.channels() != 1) throw InputError("npy: expected a single-channel float32 block");
+  cv::Mat m = block;
+  if (dtype == NpyDtype::kFloat16) block.convertTo(m, CV_16F);
+  std::string out;
+  const std::size_t row = static_cast<std::size_t>(m.cols) * m.elemSize();
+  out.reserve(row * static_cast<std::size_t>(m.rows));
+  for (int r = 0; r < m.rows; ++r) out.append(reinterpret_cast<const char*>(m.ptr(r)), row);
+  return out;
+}
+
+std::size_t element_count(const std::vector<std::size_t>& shape) {
+  std::size_t n = 1;
+  for (std::size_t s : shape) n *= s;
+  return n;
+}
+
+void put16(std::string& o, unsigned v) {
+  o += static_cast<char>(v & 0xff);
+  o += static_cast<char>((v >> 8) & 0xff);
+}
+void put32(std::string& o, unsigned long v) {
+  for (int i = 0; i < 4; ++i) o += static_cast<char>((v >> (8 * i)) & 0xff);
+}
+
+}  // namespace
+
+struct NpyStreamWriter::State {
+  std::string path, tmp;
+  std::ofstream out;
+  std::size_t expected = 0, written = 0;
+  NpyDtype dtype = NpyDtype::kFloat32;
+  bool closed = false;
+};
+
+NpyStreamWriter::NpyStreamWriter(std::string path, std::vector<std::size_t> shape, NpyDtype dtype)
+    : state_(std::make_unique<State>()) {
+  State& s = *state_;
+  s.path = std::move(path);
+  s.tmp = s.path + ".tmp";
+  s.expected = element_count(shape);
+  s.dtype = dtype;
+  s.out.open(s.tmp, std::ios::binary | std::ios::trunc);
+  if (!s.out) throw InputError(s.tmp + ": cannot create");
+  const std::string h = npy_header(dtype_descr(dtype), shape);
+  s.out.write(h.data(), static_cast<std::streamsize>(h.size()));
+}
+
+NpyStreamWriter::~NpyStreamWriter() {
+  if (state_ && !state_->closed) {
+    state_->out.close();
+    std::remove(state_->tmp.c_str());
+  }
+}
+
+void NpyStreamWriter::append(const cv::Mat& block) {
+  State& s = *state_;
+  const std::string bytes = block_bytes(block, s.dtype);
+  s.out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  s.written += block.total();
+  if (!s.out) throw InputError(s.tmp + ": write failed (disk full?)");
+}
+
+void NpyStreamWriter::close() {
+  State& s = *state_;
+  if (s.written != s.expected) {
+    throw InputError(s.path + ": " + std::to_string(s.written) + " of " + std::to_string(s.expected) + " elements written");
+  }
+  s.out.close();
+  if (!s.out || std::rename(s.tmp.c_str(), s.path.c_str()) != 0) throw InputError(s.path + ": cannot write");
+  s.closed = true;
+}
+
+struct NpzWriter::State {
+  std::string path, tmp;
+  std::ofstream out;
+  std::string central;
+  unsigned long offset = 0;
+  unsigned members = 0;
+  bool closed = false;
+
+  void write(const std::string& b) {
+    out.write(b.data(), static_cast<std::streamsize>(b.size()));
+    offset += static_cast<unsigned long>(b.size());
+    if (!out) throw InputError(tmp + ": write failed (disk full?)");
+  }
+
+  /// One member from its pieces (header, then data blocks from `next` until it returns false):
+  /// a local header with a data descriptor (sizes follow the deflated data), as numpy's zipfile
+  /// reads it.
+  void member(const std::string& name, const std::function<bool(std::string&)>& next) {
+    const unsigned long local = offset;
+    std::string h;
+    put32(h, 0x04034b50UL);
+    put16(h, 20);      // version needed: 2.0 (deflate)
+    put16(h, 0x0008);  // sizes and CRC in the data descriptor
+    put16(h, 8);       // deflate
+    put16(h, 0);       // time
+    put16(h, 0x21);    // date: 1980-01-01
+    put32(h, 0);
+    put32(h, 0);
+    put32(h, 0);
+    put16(h, static_cast<unsigned>(name.size()));
+    put16(h, 0);
+    h += name;
+    write(h);
+    z_stream z{};
+    if (deflateInit2(&z, 6, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) throw InputError(path + ": zlib init failed");
+    unsigned long crc = crc32(0L, Z_NULL, 0);
+    unsigned long long raw = 0, packed = 0;
+    std::string in, buf(1 << 16, '\0');
+    bool more = true;
+    while (true) {
+      in.clear();
+      more = next(in);
+      crc = crc32(crc, reinterpret_cast<const Bytef*>(in.data()), static_cast<uInt>(in.size()));
+      raw += in.size();
+      z.next_in = reinterpret_cast<Bytef*>(in.data());
+      z.avail_in = static_cast<uInt>(in.size());
+      const int flush = more ? Z_NO_FLUSH : Z_FINISH;
+      int rc = Z_OK;
+      do {
+        z.next_out = reinterpret_cast<Bytef*>(buf.data());
+        z.avail_out = static_cast<uInt>(buf.size());
+        rc = deflate(&z, flush);
+        const std::size_t got = buf.size() - z.avail_out;
+        packed += got;
+        write(buf.substr(0, got));
+      } while (z.avail_out == 0 || (flush == Z_FINISH && rc != Z_STREAM_END));
+      if (!more) break;
+    }
+    deflateEnd(&z);
+    if (raw > 0xFFFFFFFFULL || packed > 0xFFFFFFFFULL || offset > 0xFFFFFFFFUL) {
+      throw InputError(path + ": member " + name + " is larger than 4 GiB (no ZIP64 here): write .npy instead");
+    }
+    std::string d;
+    put32(d, 0x08074b50UL);
+    put32(d, crc);
+    put32(d, static_cast<unsigned long>(packed));
+    put32(d, static_cast<unsigned long>(raw));
+    write(d);
+    std::string c;
+    put32(c, 0x02014b50UL);
+    put16(c, 20);
+    put16(c, 20);
+    put16(c, 0x0008);
+    put16(c, 8);
+    put16(c, 0);
+    put16(c, 0x21);
+    put32(c, crc);
+    put32(c, static_cast<unsigned long>(packed));
+    put32(c, static_cast<unsigned long>(raw));
+    put16(c, static_cast<unsigned>(name.size()));
+    put16(c, 0);
+    put16(c, 0);
+    put16(c, 0);
+    put16(c, 0);
+    put32(c, 0);
+    put32(c, local);
+    c += name;
+    central += c;
+    ++members;
+  }
+};
+
+NpzWriter::NpzWriter(std::string path) : state_(std::make_unique<State>()) {
+  state_->path = std::move(path);
+  state_->tmp = state_->path + ".tmp";
+  state_->out.open(state_->tmp, std::ios::binary | std::ios::trunc);
+  if (!state_->out) throw InputError(state_->tmp + ": cannot create");
+}
+
+NpzWriter::~NpzWriter() {
+  if (state_ && !state_->closed) {
+    state_->out.close();
+    std::remove(state_->tmp.c_str());
+  }
+}
+
+void NpzWriter::add(const std::string& name, const std::vector<std::size_t>& shape, const std::vector<float>& values) {
+  std::string bytes = npy_bytes(shape, values);
+  bool given = false;
+  state_->member(name + ".npy", [&](std::string& out) {
+    if (!given) out.swap(bytes);
+    given = true;
+    return false;
+  });
+}
+
+void NpzWriter::add(const std::string& name, const cv::Mat& array) {
+  std::string bytes = npy_bytes(array);
+  bool given = false;
+  state_->member(name + ".npy", [&](std::string& out) {
+    if (!given) out.swap(bytes);
+    given = true;
+    return false;
+  });
+}
+
+void NpzWriter::add_slices(const std::string& name, const std::vector<std::size_t>& shape, NpyDtype dtype,
+                           const std::vector<cv::Mat>& slices) {
+  std::size_t total = 0;
+  for (const cv::Mat& m : slices) total += m.total();
+  if (total != element_count(shape)) throw InputError(state_->path + ": " + name + ": the slices do not fill the shape");
+  std::size_t k = 0;
+  bool header = false;
+  state_->member(name + ".npy", [&](std::string& out) {
+    if (!header) {
+      out = npy_header(dtype_descr(dtype), shape);
+      header = true;
+      return !slices.empty();
+    }
+    out = block_bytes(slices[k++], dtype);
+    return k < slices.size();
+  });
+}
+
+void NpzWriter::close() {
+  State& s = *state_;
+  const unsigned long start = s.offset;
+  s.write(s.central);
+  std::string e;
+  put32(e, 0x06054b50UL);
+  put16(e, 0);
+  put16(e, 0);
+  put16(e, s.members);
+  put16(e, s.members);
+  put32(e, static_cast<unsigned long>(s.central.size()));
+  put32(e, start);
+  put16(e, 0);
+  s.write(e);
+  s.out.close();
+  if (!s.out || std::rename(s.tmp.c_str(), s.path.c_str()) != 0) throw InputError(s.path + ": cannot write");
+  s.closed = true;
+}
 
 }  // namespace floorcast

@@ -39,9 +39,12 @@ cv::Mat draw_plan_with_trajectories(const FloorPlan& plan, const std::vector<Tra
                  m.colour, m.filled ? cv::FILLED : 2, cv::LINE_AA);
     }
   }
-  // Legend of the layers, top-left of the map area, on a white box.
+  // Legend of the layers, top-left of the map area, on a white box (a layer without a label
+  // continues the one before it, e.g. a trajectory split where it jumps: no row of its own).
   const int line_h = 20, pad = 8;
-  const int rows = static_cast<int>(lines.size() + markers.size());
+  int rows = 0;
+  for (const auto& l : lines) rows += l.label.empty() ? 0 : 1;
+  for (const auto& m : markers) rows += m.label.empty() ? 0 : 1;
   if (rows > 0) {
     int text_w = 0;
     for (const auto& l : lines) text_w = std::max(text_w, cv::getTextSize(l.label, cv::FONT_HERSHEY_SIMPLEX, 0.5, 1, nullptr).width);
@@ -52,11 +55,13 @@ cv::Mat draw_plan_with_trajectories(const FloorPlan& plan, const std::vector<Tra
     cv::rectangle(img, clipped, cv::Scalar(120, 120, 120), 1);
     int y = box.y + pad / 2 + line_h / 2;
     for (const auto& l : lines) {
+      if (l.label.empty()) continue;
       cv::line(img, {box.x + pad, y}, {box.x + pad + 24, y}, l.colour, l.thickness_px, cv::LINE_AA);
       cv::putText(img, l.label, {box.x + 2 * pad + 24, y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
       y += line_h;
     }
     for (const auto& m : markers) {
+      if (m.label.empty()) continue;
       cv::circle(img, {box.x + pad + 12, y}, std::min(m.radius_px, 6), m.colour, m.filled ? cv::FILLED : 2, cv::LINE_AA);
       cv::putText(img, m.label, {box.x + 2 * pad + 24, y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
       y += line_h;

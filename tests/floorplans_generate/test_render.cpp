@@ -128,6 +128,45 @@ TEST(Render, TitleAndScaleBarAreDrawn) {
   EXPECT_EQ(img.bgr.at<cv::Vec3b>(footer_y + 20, 12), vec(RenderColors::wall()));
 }
 
+TEST(Render, CoordinatesGetBandsOfTheirOwnAndKeepTheMapping) {
+  RenderOptions plain;
+  plain.px_per_m = 60.0;  // wider than the minimum image width, so the band shows in the width
+  plain.margin_m = 1.0;
+  RenderOptions axes = plain;
+  axes.draw_coordinates = true;
+  const PlanImage a = render_plan(sample_plan(), plain), b = render_plan(sample_plan(), axes);
+  // 46 px for the y labels on the left, 24 px for the x labels below the map.
+  EXPECT_EQ(b.map_rect.width, a.map_rect.width + 46);
+  EXPECT_EQ(b.map_rect.height, a.map_rect.height + 24);
+  // Every element stays where the mapping says.
+  EXPECT_EQ(color_at(b, {0.0, 2.5}), vec(RenderColors::wall()));
+  EXPECT_EQ(color_at(b, {8.0, 2.5}), vec(RenderColors::glass()));
+  EXPECT_EQ(color_at(b, {2.0, 0.0}), vec(RenderColors::door_closed()));
+  // Ticks: 90 px / 60 px per m -> every 2 m; the tick of x = 4 m hangs below the frame (the
+  // plan's extent less the margin): dark pixels there (anti-aliased 1 px line).
+  const Eigen::Vector4d ext = drawing_extent_m(sample_plan());
+  const cv::Point2d t = b.world_to_pixel({4.0, ext[1] - 1.0});
+  const cv::Vec3b tick = b.bgr.at<cv::Vec3b>(static_cast<int>(t.y) + 3, static_cast<int>(std::floor(t.x)));
+  EXPECT_LT(tick[0] + tick[1] + tick[2], 3 * 128) << tick;
+  // Labels in the bands: dark pixels left of the frame and below it, none there without coordinates.
+  auto dark = [](const PlanImage& img, const cv::Rect& r) {
+    int n = 0;
+    for (int y = r.y; y < r.y + r.height; ++y)
+      for (int x = r.x; x < r.x + r.width; ++x) {
+        const cv::Vec3b c = img.bgr.at<cv::Vec3b>(y, x);
+        if (c[0] < 100 && c[1] < 100 && c[2] < 100) ++n;
+      }
+    return n;
+  };
+  const cv::Point2d lo = b.world_to_pixel({ext[0] - 1.0, ext[1] - 1.0});
+  EXPECT_GT(dark(b, cv::Rect(0, b.map_top_px, static_cast<int>(lo.x) - 2, static_cast<int>(lo.y) - b.map_top_px)), 20);
+  EXPECT_GT(dark(b, cv::Rect(static_cast<int>(lo.x), static_cast<int>(lo.y) + 6, b.bgr.cols - static_cast<int>(lo.x), 14)), 20);
+  // SVG: the same texts (the x labels 0, 2, 4, 6, 8 among them).
+  const std::string svg = render_plan_svg(sample_plan(), axes);
+  EXPECT_NE(svg.find("<g class=\"axes\">"), std::string::npos);
+  EXPECT_NE(svg.find(">6</text>"), std::string::npos);
+}
+
 TEST(Render, RefusesBadScales) {
   const FloorPlan p = sample_plan();
   for (double s : {0.0, -3.0, std::nan("")}) {

@@ -24,6 +24,9 @@ namespace {
 constexpr int kHeaderPx = 36;
 constexpr int kFooterPx = 56;
 constexpr int kMinWidthPx = 420;  // room for the title, scale bar and legend
+constexpr int kAxisLeftPx = 46;   // coordinates: the y labels' band
+constexpr int kAxisBottomPx = 24; // coordinates: the x labels' band
+constexpr double kAxisTextPx = 11.0;
 
 struct Prim {
   enum Type { kPolygon, kLine, kPolyline, kCircle } type = kPolygon;
@@ -123,8 +126,12 @@ Scene build_scene(const FloorPlan& plan, const RenderOptions& o) {
   if (!std::isfinite(o.margin_m) || o.margin_m < 0.0) throw InputError("render: margin_m must be >= 0");
   const double s = o.px_per_m;
   const Eigen::Vector4d box = drawing_extent_m(plan);
-  const double map_w_d = std::ceil((box[2] - box[0] + 2.0 * o.margin_m) * s);
-  const double map_h_d = std::ceil((box[3] - box[1] + 2.0 * o.margin_m) * s);
+  const int axis_left = o.draw_coordinates ? kAxisLeftPx : 0;
+  const int axis_bottom = o.draw_coordinates ? kAxisBottomPx : 0;
+  const double plan_w_d = std::ceil((box[2] - box[0] + 2.0 * o.margin_m) * s);
+  const double plan_h_d = std::ceil((box[3] - box[1] + 2.0 * o.margin_m) * s);
+  const double map_w_d = plan_w_d + axis_left;
+  const double map_h_d = plan_h_d + axis_bottom;
   const int header = o.draw_title ? kHeaderPx : 0;
   const int footer = (o.draw_scale_bar || o.draw_legend) ? kFooterPx : 0;
   const double width_d = std::max(map_w_d, (header || footer) ? static_cast<double>(kMinWidthPx) : 1.0);
@@ -141,7 +148,7 @@ Scene build_scene(const FloorPlan& plan, const RenderOptions& o) {
   sc.height = static_cast<int>(height_d);
   PlanImage& m = sc.mapping;
   m.px_per_m = s;
-  m.origin_x_m = box[0] - o.margin_m - 0.5 * (width_d - map_w_d) / s;
+  m.origin_x_m = box[0] - o.margin_m - (axis_left + 0.5 * (width_d - map_w_d)) / s;
   m.top_y_m = box[3] + o.margin_m;
   m.map_top_px = header;
   m.map_rect = cv::Rect(0, header, sc.width, static_cast<int>(map_h_d));
@@ -257,6 +264,48 @@ Scene build_scene(const FloorPlan& plan, const RenderOptions& o) {
   }
   for (Prim& p : swings) sc.prims.push_back(std::move(p));
 
+  // Coordinates: a frame around the plan area, ticks every "nice" step (about 90 px apart), the
+  // metre values in the bands left of and below it.
+  if (o.draw_coordinates) {
+    const double x_lo = box[0] - o.margin_m, x_hi = box[2] + o.margin_m;
+    const double y_lo = box[1] - o.margin_m, y_hi = box[3] + o.margin_m;
+    const cv::Point2d c00 = px(Vec2(x_lo, y_lo)), c11 = px(Vec2(x_hi, y_hi));
+    Prim frame;
+    frame.type = Prim::kPolyline;
+    frame.group = "axes";
+    frame.color = RenderColors::text();
+    frame.width_px = 1.0;
+    frame.pts = {{c00.x, c00.y}, {c11.x, c00.y}, {c11.x, c11.y}, {c00.x, c11.y}, {c00.x, c00.y}};
+    sc.prims.push_back(frame);
+    const double step = figure::nice_scale_length_m(std::max(90.0 / s, 1e-3));
+    auto tick = [&](const cv::Point2d& a, const cv::Point2d& b) {
+      Prim t;
+      t.type = Prim::kLine;
+      t.group = "axes";
+      t.color = RenderColors::text();
+      t.width_px = 1.0;
+      t.pts = {a, b};
+      sc.prims.push_back(t);
+    };
+    for (double x = std::ceil(x_lo / step) * step; x <= x_hi + 1e-9; x += step) {
+      const cv::Point2d p = px(Vec2(x, y_lo));
+      tick(p, p + cv::Point2d(0, 5));
+      const std::string label = figure::tick_text(x, step);
+      sc.texts.push_back({cv::Point2d(p.x - 0.5 * text_width_px(label, kAxisTextPx), p.y + 17.0), label, kAxisTextPx,
+                          RenderColors::text()});
+    }
+    for (double y = std::ceil(y_lo / step) * step; y <= y_hi + 1e-9; y += step) {
+      const cv::Point2d p = px(Vec2(x_lo, y));
+      tick(p, p - cv::Point2d(5, 0));
+      const std::string label = figure::tick_text(y, step);
+      sc.texts.push_back({cv::Point2d(p.x - 8.0 - text_width_px(label, kAxisTextPx), p.y + 4.0), label, kAxisTextPx,
+                          RenderColors::text()});
+    }
+    // The unit in the corner where the two bands meet.
+    sc.texts.push_back({cv::Point2d(c00.x - kAxisLeftPx + 4.0, c00.y + 17.0), "m",
+                        kAxisTextPx, RenderColors::text()});
+  }
+
   // Header: the name.
   if (o.draw_title) {
     sc.texts.push_back({cv::Point2d(10, 24), printable(plan.name.empty() ? "(unnamed plan)" : plan.name), 16.0,
@@ -316,11 +365,11 @@ Scene build_scene(const FloorPlan& plan, const RenderOptions& o) {
   }
   // Draw order by group (stable inside a group): obstacles under walls, door swings on top.
   const auto rank = [](const std::string& g) {
-    const char* order[] = {"obstacles", "walls", "glass", "windows", "doors", "scale", "legend"};
-    for (int i = 0; i < 7; ++i) {
+    const char* order[] = {"obstacles", "walls", "glass", "windows", "doors", "axes", "scale", "legend"};
+    for (int i = 0; i < 8; ++i) {
       if (g == order[i]) return i;
     }
-    return 7;
+    return 8;
   };
   std::stable_sort(sc.prims.begin(), sc.prims.end(),
                    [&rank](const Prim& a, const Prim& b) { return rank(a.group) < rank(b.group); });

@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,50 @@ std::string npy_bytes(const std::vector<std::size_t>& shape, const std::vector<f
 /// Writes npy_bytes atomically.
 void write_npy(const std::string& path, const cv::Mat& array);
 void write_npy(const std::string& path, const std::vector<std::size_t>& shape, const std::vector<float>& values);
+
+/// Element types of the streamed writers below (CV_32F input is converted).
+enum class NpyDtype { kFloat32, kFloat16 };
+
+/// A .npy file written block by block (a volume slice by slice) without holding the whole array:
+/// rows go to PATH.tmp, renamed to PATH by close() once exactly the shape's element count was
+/// appended (InputError otherwise; the destructor removes an unfinished temporary).
+class NpyStreamWriter {
+ public:
+  NpyStreamWriter(std::string path, std::vector<std::size_t> shape, NpyDtype dtype);
+  ~NpyStreamWriter();
+  NpyStreamWriter(const NpyStreamWriter&) = delete;
+  NpyStreamWriter& operator=(const NpyStreamWriter&) = delete;
+  /// Appends a CV_32F block in C order (its rows one after another).
+  void append(const cv::Mat& block);
+  void close();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// A .npz archive (numpy.load reads it: a ZIP of .npy members), every member deflated with zlib
+/// as it is written, so a volume is compressed slice by slice. Written to PATH.tmp, renamed by
+/// close(). Members larger than 4 GiB uncompressed are refused (no ZIP64).
+class NpzWriter {
+ public:
+  explicit NpzWriter(std::string path);
+  ~NpzWriter();
+  NpzWriter(const NpzWriter&) = delete;
+  NpzWriter& operator=(const NpzWriter&) = delete;
+  /// Member NAME.npy: a 2-D array as npy_bytes writes it.
+  void add(const std::string& name, const cv::Mat& array);
+  /// Member NAME.npy: an N-D float32 array in C order (e.g. 1-D columns).
+  void add(const std::string& name, const std::vector<std::size_t>& shape, const std::vector<float>& values);
+  /// Member NAME.npy of `shape` from CV_32F slices in order (their elements must add up to it).
+  void add_slices(const std::string& name, const std::vector<std::size_t>& shape, NpyDtype dtype,
+                  const std::vector<cv::Mat>& slices);
+  void close();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 /// A parsed .npy file: shape and raw little-endian data of one of the types above.
 struct NpyArray {

@@ -13,7 +13,7 @@
 namespace floorcast {
 
 struct TrajectoryLayer {
-  std::string label;
+  std::string label;  ///< "" = a continuation of the layer before (no legend row)
   std::vector<Vec2> points_m;
   cv::Scalar colour;
   int thickness_px = 2;

@@ -26,6 +26,9 @@ struct RenderOptions {
   bool draw_title = true;       ///< header band with the plan name
   bool draw_scale_bar = true;   ///< footer band with scale bar (and legend)
   bool draw_legend = true;
+  /// Metre coordinates: tick labels along the left and bottom edges of the map in bands of their
+  /// own (the map moves right and the image grows; PlanImage's mapping accounts for it).
+  bool draw_coordinates = false;
   /// Obstacles taller than this are drawn darker (they block a sensor held at this height).
   double cut_height_m = 1.5;
   /// Refuse images with a side longer than this (pixels): InputError.
