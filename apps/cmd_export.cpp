@@ -16,17 +16,24 @@ void register_export(CLI::App& root) {
     bool no_rgb = false;
     std::vector<std::string> cells;
     double map_resolution_m = DatasetExportOptions{}.map_resolution_m;
+    std::string camera = DatasetExportOptions{}.camera;
     bool quiet = false;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = root.add_subcommand(
-      "export", "Export a scenario's scans as a dataset: RGB, depth, intrinsics, TUM poses, masks, truth; F3Loc map.png + poses");
+      "export", "Export a scenario's scans as a dataset: RGB, sensor and ground-truth depth, intrinsics, TUM poses, masks, "
+      "truth; an F3Loc dataset folder per cell (split.yaml, map.png, poses.txt, depth40/160.txt, rgb/NNNNN-l.png)");
   cmd->add_option("SCENARIO", o->scenario, "Scenario YAML file (its cells with observation.source: scan)")->required();
   cmd->add_flag("--no-rgb", o->no_rgb, "Skip the colour views (no OpenGL)");
   cmd->add_option("--cell", o->cells, "Export only this cell id (repeatable; default: every scan cell)");
   cmd->add_option("--map-resolution", o->map_resolution_m, "Metres per pixel of map.png (F3Loc: 0.01)")
       ->capture_default_str()
       ->check(CLI::Range(0.001, 1.0));
+  cmd->add_option("--camera", o->camera,
+                  "Camera of the exported scans: scenario (as the scenario says; a note where F3Loc's differs) or f3loc "
+                  "(F3Loc's hard-coded focal length / width 3/8, 106.26 deg across, no pitch)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"scenario", "f3loc"}));
   cmd->add_flag("--quiet", o->quiet, "No progress output");
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
   cmd->callback([o] {
@@ -35,6 +42,7 @@ void register_export(CLI::App& root) {
     options.rgb = !o->no_rgb;
     options.cells = o->cells;
     options.map_resolution_m = o->map_resolution_m;
+    options.camera = o->camera;
     ProgressMeter meter("scans", o->quiet);
     const auto t0 = std::chrono::steady_clock::now();
     const DatasetExportReport r = export_scenario_dataset(scenario, o->out, options, [&](std::size_t done, std::size_t total) {

@@ -125,7 +125,7 @@ def test_posterior_npy_round_trip(plan, out_dir):
     np.testing.assert_array_equal(back, res.posterior)
 
 
-def test_run_scenario(out_dir):
+def test_run_scenario(out_dir, capfd):
     scenario = os.path.join(out_dir, "tiny.yaml")
     with open(scenario, "w") as f:
         f.write("name: pytest-tiny\n"
@@ -135,6 +135,8 @@ def test_run_scenario(out_dir):
                 "output: {heatmaps: 0}\n")
     run_dir = os.path.join(out_dir, "tiny_run")
     summary = fc.run_scenario(scenario, run_dir, jobs=1)
+    printed = capfd.readouterr()
+    assert printed.out == "" and printed.err == "", "run_scenario(quiet=True) must print nothing"
     assert summary["complete"] is True and summary["units"] == 3
     assert "kernel" in summary["cells"][0]["groups"]["all"]
 
@@ -177,8 +179,10 @@ def test_cli_outputs_read_by_numpy(out_dir):
     scan_dir = os.path.join(out_dir, "cli_scan")
     cli("sim", "scan", plan_path, "--pose", "2.3,1.7,35", "--sensor", "mono", "--setting", "partial", "-o", scan_dir)
     clouds = os.path.join(out_dir, "cli_clouds")
-    obs = os.path.join(out_dir, "cli_obs.json")
+    obs = os.path.join(out_dir, "cli_obs")  # a folder: observation.json + observation.diagnostics.json
     cli("observe", scan_dir, "--clouds", clouds, "-o", obs)
+    assert os.path.isfile(os.path.join(obs, "observation.json"))
+    assert os.path.isfile(os.path.join(obs, "observation.diagnostics.json"))
     for name in ("back_projected.ply", "scaled.ply", "slice.ply"):
         pts = read_ply(os.path.join(clouds, name))
         assert len(pts) > 100
@@ -186,7 +190,7 @@ def test_cli_outputs_read_by_numpy(out_dir):
     sliced = read_ply(os.path.join(clouds, "slice.ply"))
     assert np.abs(sliced["z"]).max() < 1e-6  # the slice is 2D (observer frame, z = 0)
     loc = os.path.join(out_dir, "cli_loc")
-    cli("localize", plan_path, obs, "-o", loc)
+    cli("localize", plan_path, obs, "--posterior", "npy", "-o", loc)
     post = np.load(os.path.join(loc, "posterior.npy"))
     with open(os.path.join(loc, "posterior_grid.json")) as f:
         grid = json.load(f)
@@ -198,7 +202,7 @@ def test_cli_outputs_read_by_numpy(out_dir):
     assert est["x_m"] == pytest.approx(grid["origin_m"][0] + (c + 0.5) * grid["resolution_m"], abs=1e-6)
     assert est["y_m"] == pytest.approx(grid["origin_m"][1] + (r + 0.5) * grid["resolution_m"], abs=1e-6)
     walk = os.path.join(out_dir, "cli_walk")
-    cli("sim", "walk", plan_path, "--start", "2,2,0", "--steps", "30", "--odometry", "vio", "--scan-every", "10",
+    cli("sim", "walk", plan_path, "--pose", "2,2,0", "--steps", "30", "--odometry", "vio", "--scan-every", "10",
         "--sensor", "perfect", "--seed", "3", "-o", walk)
     track = os.path.join(out_dir, "cli_track")
     subprocess.run([CLI, "track", plan_path, walk, "--filter", "hist", "-o", track], capture_output=True, text=True)
@@ -208,3 +212,68 @@ def test_cli_outputs_read_by_numpy(out_dir):
         stamps, xyz, quat = read_tum_like_evo(name)
         assert len(stamps) >= 2
         np.testing.assert_allclose(xyz[:, 2], 0.0)
+
+
+def _yaw_of(quat_xyzw):
+    x, y, z, w = quat_xyzw.T
+    return np.arctan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def test_walk_tum_files_in_the_frames_their_names_say(out_dir):
+    """truth.tum is the world (plan) frame; odometry.tum is the odometry's own frame, starting at
+    the identity, as evo expects of an odometry source. Read as evo reads TUM files; with exact
+    odometry the odometry trajectory is the truth seen from the start pose."""
+    plan_path = os.path.join(DATA, "floorplans", "buildings", "apartment.json")
+    walk = os.path.join(out_dir, "tum_frames_walk")
+    cli("sim", "walk", plan_path, "--pose", "5.25,8.75,30", "--steps", "40", "--odometry", "exact", "--seed", "4",
+        "-o", walk)
+    t_stamps, t_xyz, t_quat = read_tum_like_evo(os.path.join(walk, "truth.tum"))
+    o_stamps, o_xyz, o_quat = read_tum_like_evo(os.path.join(walk, "odometry.tum"))
+    np.testing.assert_array_equal(t_stamps, o_stamps)
+    # World frame: the walk starts where --pose says.
+    np.testing.assert_allclose(t_xyz[0, :2], [5.25, 8.75], atol=1e-9)
+    assert np.degrees(_yaw_of(t_quat[:1]))[0] == pytest.approx(30.0, abs=1e-6)
+    # Odometry frame: the identity first.
+    np.testing.assert_allclose(o_xyz[0], 0.0, atol=1e-12)
+    np.testing.assert_allclose(o_quat[0], [0.0, 0.0, 0.0, 1.0], atol=1e-12)
+    # Exact odometry = the truth expressed in the start frame: T_start^-1 T_world_body.
+    yaw0 = _yaw_of(t_quat[:1])[0]
+    c, s = np.cos(yaw0), np.sin(yaw0)
+    d = t_xyz[:, :2] - t_xyz[0, :2]
+    in_start = np.stack([c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]], axis=1)
+    np.testing.assert_allclose(o_xyz[:, :2], in_start, atol=1e-6)
+    dyaw = np.angle(np.exp(1j * (_yaw_of(o_quat) - (_yaw_of(t_quat) - yaw0))))
+    np.testing.assert_allclose(dyaw, 0.0, atol=1e-6)
+    assert np.max(np.linalg.norm(o_xyz[:, :2], axis=1)) > 1.0  # the walk went somewhere
+
+
+def test_posterior_outputs_none_npz_f16_top_k(out_dir):
+    """--posterior: none writes no volume (same estimate), npz-f16 is the volume in float16,
+    top-k its best cells in descending order; numpy reads each as written."""
+    plan_path = os.path.join(DATA, "floorplans", "buildings", "apartment.json")
+    obs = os.path.join(out_dir, "post_obs")
+    cli("sim", "perfect", plan_path, "--pose", "5.25,8.75,20", "-o", obs)
+    runs = {}
+    for mode in ("npy", "none", "npz-f16", "top-k"):
+        d = os.path.join(out_dir, "post_" + mode)
+        cli("localize", plan_path, obs, "--posterior", mode, "--posterior-cells", "500", "-o", d)
+        with open(os.path.join(d, "estimate.json")) as f:
+            runs[mode] = (d, json.load(f))
+    for mode in ("none", "npz-f16", "top-k"):
+        assert runs[mode][1]["x_m"] == runs["npy"][1]["x_m"] and runs[mode][1]["yaw_deg"] == runs["npy"][1]["yaw_deg"]
+    assert not any(f.startswith("posterior.n") or f.startswith("posterior_") for f in os.listdir(runs["none"][0]))
+    assert os.path.isfile(os.path.join(runs["none"][0], "posterior.png"))
+    full = np.load(os.path.join(runs["npy"][0], "posterior.npy"))
+    with np.load(os.path.join(runs["npz-f16"][0], "posterior.npz")) as z:
+        half = z["posterior"]
+    assert half.dtype == np.float16 and half.shape == full.shape
+    np.testing.assert_allclose(half.astype(np.float32), full, rtol=1e-3, atol=1e-3 * full.max())
+    assert os.path.getsize(os.path.join(runs["npz-f16"][0], "posterior.npz")) < 0.5 * full.nbytes
+    with np.load(os.path.join(runs["top-k"][0], "posterior_top.npz")) as z:
+        index, score, x = z["index"], z["score"], z["x_m"]
+    assert index.shape == (500, 3) and np.all(np.diff(score) <= 0)
+    np.testing.assert_array_equal(score, full[index[:, 0], index[:, 1], index[:, 2]])
+    assert score[0] == full.max()
+    with open(os.path.join(runs["top-k"][0], "posterior_grid.json")) as f:
+        grid = json.load(f)
+    np.testing.assert_allclose(x, grid["origin_m"][0] + (index[:, 2] + 0.5) * grid["resolution_m"], atol=1e-4)

@@ -74,13 +74,21 @@ void save_walk(const std::string& dir, const WalkRecord& rec) {
   j["route_m"] = route;
   write_text_file_atomic(dir + "/walk.json", j.dump(2) + "\n");
 
+  // truth.tum in the world (plan) frame; odometry.tum in the odometry's own frame, which starts
+  // at the identity (T_odom_body = T_world_start^-1 T_world_odometry): what a real odometry
+  // source (VIO, PDR) reports and what evo expects of an odometry file.
   std::vector<StampedPose> truth, odom;
+  const Pose2 start = rec.odometry.poses.empty() ? Pose2{} : rec.odometry.poses.front();
   for (std::size_t i = 0; i < w.steps.size(); ++i) {
     truth.push_back({w.steps[i].t_s, w.steps[i].T_world_body});
-    odom.push_back({rec.odometry.steps[i].t_s, rec.odometry.poses[i]});
+    const Pose2& p = rec.odometry.poses[i];
+    const Vec2 xy = start.inverse_transform(p.position_m());
+    odom.push_back({rec.odometry.steps[i].t_s, Pose2{xy.x(), xy.y(), wrap_angle_rad(p.yaw_rad - start.yaw_rad)}});
   }
-  save_tum(dir + "/truth.tum", truth, "floorcast walk: ground truth");
-  save_tum(dir + "/odometry.tum", odom, "floorcast walk: odometry (" + rec.odometry_params.to_json()["model"].get<std::string>() + ")");
+  save_tum(dir + "/truth.tum", truth, "floorcast walk: ground truth, world (plan) frame");
+  save_tum(dir + "/odometry.tum", odom,
+           "floorcast walk: odometry (" + rec.odometry_params.to_json()["model"].get<std::string>() +
+               "), odometry frame: the first pose is the identity");
 
   std::vector<bool> observed(w.steps.size(), false);
   for (const WalkObservation& o : rec.observations) {

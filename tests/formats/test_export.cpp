@@ -2,9 +2,12 @@
 // scan folder reads back, the TUM RGB-D side files list every view.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/image_io.hpp"
@@ -47,14 +50,17 @@ TEST(DatasetExport, F3LocMapPosesDepthsAndScanFolders) {
   const DatasetExportReport r = export_scenario_dataset(s, out.string(), o);
   EXPECT_EQ(r.scans, 2u);
   EXPECT_EQ(r.images, 6u);  // partial: 3 views per scan
+  // F3Loc reads the cell folder's split.yaml: every building a test scene.
+  EXPECT_NE(read_text_file((out / "c000" / "split.yaml").string()).find("test:\n  - two_rooms"), std::string::npos);
   const fs::path root = out / "c000" / "two_rooms";
   const cv::Mat map = read_image((root / "map.png").string());
   ASSERT_EQ(map.type(), CV_8U);
   EXPECT_GT(cv::countNonZero(map == 0), 100);    // walls
   EXPECT_GT(cv::countNonZero(map == 255), 1000);  // free space
-  // map.yaml's transform and poses.txt put every camera on a free pixel of map.png.
+  // map.yaml's transform and poses.txt put every camera on a free pixel of map.png; 4 frames per
+  // scan (F3Loc's L = 3 sources and the reference).
   const auto poses = numbers_per_line((root / "poses.txt").string());
-  ASSERT_EQ(poses.size(), 6u);
+  ASSERT_EQ(poses.size(), 8u);
   for (const auto& p : poses) {
     ASSERT_EQ(p.size(), 3u);
     const int col = static_cast<int>(std::floor(p[0] / 0.02 + map.cols / 2.0));
@@ -62,17 +68,37 @@ TEST(DatasetExport, F3LocMapPosesDepthsAndScanFolders) {
     ASSERT_TRUE(col >= 0 && row >= 0 && col < map.cols && row < map.rows);
     EXPECT_EQ(map.at<std::uint8_t>(row, col), 255);
   }
-  const auto depths = numbers_per_line((root / "depth40.txt").string());
-  ASSERT_EQ(depths.size(), 6u);
-  for (const auto& d : depths) {
-    ASSERT_EQ(d.size(), 40u);
-    for (double v : d) EXPECT_TRUE(v > 0.1 && v < 20.0) << v;
+  for (const auto& [file, columns] : {std::pair<const char*, std::size_t>{"depth40.txt", 40}, {"depth160.txt", 160},
+                                       {"depth40_sensor.txt", 40}}) {
+    const auto depths = numbers_per_line((root / file).string());
+    ASSERT_EQ(depths.size(), 8u) << file;
+    for (const auto& d : depths) {
+      ASSERT_EQ(d.size(), columns) << file;
+      for (double v : d) EXPECT_TRUE(v >= 0.0 && v < 20.0) << file << " " << v;
+    }
   }
-  for (int i = 0; i < 6; ++i) {
-    char name[32];
-    std::snprintf(name, sizeof name, "rgb/%05d.png", i);
-    EXPECT_EQ(read_image((root / name).string()).type(), CV_8UC3);
-  }
+  // The sensor saw about what the plan says (mono: scale error and noise; two_rooms has no clutter).
+  const auto gt = numbers_per_line((root / "depth40.txt").string());
+  const auto sensed = numbers_per_line((root / "depth40_sensor.txt").string());
+  std::vector<double> ratios;
+  for (std::size_t i = 0; i < gt.size(); ++i)
+    for (std::size_t c = 0; c < 40; ++c)
+      if (sensed[i][c] > 0.0) ratios.push_back(sensed[i][c] / gt[i][c]);
+  ASSERT_GT(ratios.size(), 100u);
+  std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+  EXPECT_NEAR(ratios[ratios.size() / 2], 1.0, 0.25);
+  for (int n = 0; n < 2; ++n)
+    for (int l = 0; l < 4; ++l) {
+      char grid[32], seq[32];
+      std::snprintf(grid, sizeof grid, "rgb/%05d-%d.png", n, l);
+      std::snprintf(seq, sizeof seq, "rgb/%05d.png", n * 4 + l);
+      EXPECT_EQ(read_image((root / grid).string()).type(), CV_8UC3) << grid;
+      EXPECT_EQ(read_text_file((root / grid).string()), read_text_file((root / seq).string())) << seq;
+    }
+  // The scenario's camera (108 deg, pitched) differs from F3Loc's: said.
+  bool noted = false;
+  for (const std::string& n : r.notes) noted = noted || n.find("F_W = 3/8") != std::string::npos;
+  EXPECT_TRUE(noted);
   EXPECT_EQ(load_tum((root / "scans.tum").string()).size(), 2u);
   // Each scan folder reads back (with colour) and carries labels, intrinsics, TUM RGB-D lists.
   for (const char* p : {"p0000", "p0001"}) {
@@ -92,6 +118,12 @@ TEST(DatasetExport, F3LocMapPosesDepthsAndScanFolders) {
     EXPECT_DOUBLE_EQ(intr[0]["K"][0][0].get<double>(), scan.views[0].intrinsics.fx_px);
     EXPECT_TRUE(fs::exists(sdir / "truth.json"));
     EXPECT_TRUE(fs::exists(sdir / "rgb.txt"));
+    // Ground-truth depth beside the sensor's: same size, 16-bit, close to it where both see.
+    const cv::Mat d_gt = read_image((sdir / "view_000_depth_gt.png").string());
+    const cv::Mat d_sensor = read_image((sdir / "view_000_depth.png").string());
+    EXPECT_EQ(d_gt.type(), CV_16U);
+    EXPECT_EQ(d_gt.size(), d_sensor.size());
+    EXPECT_GT(cv::countNonZero(d_gt), d_gt.total() / 2);
   }
   EXPECT_TRUE(fs::exists(out / "README.md"));
   fs::remove_all(out);

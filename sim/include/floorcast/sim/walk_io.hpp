@@ -3,7 +3,8 @@
 //   DIR/walk.json          format, parameters (walk, odometry, schedule) in full, plan name and
 //                          hash, summary, the list of observations
 //   DIR/truth.tum          true trajectory (TUM: evo reads it unchanged)
-//   DIR/odometry.tum       odometry trajectory, chained from the true start pose
+//   DIR/odometry.tum       odometry trajectory in its own frame (first pose = identity), as a
+//                          real odometry source reports it (evo: align or compare relative poses)
 //   DIR/steps.csv          one row per sample: truth, odometry pose and increment, flags
 //   DIR/observations/step_NNNN/   one per scheduled observation: observation.json (perfect) or a
 //                                 simulated scan folder (scan.json + views + simulation.json)
