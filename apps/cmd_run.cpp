@@ -14,6 +14,8 @@
 #include "floorcast/core/json_text.hpp"
 #include "floorcast/eval/gate.hpp"
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/core/file_io.hpp"
+#include "floorcast/scenarios/report_html.hpp"
 #include "floorcast/scenarios/run_directory.hpp"
 #include "floorcast/scenarios/runner.hpp"
 
@@ -30,6 +32,7 @@ class DirectorySink : public UnitSink {
   bool has_unit(const WorkUnit& u) const override { return dir_.has_unit(scenario_, u); }
   void write_unit(const UnitResult& r) override { dir_.write_unit(scenario_, r); }
   void write_image(const std::string& p, const cv::Mat& img) override { dir_.write_image(p, img); }
+  void write_file(const std::string& p, const std::string& bytes) override { dir_.write_file(p, bytes); }
 
  private:
   const RunDirectory& dir_;
@@ -93,7 +96,8 @@ Scenario stored_scenario(const RunDirectory& dir) { return dir.stored_scenario()
 
 }  // namespace
 
-void run_scenario(const Scenario& scenario, const std::string& out, int jobs, const std::string& shard_text, bool quiet) {
+void run_scenario(const Scenario& scenario, const std::string& out, int jobs, const std::string& shard_text, bool quiet,
+                  bool print_summary) {
   const auto t0 = std::chrono::steady_clock::now();
   const ShardSpec shard = parse_shard(shard_text);
   auto log = [quiet](const std::string& line) {
@@ -103,9 +107,14 @@ void run_scenario(const Scenario& scenario, const std::string& out, int jobs, co
   // removed) before any work starts.
   RunDirectory dir(out);
   const std::size_t stray = dir.acquire();
-  if (stray > 0) std::cerr << out << ": removed " << stray << " stray temporary file(s) of an interrupted run\n";
+  if (stray > 0 && !quiet) std::cerr << out << ": removed " << stray << " stray temporary file(s) of an interrupted run\n";
   const ScenarioRunner runner(scenario, log);
   dir.open(scenario, runner.resolved_full());
+  // The plans as the run uses them (generated buildings included), for figures and reports.
+  for (std::size_t b = 0; b < scenario.buildings.size(); ++b) {
+    const std::string rel = "plans/" + scenario.buildings[b].label + ".json";
+    if (!fs::exists(fs::path(out) / rel)) dir.write_file(rel, floor_plan_to_json(runner.building_plan(static_cast<int>(b))));
+  }
   DirectorySink sink(dir, scenario);
   ProgressPrinter printer(quiet);
   RunOptions options;
@@ -118,11 +127,87 @@ void run_scenario(const Scenario& scenario, const std::string& out, int jobs, co
   if (!quiet)
     std::cerr << "ran " << outcome.executed << " units, " << outcome.skipped << " already done, in "
               << duration_text(total_s) << "\n";
-  if (report_if_complete(scenario, dir, true)) {
+  if (report_if_complete(scenario, dir, print_summary)) {
     if (!quiet) std::cerr << "wrote " << out << "/summary.md, summary.json, observations.csv, plots/\n";
-  } else {
+  } else if (!quiet) {
     std::cerr << "shard " << shard_text << " finished (" << outcome.units_in_shard << " of " << outcome.units_total
               << " units); combine the shards with `floorcast merge DIR... -o OUT` for the report\n";
+  }
+}
+
+void write_html_report(const std::string& run_dir) {
+  HtmlReportOptions options;
+  options.generator = std::string("floorcast ") + FLOORCAST_VERSION;
+  write_text_file_atomic((fs::path(run_dir) / "report.html").string(), render_run_report_html(RunDirectory(run_dir), options));
+}
+
+void merge_runs(const std::vector<std::string>& inputs, const std::string& out_dir, bool quiet) {
+  std::string hash;
+  std::unique_ptr<Scenario> scenario;
+  Json resolved_full;
+  for (const std::string& in : inputs) {
+    const RunDirectory dir(in);
+    const Json info = dir.read_run_info();
+    const std::string h = info.value("configuration_hash", std::string());
+    if (hash.empty()) {
+      hash = h;
+      resolved_full = dir.read_resolved_config();
+      scenario = std::make_unique<Scenario>(stored_scenario(dir));
+    } else if (h != hash) {
+      throw InputError(in + ": configuration hash " + h + " differs from " + inputs.front() + " (" + hash +
+                       "); only shards of one scenario run can be merged");
+    }
+  }
+  // Merging into one of the inputs (a merged folder merged again) adds only what is missing and
+  // checks the rest for equality; an output strictly inside an input folder is refused.
+  {
+    std::error_code ec;
+    const auto canon = [&](const std::string& p) { return fs::weakly_canonical(fs::absolute(p, ec), ec); };
+    std::vector<std::string> others;
+    for (const std::string& in : inputs) {
+      if (canon(in) != canon(out_dir)) others.push_back(in);
+    }
+    refuse_output_inside_inputs(out_dir, others);
+  }
+  RunDirectory out(out_dir);
+  out.open(*scenario, OJson(resolved_full));
+  DirectorySink sink(out, *scenario);
+  std::size_t copied = 0;
+  for (const std::string& in : inputs) {
+    const RunDirectory dir(in);
+    for (const UnitResult& u : dir.read_units(*scenario)) {
+      if (out.has_unit(*scenario, u.unit)) {
+        // Compare values, not text: the copy on disk may list keys in another order (a merged
+        // folder merged again, a unit written by another version).
+        const std::string path = out.unit_path(*scenario, u.unit);
+        const UnitResult existing = unit_from_json(read_json_file(path), path);
+        if (Json(strip_timings(unit_to_json(existing))) != Json(strip_timings(unit_to_json(u))))
+          throw InputError(in + ": unit " + u.unit.id + " differs from the copy already merged; the shards disagree");
+        continue;
+      }
+      out.write_unit(*scenario, u);
+      ++copied;
+    }
+    // Merging the output folder into itself (again): its units are there, nothing else to copy.
+    std::error_code same_ec;
+    if (fs::equivalent(fs::path(in), fs::path(out_dir), same_ec)) continue;
+    const Json info = dir.read_run_info();
+    if (info.contains("reference_s") && info["reference_s"].is_object())
+      for (auto it = info["reference_s"].begin(); it != info["reference_s"].end(); ++it)
+        if (it.value().is_number()) record_reference(out, in + " " + it.key(), it.value().get<double>());
+    for (const char* sub : {"heatmaps", "plans"}) {
+      const fs::path from = fs::path(in) / sub;
+      if (!fs::is_directory(from)) continue;
+      fs::create_directories(fs::path(out_dir) / sub);
+      for (const auto& e : fs::directory_iterator(from))
+        fs::copy_file(e.path(), fs::path(out_dir) / sub / e.path().filename(), fs::copy_options::overwrite_existing);
+    }
+  }
+  if (!quiet) std::cerr << "merged " << copied << " units from " << inputs.size() << " directories into " << out_dir << "\n";
+  if (!report_if_complete(*scenario, out, !quiet)) {
+    const std::size_t have = out.read_units(*scenario).size(), want = enumerate_units(*scenario).size();
+    throw InputError(out_dir + ": " + std::to_string(want - have) + " of " + std::to_string(want) +
+                     " work units are missing (a shard was not run or not given); no report written");
   }
 }
 
@@ -135,6 +220,7 @@ void register_run(CLI::App& root) {
     int jobs = 0;
     std::string shard = "0/1";
     bool quiet = false;
+    bool html = false;
   };
   auto o = std::make_shared<RunOpts>();
   CLI::App* run = root.add_subcommand("run", "Run a scenario: simulate -> observe -> match -> score for every sweep cell");
@@ -143,9 +229,14 @@ void register_run(CLI::App& root) {
   run->add_option("--jobs", o->jobs, "Concurrent work units (default: all cores)")->check(CLI::NonNegativeNumber);
   run->add_option("--shard", o->shard, "Run only shard I of N (0 <= I < N); combine shards with `floorcast merge`");
   run->add_flag("--quiet", o->quiet, "No progress output");
+  run->add_flag("--html", o->html, "Also write DIR/report.html (as `floorcast report`) when the run is complete");
   run->callback([o] {
     const Scenario scenario = load_scenario(o->scenario, source_dir());
     run_scenario(scenario, o->out, o->jobs, o->shard, o->quiet);
+    if (o->html && fs::is_regular_file(fs::path(o->out) / "summary.json")) {
+      write_html_report(o->out);
+      if (!o->quiet) std::cerr << "wrote " << o->out << "/report.html\n";
+    }
   });
 }
 
@@ -153,77 +244,20 @@ void register_merge(CLI::App& root) {
   struct MergeOpts {
     std::vector<std::string> inputs;
     std::string out;
+    bool html = false;
   };
   auto o = std::make_shared<MergeOpts>();
-  CLI::App* merge = root.add_subcommand("merge", "Combine shard run directories into one run and write its report");
+  CLI::App* merge = root.add_subcommand(
+      "merge", "Combine shard run directories into one run: its units, summary.md, summary.json, observations.csv and "
+               "plots/ (the HTML page: --html, or `floorcast report`)");
   merge->add_option("DIRS", o->inputs, "Run directories of the shards")->required();
   merge->add_option("-o,--output", o->out, "Merged run directory")->required();
+  merge->add_flag("--html", o->html, "Also write DIR/report.html (as `floorcast report`)");
   merge->callback([o] {
-    std::string hash;
-    std::unique_ptr<Scenario> scenario;
-    Json resolved_full;
-    for (const std::string& in : o->inputs) {
-      const RunDirectory dir(in);
-      const Json info = dir.read_run_info();
-      const std::string h = info.value("configuration_hash", std::string());
-      if (hash.empty()) {
-        hash = h;
-        resolved_full = dir.read_resolved_config();
-        scenario = std::make_unique<Scenario>(stored_scenario(dir));
-      } else if (h != hash) {
-        throw InputError(in + ": configuration hash " + h + " differs from " + o->inputs.front() + " (" + hash +
-                         "); only shards of one scenario run can be merged");
-      }
-    }
-    // Merging into one of the inputs (a merged folder merged again) adds only what is missing and
-    // checks the rest for equality; an output strictly inside an input folder is refused.
-    {
-      std::error_code ec;
-      const auto canon = [&](const std::string& p) { return fs::weakly_canonical(fs::absolute(p, ec), ec); };
-      std::vector<std::string> others;
-      for (const std::string& in : o->inputs) {
-        if (canon(in) != canon(o->out)) others.push_back(in);
-      }
-      refuse_output_inside_inputs(o->out, others);
-    }
-    RunDirectory out(o->out);
-    out.open(*scenario, OJson(resolved_full));
-    DirectorySink sink(out, *scenario);
-    std::size_t copied = 0;
-    for (const std::string& in : o->inputs) {
-      const RunDirectory dir(in);
-      for (const UnitResult& u : dir.read_units(*scenario)) {
-        if (out.has_unit(*scenario, u.unit)) {
-          // Compare values, not text: the copy on disk may list keys in another order (a merged
-          // folder merged again, a unit written by another version).
-          const std::string path = out.unit_path(*scenario, u.unit);
-          const UnitResult existing = unit_from_json(read_json_file(path), path);
-          if (Json(strip_timings(unit_to_json(existing))) != Json(strip_timings(unit_to_json(u))))
-            throw InputError(in + ": unit " + u.unit.id + " differs from the copy already merged; the shards disagree");
-          continue;
-        }
-        out.write_unit(*scenario, u);
-        ++copied;
-      }
-      // Merging the output folder into itself (again): its units are there, nothing else to copy.
-      std::error_code same_ec;
-      if (fs::equivalent(fs::path(in), fs::path(o->out), same_ec)) continue;
-      const Json info = dir.read_run_info();
-      if (info.contains("reference_s") && info["reference_s"].is_object())
-        for (auto it = info["reference_s"].begin(); it != info["reference_s"].end(); ++it)
-          if (it.value().is_number()) record_reference(out, in + " " + it.key(), it.value().get<double>());
-      const fs::path heat = fs::path(in) / "heatmaps";
-      if (fs::is_directory(heat)) {
-        fs::create_directories(fs::path(o->out) / "heatmaps");
-        for (const auto& e : fs::directory_iterator(heat))
-          fs::copy_file(e.path(), fs::path(o->out) / "heatmaps" / e.path().filename(), fs::copy_options::overwrite_existing);
-      }
-    }
-    std::cerr << "merged " << copied << " units from " << o->inputs.size() << " directories into " << o->out << "\n";
-    if (!report_if_complete(*scenario, out, true)) {
-      const std::size_t have = out.read_units(*scenario).size(), want = enumerate_units(*scenario).size();
-      throw InputError(o->out + ": " + std::to_string(want - have) + " of " + std::to_string(want) +
-                       " work units are missing (a shard was not run or not given); no report written");
+    merge_runs(o->inputs, o->out, false);
+    if (o->html) {
+      write_html_report(o->out);
+      std::cerr << "wrote " << o->out << "/report.html\n";
     }
   });
 }

@@ -36,4 +36,6 @@ function(floorcast_install_package)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenarios/ DESTINATION ${CMAKE_INSTALL_DATADIR}/floorcast/scenarios
     FILES_MATCHING PATTERN "*.yaml" PATTERN "*.md")
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/results/baselines DESTINATION ${CMAKE_INSTALL_DATADIR}/floorcast/results)
+  # `floorcast figures` runs this script (matplotlib; it needs no compiled module).
+  install(FILES ${PROJECT_SOURCE_DIR}/python/floorcast/figures.py DESTINATION ${CMAKE_INSTALL_DATADIR}/floorcast/python/floorcast)
 endfunction()

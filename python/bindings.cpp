@@ -470,16 +470,26 @@ PYBIND11_MODULE(_floorcast, m) {
      py::arg("top_k") = 5, "Runs a layout matcher (kernel, ray, ...) on an observation");
 
   // ---- scenarios ----
-  m.def("run_scenario", [](const std::string& path, const std::string& out, int jobs, bool quiet) {
+  m.def("run_scenario", [](const std::string& path, const std::string& out, int jobs, bool quiet, const std::string& shard) -> py::object {
     {
       py::gil_scoped_release release;
       const Scenario s = load_scenario(path, cli::source_dir());
-      cli::run_scenario(s, out, jobs, "0/1", quiet);
+      cli::run_scenario(s, out, jobs, shard, quiet, !quiet);
     }
     const std::string summary = (std::filesystem::path(out) / "summary.json").string();
+    if (!std::filesystem::is_regular_file(summary)) return py::none();  // a shard: merge_runs reports
     return py::module_::import("json").attr("loads")(read_text_file(summary));
-  }, py::arg("scenario"), py::arg("out"), py::arg("jobs") = 0, py::arg("quiet") = true,
-     "Runs a scenario file into run directory `out` (resumable) and returns its summary.json as a dict");
+  }, py::arg("scenario"), py::arg("out"), py::arg("jobs") = 0, py::arg("quiet") = true, py::arg("shard") = "0/1",
+     "Runs a scenario file (or shard \"I/N\" of it) into run directory `out` (resumable) and returns its summary.json "
+     "as a dict (None for a shard: combine the shards with merge_runs)");
+  m.def("merge_runs", [](const std::vector<std::string>& inputs, const std::string& out, bool quiet) {
+    {
+      py::gil_scoped_release release;
+      cli::merge_runs(inputs, out, quiet);
+    }
+    return py::module_::import("json").attr("loads")(read_text_file((std::filesystem::path(out) / "summary.json").string()));
+  }, py::arg("shards"), py::arg("out"), py::arg("quiet") = true,
+     "Combines shard run directories into one run at `out` (as `floorcast merge`) and returns its summary.json");
   m.def("data_dir", &cli::source_dir, "Where floorcast's shipped data (buildings, scenarios) is");
   m.attr("__version__") = FLOORCAST_VERSION;
 }

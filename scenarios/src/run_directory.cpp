@@ -217,6 +217,12 @@ void RunDirectory::write_image(const std::string& relative_path, const cv::Mat& 
   write_png(p.string(), image);  // atomic
 }
 
+void RunDirectory::write_file(const std::string& relative_path, const std::string& bytes) const {
+  const fs::path p = fs::path(root_) / relative_path;
+  make_dirs(p.parent_path());
+  write_text_file_atomic(p.string(), bytes);
+}
+
 void RunDirectory::write_report(const Report& report) const {
   const fs::path root(root_);
   for (const auto& [name, image] : report.plots) write_image("plots/" + name, image);

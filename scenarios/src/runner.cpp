@@ -1,5 +1,6 @@
 #include "floorcast/scenarios/runner.hpp"
 
+#include "floorcast/core/depth_io.hpp"
 #include "floorcast/core/format.hpp"
 
 #include <tbb/parallel_for.h>
@@ -267,9 +268,31 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
                           : std::string("no pose"));
       const cv::Mat img = render_posterior_heatmap(mr.posterior, raster, truth,
                                                    o.ok ? best : std::nullopt, style);
-      std::string name = unit.id + "_" + m.label + ".png";
-      for (char& c : name) if (c == '/') c = '_';
-      images->write_image("heatmaps/" + name, img);
+      std::string stem = unit.id + "_" + m.label;
+      for (char& c : stem) if (c == '/') c = '_';
+      images->write_image("heatmaps/" + stem + ".png", img);
+      // The data behind the picture, for vector figures (python/floorcast/figures.py): the best
+      // score over heading per cell (float32, rows from the lowest y) and where it lies.
+      images->write_file("heatmaps/" + stem + ".npy", npy_bytes(mr.posterior.max_over_yaw()));
+      nlohmann::ordered_json meta;
+      meta["unit"] = unit.id;
+      meta["building"] = s.buildings[b].label;
+      meta["matcher"] = m.label;
+      meta["grid"] = {{"origin_m", {mr.posterior.grid.origin_x_m, mr.posterior.grid.origin_y_m}},
+                      {"resolution_m", mr.posterior.grid.resolution_m_per_px},
+                      {"size_px", {mr.posterior.grid.width_px, mr.posterior.grid.height_px}},
+                      {"cell_centre", "array[row, col] is x = origin_m[0] + (col + 0.5) * resolution_m, "
+                                      "y = origin_m[1] + (row + 0.5) * resolution_m"}};
+      meta["truth"] = {{"x_m", r.truth.x_m}, {"y_m", r.truth.y_m}, {"yaw_rad", r.truth.yaw_rad}};
+      if (o.ok) {
+        meta["estimate"] = {{"x_m", o.estimate.x_m}, {"y_m", o.estimate.y_m}, {"yaw_rad", o.estimate.yaw_rad}};
+        meta["position_error_m"] = o.estimate.position_error_m;
+        meta["yaw_error_deg"] = o.estimate.yaw_error_deg;
+      } else {
+        meta["estimate"] = nullptr;
+        meta["position_error_m"] = nullptr;
+      }
+      images->write_file("heatmaps/" + stem + ".json", meta.dump(2) + "\n");
     }
     r.outcomes.push_back(o);
   }
@@ -318,6 +341,13 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
             {"duration_s", sm.duration_s},       {"transitional_share", sm.transitional_share},
             {"longest_straight_m", sm.longest_straight_m}, {"observations", scheduled.size()},
             {"odometry_end_error_m", (walk.steps.back().T_world_body.position_m() - odo.poses.back().position_m()).norm()}};
+  {
+    // The true path (mm), for trajectory figures.
+    nlohmann::ordered_json xy = nlohmann::ordered_json::array();
+    for (const WalkStep& s : walk.steps)
+      xy.push_back({std::round(s.T_world_body.x_m * 1e3) / 1e3, std::round(s.T_world_body.y_m * 1e3) / 1e3});
+    r.walk["truth_xy"] = xy;
+  }
   // Observations on the schedule (step 0 again: the single-shot observation, same seed) and the
   // posteriors each tracker's matcher makes of them, computed once per (matcher, step).
   std::map<int, std::optional<Observation2D>> observations;
@@ -366,6 +396,7 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
       o.record.position_error_m.push_back((s.estimate.pose.position_m() - truth.T_world_body.position_m()).norm());
       o.record.yaw_error_deg.push_back(rad_to_deg(angle_distance_rad(s.estimate.pose.yaw_rad, truth.T_world_body.yaw_rad)));
       o.record.stage.push_back(s.estimate.stage);
+      o.estimate_xy_m.emplace_back(std::round(s.estimate.pose.x_m * 1e3) / 1e3, std::round(s.estimate.pose.y_m * 1e3) / 1e3);
       total += s.time_s;
     }
     o.record.time_per_step_s = run.steps.empty() ? 0.0 : total / static_cast<double>(run.steps.size());
@@ -408,6 +439,10 @@ RunOutcome ScenarioRunner::run(UnitSink& sink, const RunOptions& options) const 
     void write_image(const std::string& p, const cv::Mat& img) override {
       std::lock_guard<std::mutex> lock(m);
       inner.write_image(p, img);
+    }
+    void write_file(const std::string& p, const std::string& bytes) override {
+      std::lock_guard<std::mutex> lock(m);
+      inner.write_file(p, bytes);
     }
   } locked(sink, mutex);
   // No exception may leave a task: TBB would cancel the task group, and the cancellation reaches

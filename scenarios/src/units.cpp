@@ -127,6 +127,11 @@ OJson unit_to_json(const UnitResult& r) {
       tj["position_error_m"] = t.record.position_error_m;
       tj["yaw_error_deg"] = t.record.yaw_error_deg;
       tj["stage"] = t.record.stage;
+      if (!t.estimate_xy_m.empty()) {
+        OJson xy = OJson::array();
+        for (const Vec2& p : t.estimate_xy_m) xy.push_back({p.x(), p.y()});
+        tj["estimate_xy"] = xy;
+      }
       tracks.push_back(tj);
     }
     j["tracks"] = tracks;
@@ -189,6 +194,8 @@ UnitResult unit_from_json(const Json& j, const std::string& source) {
         o.record.yaw_error_deg = t.at("yaw_error_deg").get<std::vector<double>>();
         o.record.stage = t.at("stage").get<std::vector<int>>();
         o.record.failed = !o.started;
+        if (t.contains("estimate_xy"))
+          for (const Json& p : t.at("estimate_xy")) o.estimate_xy_m.emplace_back(p.at(0).get<double>(), p.at(1).get<double>());
         if (timings.contains("step_by_tracker") && timings.at("step_by_tracker").contains(o.label)) {
           o.record.time_per_step_s = timings.at("step_by_tracker").at(o.label).get<double>();
         }

@@ -52,6 +52,28 @@ TEST_F(ReportHtml, SelfContained) {
   EXPECT_NE(html.find("Best and worst heatmaps"), std::string::npos);
 }
 
+TEST_F(ReportHtml, ReadableHeaderTrueBestWorstAndFullSizeOnClick) {
+  const std::string html = floorcast::read_text_file((work_ / "report.html").string());
+  // The description once (header), not again above the tables; a short configuration id.
+  const std::string desc = "Report test (two axes, one of them zipped).";
+  std::size_t count = 0;
+  for (std::size_t p = html.find(desc); p != std::string::npos; p = html.find(desc, p + 1)) ++count;
+  EXPECT_EQ(count, 1u);
+  EXPECT_NE(html.find("32 observations in 2 buildings (two_rooms, apartment)"), std::string::npos);
+  // Best and worst over all 32 units per method (6 + 6 each), not only over the 16 heatmaps the
+  // run kept: the others are drawn for the page.
+  EXPECT_NE(html.find("Heatmaps the run did not keep were drawn for this page."), std::string::npos);
+  EXPECT_EQ(html.find("(no heatmap)"), std::string::npos);
+  const std::regex heat("<figure class=\"heat\"><img");
+  const auto n = std::distance(std::sregex_iterator(html.begin(), html.end(), heat), std::sregex_iterator());
+  EXPECT_EQ(n, 2 * 12);
+  for (const char* t : {"<h3>Best 6, kernel</h3>", "<h3>Worst 6, kernel</h3>", "<h3>Best 6, ray</h3>", "<h3>Worst 6, ray</h3>"})
+    EXPECT_NE(html.find(t), std::string::npos) << t;
+  // Every picture opens full size on a click (one overlay, no second copy of the data).
+  EXPECT_NE(html.find("onclick=\"fullSize(this)\""), std::string::npos);
+  EXPECT_NE(html.find("id=\"overlay\""), std::string::npos);
+}
+
 TEST_F(ReportHtml, RenderedByChromium) {
   const std::string b = browser();
   ASSERT_FALSE(b.empty()) << "chromium is not installed (bash scripts/install_deps.sh --test installs Debian's chromium)";

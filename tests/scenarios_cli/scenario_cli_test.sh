@@ -43,8 +43,12 @@ case "$what" in
     if "$fc" merge "$work/shard0" "$work/shard1" -o "$work/partial" > /dev/null 2>&1; then
       echo "merge of 2 of 3 shards claimed success"; exit 1
     fi
-    "$fc" merge "$work/shard0" "$work/shard1" "$work/shard2" -o "$work/merged" > /dev/null
+    "$fc" merge "$work/shard0" "$work/shard1" "$work/shard2" -o "$work/merged" --html > /dev/null 2> "$work/merge_err.txt"
     test -f "$work/merged/summary.json"
+    # --html: the page `floorcast report` writes, beside the summary; the plans came along.
+    grep -q "<table>" "$work/merged/report.html"
+    test -f "$work/merged/plans/apartment.json"
+    "$fc" merge --help | grep -q "summary.md" || { echo "merge --help does not say what it writes"; exit 1; }
     "$fc" compare-runs "$work/full" "$work/merged"
     # Merging again into the merged folder, and merging the merged folder itself, are no-ops
     # (units on disk may list their keys in another order: the values are compared).

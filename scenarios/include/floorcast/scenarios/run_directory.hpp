@@ -4,7 +4,10 @@
 //   DIR/run.json                  run identity: scenario name, hash of the full resolved configuration
 //   DIR/resolved_config.json      every parameter with its value (defaults filled in)
 //   DIR/units/<cell>/<building>/<point>.json   one finished work unit (written atomically)
-//   DIR/heatmaps/*.png            posterior overlays of sampled observations
+//   DIR/heatmaps/*.png            posterior overlays of sampled observations; *.npy + *.json the
+//                                 best score over heading and its grid, truth and estimate
+//   DIR/plans/<building>.json     the plan of every building as the run used it (generated ones
+//                                 included), for figures
 //   DIR/observations.csv, summary.json, summary.md, plots/*.png   the report
 #pragma once
 
@@ -49,6 +52,8 @@ class RunDirectory {
   std::vector<UnitResult> read_units(const Scenario& scenario) const;
 
   void write_image(const std::string& relative_path, const cv::Mat& image) const;
+  /// Any other file under the run (atomic): heatmap data, the plans the run used.
+  void write_file(const std::string& relative_path, const std::string& bytes) const;
   void write_report(const Report& report) const;
   /// Adds a key to run.json (e.g. the reference workload time of this run).
   void update_run_info(const std::string& key, const nlohmann::json& value) const;

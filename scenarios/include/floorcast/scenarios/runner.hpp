@@ -28,6 +28,12 @@ class UnitSink {
   /// Called from worker threads, one call at a time (the runner serialises them).
   virtual void write_unit(const UnitResult& result) = 0;
   virtual void write_image(const std::string& relative_path, const cv::Mat& image) = 0;
+  /// Other files that go with the images (a heatmap's posterior as .npy and its grid as .json);
+  /// ignored unless the sink keeps them.
+  virtual void write_file(const std::string& relative_path, const std::string& bytes) {
+    (void)relative_path;
+    (void)bytes;
+  }
 };
 
 struct RunProgress {

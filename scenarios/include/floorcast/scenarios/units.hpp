@@ -60,6 +60,9 @@ struct TrackOutcome {
   /// Per step from the initial observation to the end of the walk (record.time_per_step_s is
   /// timing, kept under "timings" in files).
   SequentialRecord record;
+  /// The estimated position per step (as record), for trajectory figures; empty in runs made
+  /// before it was kept.
+  std::vector<Vec2> estimate_xy_m;
 };
 
 struct UnitResult {
@@ -70,7 +73,8 @@ struct UnitResult {
   bool observation_ok = true;
   std::string observation_failure;
   std::vector<MatcherOutcome> outcomes;
-  /// Sequential scenarios: the walk's summary and every tracker's outcome.
+  /// Sequential scenarios: the walk's summary (with "truth_xy": the true position per step, for
+  /// trajectory figures) and every tracker's outcome.
   nlohmann::ordered_json walk = nlohmann::ordered_json::object();
   std::vector<TrackOutcome> tracks;
   /// Stage timings in seconds: simulate, observe, match (sum over matchers).
