@@ -4,6 +4,8 @@
 // tables are present with header and data rows, every image is embedded (one self-contained file).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <regex>
@@ -30,7 +32,9 @@ std::string browser() {
 class ReportHtml : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    work_ = fs::path(FLOORCAST_TEST_WORK_DIR);
+    // A folder per test process: ctest runs each test of this suite as its own process, in
+    // parallel, and each sets the run up.
+    work_ = fs::path(FLOORCAST_TEST_WORK_DIR) / std::to_string(::getpid());
     fs::remove_all(work_);
     fs::create_directories(work_);
     const std::string cli = FLOORCAST_CLI_PATH;
@@ -38,6 +42,10 @@ class ReportHtml : public ::testing::Test {
                   " --quiet --jobs 2 > /dev/null"),
               0);
     ASSERT_EQ(run(quote(cli) + " report " + quote((work_ / "run").string()) + " -o " + quote((work_ / "report.html").string())), 0);
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::remove_all(work_, ec);
   }
   static fs::path work_;
 };
@@ -54,10 +62,12 @@ TEST_F(ReportHtml, SelfContained) {
 
 TEST_F(ReportHtml, ReadableHeaderTrueBestWorstAndFullSizeOnClick) {
   const std::string html = floorcast::read_text_file((work_ / "report.html").string());
-  // The description once (header), not again above the tables; a short configuration id.
+  // The description once (header), not again above the tables (the resolved configuration at the
+  // end lists it as a value); a short configuration id.
   const std::string desc = "Report test (two axes, one of them zipped).";
+  const std::string page = html.substr(0, html.find("<section id=\"config\">"));
   std::size_t count = 0;
-  for (std::size_t p = html.find(desc); p != std::string::npos; p = html.find(desc, p + 1)) ++count;
+  for (std::size_t p = page.find(desc); p != std::string::npos; p = page.find(desc, p + 1)) ++count;
   EXPECT_EQ(count, 1u);
   EXPECT_NE(html.find("32 observations in 2 buildings (two_rooms, apartment)"), std::string::npos);
   // Best and worst over all 32 units per method (6 + 6 each), not only over the 16 heatmaps the
