@@ -11,6 +11,8 @@ PACKAGES=(
   libnanoflann-dev libpugixml-dev libpng-dev
   libtiff-dev libopenexr-dev
   python3-dev python3-numpy python3-pybind11 pybind11-dev python3-pytest
+  python3-matplotlib poppler-utils python3-distributed
+  slurm-wlm munge
   chromium
 )
 
