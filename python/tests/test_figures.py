@@ -35,49 +35,42 @@ def cli(*args):
     return subprocess.run([CLI, *args], check=True, capture_output=True, text=True)
 
 
-def scenario(path, text):
+def run_in_own_folder(name, yaml_text):
+    """Runs a scenario (BUILDINGS in its text: the shipped buildings folder) into OUT/name/run."""
+    root = os.path.join(OUT, name)
+    shutil.rmtree(root, ignore_errors=True)
+    os.makedirs(root)
+    path = os.path.join(root, "scenario.yaml")
     with open(path, "w") as f:
-        f.write(text)
-    return path
+        f.write(yaml_text.replace("BUILDINGS", os.path.join(data_dir(), "floorplans", "buildings")))
+    run = os.path.join(root, "run")
+    cli("run", path, "-o", run, "--quiet")
+    return run
 
 
 @pytest.fixture(scope="module")
 def single_run():
-    root = os.path.join(OUT, "figures_single")
-    shutil.rmtree(root, ignore_errors=True)
-    os.makedirs(root)
-    b = os.path.join(data_dir(), "floorplans", "buildings")
-    yaml = scenario(os.path.join(root, "single.yaml"),
-                    "name: figures-single\n"
-                    "description: kernel and ray matchers on two shipped buildings\n"
-                    "buildings: [%s/two_rooms.json, %s/apartment.json]\n" % (b, b) +
-                    "sampling: {count: 8, seed: 3, clearance_m: 0.5}\n"
-                    "matchers: {kernel: {matcher: kernel}, ray: {matcher: ray}}\n"
-                    "output: {heatmaps: 1}\n")
-    run = os.path.join(root, "run")
-    cli("run", yaml, "-o", run, "--quiet")
-    return run
+    return run_in_own_folder("figures_single",
+                             "name: figures-single\n"
+                             "description: kernel and ray matchers on two shipped buildings\n"
+                             "buildings: [BUILDINGS/two_rooms.json, BUILDINGS/apartment.json]\n"
+                             "sampling: {count: 8, seed: 3, clearance_m: 0.5}\n"
+                             "matchers: {kernel: {matcher: kernel}, ray: {matcher: ray}}\n"
+                             "output: {heatmaps: 1}\n")
 
 
 @pytest.fixture(scope="module")
 def sequential_run():
-    root = os.path.join(OUT, "figures_sequential")
-    shutil.rmtree(root, ignore_errors=True)
-    os.makedirs(root)
-    b = os.path.join(data_dir(), "floorplans", "buildings")
-    yaml = scenario(os.path.join(root, "seq.yaml"),
-                    "name: figures-sequential\n"
-                    "buildings: [%s/apartment.json]\n" % b +
-                    "sampling: {count: 2, seed: 41, clearance_m: 0.5, region: uniform}\n"
-                    "observation: {source: perfect, seed: 3}\n"
-                    "matchers: {kernel: {matcher: kernel}, ray: {matcher: ray}}\n"
-                    "walk: {steps: 40, seed: 5}\nodometry: {model: vio, seed: 6}\n"
-                    "schedule: {initial: true, every_steps: 10}\n"
-                    "trackers: {pf_palms: {tracker: pf, matcher: kernel, init: palms}, hist: {tracker: hist, matcher: ray}}\n"
-                    "output: {heatmaps: 0}\n")
-    run = os.path.join(root, "run")
-    cli("run", yaml, "-o", run, "--quiet")
-    return run
+    return run_in_own_folder("figures_sequential",
+                             "name: figures-sequential\n"
+                             "buildings: [BUILDINGS/apartment.json]\n"
+                             "sampling: {count: 2, seed: 41, clearance_m: 0.5, region: uniform}\n"
+                             "observation: {source: perfect, seed: 3}\n"
+                             "matchers: {kernel: {matcher: kernel}, ray: {matcher: ray}}\n"
+                             "walk: {steps: 40, seed: 5}\nodometry: {model: vio, seed: 6}\n"
+                             "schedule: {initial: true, every_steps: 10}\n"
+                             "trackers: {pf_palms: {tracker: pf, matcher: kernel, init: palms}, hist: {tracker: hist, matcher: ray}}\n"
+                             "output: {heatmaps: 0}\n")
 
 
 def pdf_text(pdf):
