@@ -5,6 +5,7 @@ FLOORCAST_CLI names the command-line tool for the output-format tests.
 """
 import json
 import os
+import shutil
 import subprocess
 
 import numpy as np
@@ -134,6 +135,7 @@ def test_run_scenario(out_dir, capfd):
                 "matchers: {kernel: {matcher: kernel}}\n"
                 "output: {heatmaps: 0}\n")
     run_dir = os.path.join(out_dir, "tiny_run")
+    shutil.rmtree(run_dir, ignore_errors=True)  # a folder of an older build's run would be refused
     summary = fc.run_scenario(scenario, run_dir, jobs=1)
     printed = capfd.readouterr()
     assert printed.out == "" and printed.err == "", "run_scenario(quiet=True) must print nothing"
