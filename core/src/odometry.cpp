@@ -1,6 +1,9 @@
 #include "floorcast/core/odometry.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include "floorcast/core/params.hpp"
 
 namespace floorcast {
 
@@ -12,6 +15,66 @@ Pose2 relative_pose(const Pose2& a, const Pose2& b) {
 Pose2 compose(const Pose2& a, const Pose2& ab) {
   const Vec2 p = a.transform(ab.position_m());
   return {p.x(), p.y(), wrap_angle_rad(a.yaw_rad + ab.yaw_rad)};
+}
+
+const std::vector<std::pair<const char*, BiasGrowth>>& bias_growth_names() {
+  static const std::vector<std::pair<const char*, BiasGrowth>> n = {{"increment", BiasGrowth::kPerIncrement},
+                                                                    {"linear", BiasGrowth::kLinear}};
+  return n;
+}
+
+nlohmann::ordered_json OdometryUncertainty::to_json() const {
+  nlohmann::ordered_json j;
+  j["translation_per_m"] = translation_per_m;
+  j["translation_m_per_s"] = translation_m_per_s;
+  j["translation_m_per_step"] = translation_m_per_step;
+  j["rotation_per_rad"] = rotation_per_rad;
+  j["rotation_rad_per_s"] = rotation_rad_per_s;
+  j["rotation_rad_per_sqrt_s"] = rotation_rad_per_sqrt_s;
+  j["rotation_rad_per_step"] = rotation_rad_per_step;
+  return j;
+}
+
+void OdometryUncertainty::apply_overrides(const nlohmann::json& overrides) {
+  ParamReader r(overrides, "odometry uncertainty");
+  read(r);
+  r.finish();
+}
+
+void OdometryUncertainty::read(ParamReader& r) {
+  r.read("translation_per_m", translation_per_m, 0.0, 10.0);
+  r.read("translation_m_per_s", translation_m_per_s, 0.0, 100.0);
+  r.read("translation_m_per_step", translation_m_per_step, 0.0, 100.0);
+  r.read("rotation_per_rad", rotation_per_rad, 0.0, 10.0);
+  r.read("rotation_rad_per_s", rotation_rad_per_s, 0.0, 10.0);
+  r.read("rotation_rad_per_sqrt_s", rotation_rad_per_sqrt_s, 0.0, 10.0);
+  r.read("rotation_rad_per_step", rotation_rad_per_step, 0.0, 10.0);
+}
+
+IncrementNoise increment_noise(const OdometryUncertainty& u, const OdometryStep& step, double dt_s, BiasGrowth growth,
+                               OdometryElapsed& elapsed) {
+  const double dt = std::max(0.0, dt_s);
+  const double d = step.moving ? step.T_prev_curr.position_m().norm() : 0.0;
+  const double turn = std::abs(step.T_prev_curr.yaw_rad);
+  const bool reported_step = step.moving && d > 0.0;
+  const auto sq = [](double v) { return v * v; };
+  // What a bias of b adds over this increment: b e, or (linear) its spread grows from b E to
+  // b (E + e).
+  const bool linear = growth == BiasGrowth::kLinear;
+  const auto grown = [&](double b, double before, double add) {
+    return linear ? sq(b) * (sq(before + add) - sq(before)) : sq(b * add);
+  };
+  const double white = sq(u.translation_m_per_s * dt);
+  IncrementNoise n;
+  n.along_m = std::sqrt(grown(u.translation_per_m, elapsed.distance_m, d) + white +
+                        (reported_step ? sq(u.translation_m_per_step) : 0.0));
+  n.across_m = std::sqrt(white);
+  n.rotation_rad = std::sqrt(grown(u.rotation_per_rad, elapsed.turned_rad, turn) + grown(u.rotation_rad_per_s, elapsed.time_s, dt) +
+                             sq(u.rotation_rad_per_sqrt_s) * dt + (reported_step ? sq(u.rotation_rad_per_step) : 0.0));
+  elapsed.distance_m += d;
+  elapsed.turned_rad += turn;
+  elapsed.time_s += dt;
+  return n;
 }
 
 std::vector<Pose2> integrate_odometry(const Pose2& start, const std::vector<OdometryStep>& steps) {

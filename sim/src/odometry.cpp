@@ -152,6 +152,31 @@ void OdometryParams::apply_overrides(const nlohmann::json& overrides) {
   r.finish();
 }
 
+OdometryUncertainty odometry_uncertainty(const OdometryParams& p) {
+  OdometryUncertainty u;
+  u.translation_per_m = u.translation_m_per_s = u.translation_m_per_step = 0.0;
+  u.rotation_per_rad = u.rotation_rad_per_s = u.rotation_rad_per_sqrt_s = u.rotation_rad_per_step = 0.0;
+  switch (p.model) {
+    case OdometryModel::kExact: break;
+    case OdometryModel::kVio:
+      u.translation_per_m = p.vio.scale_sigma;
+      u.translation_m_per_s = p.vio.translation_noise_mps;
+      u.rotation_per_rad = p.vio.rotation_scale_sigma;
+      u.rotation_rad_per_s = deg_to_rad(p.vio.yaw_bias_sigma_dps);
+      u.rotation_rad_per_sqrt_s = deg_to_rad(p.vio.yaw_random_walk_deg_per_sqrt_s);
+      break;
+    case OdometryModel::kPdr: {
+      constexpr double kTypicalStepM = 0.7;
+      u.translation_per_m = p.pdr.step_length_bias_sigma;
+      u.translation_m_per_step = std::sqrt(p.pdr.step_length_sigma_m * p.pdr.step_length_sigma_m +
+                                           p.pdr.miss_probability * kTypicalStepM * kTypicalStepM);
+      u.rotation_rad_per_step = deg_to_rad(p.pdr.heading_random_walk_deg_per_sqrt_step);
+      break;
+    }
+  }
+  return u;
+}
+
 OdometryTrack simulate_odometry(const Walk& walk, const OdometryParams& params) {
   if (walk.steps.empty()) return {};
   switch (params.model) {

@@ -34,20 +34,35 @@ struct ShiftKernel {
   int first_offset = 0;
 };
 
-ShiftKernel shift_kernel(double shift, double sigma) {
-  const double half = std::ceil(3.0 * sigma);
-  // Source offsets off with |off + shift| <= half carry mass to p.
-  const int lo = static_cast<int>(std::ceil(-shift - half)), hi = static_cast<int>(std::floor(-shift + half));
-  ShiftKernel k;
-  k.first_offset = lo;
+/// The discrete Gaussian kernel of variance t (cells^2): g[j] = e^-t I_|j|(t), j = -m .. m
+/// (Lindeberg's discrete analogue of the Gaussian: variance exactly t, and kernels of variances
+/// t1 and t2 compose to the kernel of t1 + t2, so splitting a step into sub-steps adds no noise).
+/// t = 0 gives the identity [1]; small t gives [t/2, 1 - t, t/2], where a Gaussian sampled at the
+/// cells would give [0, 1, 0] and lose the noise. Truncated at 4 sigma + 1 and normalised.
+std::vector<float> discrete_gaussian(double t, int& m) {
+  m = t > 0.0 ? static_cast<int>(std::ceil(4.0 * std::sqrt(t))) + 1 : 0;
+  std::vector<double> g(static_cast<std::size_t>(2 * m + 1));
   double sum = 0.0;
-  std::vector<double> v;
-  for (int off = lo; off <= hi; ++off) {
-    const double u = off + shift;
-    v.push_back(std::exp(-0.5 * u * u / (sigma * sigma)));
-    sum += v.back();
+  for (int k = -m; k <= m; ++k) {
+    // Large t: the sampled Gaussian (the two agree to < 1e-3 relative beyond t = 50, and the
+    // scaled Bessel function would overflow first).
+    const double v = t > 50.0 ? std::exp(-0.5 * k * k / t)
+                              : std::exp(-t) * std::cyl_bessel_i(static_cast<double>(std::abs(k)), t);
+    g[static_cast<std::size_t>(k + m)] = v;
+    sum += v;
   }
-  for (double x : v) k.w.push_back(static_cast<float>(x / sum));
+  std::vector<float> out;
+  for (double v : g) out.push_back(static_cast<float>(v / sum));
+  return out;
+}
+
+/// The translation kernel along one axis: an integer shift by `shift` cells plus the discrete
+/// Gaussian of variance t: out(p) = sum_i w[i] in(p + first_offset + i).
+ShiftKernel shift_kernel(int shift, double t) {
+  int m = 0;
+  ShiftKernel k;
+  k.w = discrete_gaussian(t, m);  // symmetric: source offset -shift + j carries g[j]
+  k.first_offset = -shift - m;
   return k;
 }
 
@@ -59,11 +74,20 @@ const std::vector<std::pair<const char*, BeliefInit>>& belief_init_names() {
   return n;
 }
 
+const std::vector<std::pair<const char*, BeliefEstimate>>& belief_estimate_names() {
+  static const std::vector<std::pair<const char*, BeliefEstimate>> n = {{"argmax", BeliefEstimate::kArgmax},
+                                                                        {"window", BeliefEstimate::kWindow}};
+  return n;
+}
+
 nlohmann::ordered_json HistogramFilterParams::to_json() const {
   nlohmann::ordered_json j;
   j["resolution_m"] = resolution_m;
   j["grid_margin_m"] = grid_margin_m;
   j["num_orientations"] = num_orientations;
+  j["motion_noise"] = enum_name(motion_noise, motion_noise_names());
+  j["odometry"] = odometry.to_json();
+  j["bias_growth"] = enum_name(bias_growth, bias_growth_names());
   j["translation_sigma_m"] = translation_sigma_m;
   j["rotation_sigma_rad"] = rotation_sigma_rad;
   j["max_substep_m"] = max_substep_m;
@@ -71,6 +95,9 @@ nlohmann::ordered_json HistogramFilterParams::to_json() const {
   j["init"] = enum_name(init, belief_init_names());
   j["measurement_floor"] = measurement_floor;
   j["prune_below"] = prune_below;
+  j["estimate"] = enum_name(estimate, belief_estimate_names());
+  j["support_radius_m"] = support_radius_m;
+  j["support_yaw_deg"] = support_yaw_deg;
   j["orientation_mass"] = orientation_mass;
   j["converged_mass"] = converged_mass;
   return j;
@@ -81,6 +108,9 @@ void HistogramFilterParams::apply_overrides(const nlohmann::json& overrides) {
   r.read("resolution_m", resolution_m, 0.01, 2.0);
   r.read("grid_margin_m", grid_margin_m, 0.0, 100.0);
   r.read("num_orientations", num_orientations, 4, 720);
+  r.read_enum("motion_noise", motion_noise, motion_noise_names());
+  r.section("odometry", [&](ParamReader& o) { odometry.read(o); });
+  r.read_enum("bias_growth", bias_growth, bias_growth_names());
   r.read("translation_sigma_m", translation_sigma_m, 0.0, 10.0);
   r.read("rotation_sigma_rad", rotation_sigma_rad, 0.0, 3.2);
   r.read("max_substep_m", max_substep_m, 0.01, 100.0);
@@ -88,6 +118,9 @@ void HistogramFilterParams::apply_overrides(const nlohmann::json& overrides) {
   r.read_enum("init", init, belief_init_names());
   r.read("measurement_floor", measurement_floor, 0.0, 1.0);
   r.read("prune_below", prune_below, 0.0, 1.0);
+  r.read_enum("estimate", estimate, belief_estimate_names());
+  r.read("support_radius_m", support_radius_m, 0.0, 100.0);
+  r.read("support_yaw_deg", support_yaw_deg, 0.0, 180.0);
   r.read("orientation_mass", orientation_mass, 0.0, 1.0);
   r.read("converged_mass", converged_mass, 0.0, 1.0);
   r.finish();
@@ -113,7 +146,7 @@ HistogramFilter::HistogramFilter(const FloorPlan& plan, const HistogramFilterPar
       row_hi_[static_cast<std::size_t>(r)] = c;
     }
   }
-  reach_rows_ = static_cast<int>(std::ceil((params_.max_substep_m + 3.0 * params_.translation_sigma_m) / params_.resolution_m)) + 1;
+  reach_rows_ = static_cast<int>(std::ceil((params_.max_substep_m + 4.0 * max_substep_sigma_m()) / params_.resolution_m)) + 3;
   reach_lo_.assign(static_cast<std::size_t>(H), W);
   reach_hi_.assign(static_cast<std::size_t>(H), -1);
   for (int r = 0; r < H; ++r) {
@@ -133,7 +166,7 @@ HistogramFilter::HistogramFilter(const FloorPlan& plan, const HistogramFilterPar
 HistogramFilter::~HistogramFilter() = default;
 
 std::size_t HistogramFilter::state_bytes() const {
-  return (belief_.size() + scratch_.size() + 1) * static_cast<std::size_t>(grid_.width_px) * grid_.height_px * sizeof(float);
+  return (belief_.size() + scratch_.size() + window_.size() + 1) * static_cast<std::size_t>(grid_.width_px) * grid_.height_px * sizeof(float);
 }
 
 void HistogramFilter::measure_slices() {
@@ -166,12 +199,15 @@ void HistogramFilter::finish_normalise() {
   // monotonic, so the pruning floor and the peaks are those of the scaled belief.
   const int D = params_.num_orientations;
   const int H = grid_.height_px;
-  peak_.assign(static_cast<std::size_t>(D), 0.0);
-  peak_at_.assign(static_cast<std::size_t>(D), cv::Point(0, 0));
   double total = 0.0;
   for (double m : mass_) total += m;
+  // No mass left (every hypothesis walked out of the building): the filter is lost. It says so
+  // (degenerate, support 0) and keeps the estimate it had instead of making one up.
   degenerate_ = !(total > 0.0);
+  lost_ = degenerate_;
   if (degenerate_) return;
+  peak_.assign(static_cast<std::size_t>(D), 0.0);
+  peak_at_.assign(static_cast<std::size_t>(D), cv::Point(0, 0));
   const float scale = static_cast<float>(1.0 / total);
   const float top = *std::max_element(slice_max_.begin(), slice_max_.end()) * scale;
   const float floor = params_.prune_below > 0.0 ? static_cast<float>(params_.prune_below * top) : 0.0f;
@@ -198,10 +234,21 @@ void HistogramFilter::finish_normalise() {
     slice_max_[static_cast<std::size_t>(o)] = mx;
     mass_[static_cast<std::size_t>(o)] *= scale;
   });
+  update_estimate();
 }
 
 void HistogramFilter::initialise(const Posterior& post, const OdometryStep& first) {
-  (void)first;
+  last_t_s_ = first.t_s;
+  elapsed_ = {};
+  offset_px_.assign(static_cast<std::size_t>(params_.num_orientations), Vec2(0.0, 0.0));
+  // The heading grid starts aligned with the posterior's first slice (a matcher's slices at
+  // 2 pi s / S: offset 0; a posterior at one known heading: that heading exactly).
+  const double bin = kTwoPi / params_.num_orientations;
+  yaw_residual_rad_ = 0.0;
+  if (post.num_slices() > 0 && params_.init == BeliefInit::kPosterior) {
+    const double y = wrap_angle_rad(post.yaw_rad.front());
+    yaw_residual_rad_ = y - std::round(y / bin) * bin;
+  }
   if (params_.init == BeliefInit::kUniform) {
     for (cv::Mat& b : belief_) interior_.copyTo(b);
     normalise();
@@ -214,7 +261,7 @@ void HistogramFilter::initialise(const Posterior& post, const OdometryStep& firs
   for (int o = 0; o < D; ++o) {
     cv::Mat& b = belief_[static_cast<std::size_t>(o)];
     b.setTo(0.0f);
-    const double yaw = kTwoPi * o / D;
+    const double yaw = kTwoPi * o / D + yaw_residual_rad_;
     int slice = -1;
     double gap = 0.5 * kTwoPi / D + 1e-9;
     for (int s = 0; s < post.num_slices(); ++s) {
@@ -241,43 +288,48 @@ void HistogramFilter::initialise(const Posterior& post, const OdometryStep& firs
   if (degenerate_) throw InputError("histogram filter: the initial posterior is empty (every cell scored 0): no pose to start from");
 }
 
-void HistogramFilter::move(double dx, double dy, double dyaw, double noise_scale) {
+void HistogramFilter::move(double dx, double dy, double dyaw, double translation_var_m2, double rotation_var_rad2) {
   const int D = params_.num_orientations;
   const int H = grid_.height_px, W = grid_.width_px;
   const double res = grid_.resolution_m_per_px;
-  const double sigma_px = std::max(params_.translation_sigma_m * noise_scale / res, 1e-3);
-  // Translation: slice o heads at yaw 2 pi o / D; the body-frame motion rotated into it, as a
-  // separable Gaussian shift (F3Loc's grouped convolution). Rotation: a circular Gaussian over the
-  // slices centred on the heading change. Empty slices are skipped.
+  const double bin = kTwoPi / D;
+  // Translation: slice o heads at yaw 2 pi o / D + yaw_residual_rad_; the body-frame motion
+  // rotated into it is added to the slice's sub-cell offset, the belief moves by the whole cells
+  // of it and the rest stays in the offset (so motions smaller than a cell are not lost and
+  // nothing is smoothed by interpolation), convolved with the discrete Gaussian of the motion
+  // noise (separable: two 1D passes). Rotation: the heading change is added to the heading
+  // residual and the slices move by its whole bins (each slice's offset moving with its mass),
+  // convolved with the circular discrete Gaussian of the rotation noise. Empty slices are skipped.
+  const double t_px = translation_var_m2 / (res * res);
   std::vector<char> nonzero(static_cast<std::size_t>(D), 0);
   std::vector<ShiftKernel> kx(static_cast<std::size_t>(D)), ky(static_cast<std::size_t>(D));
   std::vector<int> y_lo(static_cast<std::size_t>(D), 0), y_hi(static_cast<std::size_t>(D), -1);
   for (int o = 0; o < D; ++o) {
     const auto so = static_cast<std::size_t>(o);
     nonzero[so] = slice_max_[so] > 0.0f ? 1 : 0;
+    const double yaw = kTwoPi * o / D + yaw_residual_rad_;
+    const double ex = offset_px_[so].x() + (std::cos(yaw) * dx - std::sin(yaw) * dy) / res;
+    const double ey = offset_px_[so].y() + (std::sin(yaw) * dx + std::cos(yaw) * dy) / res;
+    const int sx = static_cast<int>(std::lround(ex)), sy = static_cast<int>(std::lround(ey));
+    offset_px_[so] = Vec2(ex - sx, ey - sy);
     if (!nonzero[so]) continue;
-    const double yaw = kTwoPi * o / D;
-    kx[so] = shift_kernel((std::cos(yaw) * dx - std::sin(yaw) * dy) / res, sigma_px);
-    ky[so] = shift_kernel((std::sin(yaw) * dx + std::cos(yaw) * dy) / res, sigma_px);
+    kx[so] = shift_kernel(sx, t_px);
+    ky[so] = shift_kernel(sy, t_px);
     // Rows the vertical pass reads lie within reach_rows_ of the row it writes (the constructor
     // sized the horizontal pass's column ranges for that); predict() splits larger motions.
     y_lo[so] = std::max(ky[so].first_offset, -reach_rows_);
     y_hi[so] = std::min(ky[so].first_offset + static_cast<int>(ky[so].w.size()) - 1, reach_rows_);
   }
-  const double bin = kTwoPi / D;
-  const double shift = dyaw / bin;
-  const double sigma_bins = std::max(params_.rotation_sigma_rad * noise_scale / bin, 1e-3);
-  const int lo = static_cast<int>(std::floor(shift - 3.0 * sigma_bins)), hi = static_cast<int>(std::ceil(shift + 3.0 * sigma_bins));
-  std::vector<float> w;
+  const double turned = yaw_residual_rad_ + dyaw;
+  const int shift = static_cast<int>(std::lround(turned / bin));
+  yaw_residual_rad_ = turned - shift * bin;
+  int m = 0;
+  const std::vector<float> w = discrete_gaussian(rotation_var_rad2 / (bin * bin), m);
+  const int lo = shift - m, hi = shift + m;
   {
-    std::vector<double> wd;
-    double sum = 0.0;
-    for (int k = lo; k <= hi; ++k) {
-      const double u = k - shift;
-      wd.push_back(std::exp(-0.5 * u * u / (sigma_bins * sigma_bins)));
-      sum += wd.back();
-    }
-    for (double v : wd) w.push_back(static_cast<float>(v / sum));
+    std::vector<Vec2> moved(offset_px_.size());
+    for (int o = 0; o < D; ++o) moved[static_cast<std::size_t>(((o + shift) % D + D) % D)] = offset_px_[static_cast<std::size_t>(o)];
+    offset_px_ = std::move(moved);
   }
   // Row blocks: each block translates the rows it needs of every slice into a block buffer that
   // stays in cache, then rotates across slices into the output; the belief is read and the output
@@ -375,19 +427,34 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double noise_scale
 
 void HistogramFilter::predict(const OdometryStep& step) {
   const Pose2& t = step.T_prev_curr;
+  const double dt = step.t_s - last_t_s_;
+  last_t_s_ = step.t_s;
+  // Noise of this increment: the odometry's stated error, or F3Loc's fixed sigmas. The
+  // translation kernel is isotropic (separable on the grid): its per-axis variance is the mean of
+  // the along- and across-track variances, so the total variance is the odometry's.
+  double translation_var = 0.0, rotation_var = 0.0;
+  if (params_.motion_noise == MotionNoiseSource::kOdometry) {
+    const IncrementNoise e = increment_noise(params_.odometry, step, dt, params_.bias_growth, elapsed_);
+    translation_var = 0.5 * (e.along_m * e.along_m + e.across_m * e.across_m);
+    rotation_var = e.rotation_rad * e.rotation_rad;
+  } else {
+    translation_var = params_.translation_sigma_m * params_.translation_sigma_m;
+    rotation_var = params_.rotation_sigma_rad * params_.rotation_sigma_rad;
+  }
   const double len = t.position_m().norm();
+  // Sub-steps: at most max_substep_m and max_substep_deg of motion, and at most
+  // kMaxSubstepSigma of translation noise (the kernel reach the constructor sized) each.
   const int n = std::max({1, static_cast<int>(std::ceil(len / params_.max_substep_m)),
-                          static_cast<int>(std::ceil(std::abs(t.yaw_rad) / deg_to_rad(params_.max_substep_deg)))});
-  // Sub-steps: the body frame turns between them, so the translation of each sub-step is
-  // expressed in the body frame at its start (an arc from the previous to the current pose). The
-  // motion noise is F3Loc's per odometry step: each of the n sub-steps diffuses by sigma / sqrt(n),
-  // so splitting does not add noise.
-  const double noise_scale = 1.0 / std::sqrt(static_cast<double>(n));
+                          static_cast<int>(std::ceil(std::abs(t.yaw_rad) / deg_to_rad(params_.max_substep_deg))),
+                          static_cast<int>(std::ceil(translation_var / (max_substep_sigma_m() * max_substep_sigma_m())))});
+  // The body frame turns between sub-steps, so the translation of each is expressed in the body
+  // frame at its start (an arc from the previous to the current pose). Each of the n sub-steps
+  // diffuses by variance / n (the discrete Gaussians compose exactly): splitting adds no noise.
   for (int k = 0; k < n; ++k) {
     const double turned = t.yaw_rad * k / n;
     const double c = std::cos(-turned), s = std::sin(-turned);
     const double dx = (c * t.x_m - s * t.y_m) / n, dy = (s * t.x_m + c * t.y_m) / n;
-    move(dx, dy, t.yaw_rad / n, noise_scale);
+    move(dx, dy, t.yaw_rad / n, translation_var / n, rotation_var / n);
   }
   finish_normalise();  // move() measured the slices
 }
@@ -408,7 +475,8 @@ void HistogramFilter::update(const Posterior& post) {
   // The weighted belief goes into the scratch slices; it replaces the belief only when some mass
   // survives (an update that zeroes everything is reported, and the prior kept).
   tbb::parallel_for(0, D, [&](int o) {
-    const double yaw = kTwoPi * o / D;
+    const double yaw = kTwoPi * o / D + yaw_residual_rad_;
+    const Vec2 offset_m = offset_px_[static_cast<std::size_t>(o)] * grid_.resolution_m_per_px;
     int slice = 0;
     double gap = 1e9;
     for (int s = 0; s < post.num_slices(); ++s) {
@@ -435,7 +503,8 @@ void HistogramFilter::update(const Posterior& post) {
         double value = 0.0;
         if (covered) {
           int pr = r, pc = c;
-          if (!(post.grid == grid_) && !post.grid.world_to_cell(grid_.cell_center_m(r, c), pr, pc)) pr = -1;
+          // Same grid: the offset (<= half a cell) keeps the cell.
+          if (!(post.grid == grid_) && !post.grid.world_to_cell(grid_.cell_center_m(r, c) + offset_m, pr, pc)) pr = -1;
           if (pr >= 0) value = m.at<float>(pr, pc) / best;
         }
         dst[c] = static_cast<float>(row[c] * (floor + (1.0 - floor) * value));
@@ -450,41 +519,100 @@ void HistogramFilter::update(const Posterior& post) {
   }
   std::swap(belief_, scratch_);
   normalise();
+  elapsed_ = {};  // the biases' error restarts from the pose this update told
+}
+
+double HistogramFilter::mass_near(int slice, const cv::Point& at) const {
+  const int D = params_.num_orientations;
+  const double res = grid_.resolution_m_per_px;
+  const double radius = params_.support_radius_m / res;
+  const int rad = static_cast<int>(std::floor(radius));
+  const int span = static_cast<int>(std::floor(deg_to_rad(params_.support_yaw_deg) / (kTwoPi / D) + 1e-9));
+  double near = 0.0;
+  for (int k = -std::min(span, D / 2); k <= std::min(span, (D - 1) / 2); ++k) {
+    const cv::Mat& b = belief_[static_cast<std::size_t>(((slice + k) % D + D) % D)];
+    for (int r = std::max(0, at.y - rad); r <= std::min(grid_.height_px - 1, at.y + rad); ++r) {
+      const float* row = b.ptr<float>(r);
+      for (int c = std::max(0, at.x - rad); c <= std::min(grid_.width_px - 1, at.x + rad); ++c) {
+        if ((r - at.y) * (r - at.y) + (c - at.x) * (c - at.x) <= radius * radius) near += row[c];
+      }
+    }
+  }
+  return near;
+}
+
+void HistogramFilter::update_estimate() {
+  const int D = params_.num_orientations;
+  int bo = 0;
+  cv::Point bp(0, 0);
+  if (params_.estimate == BeliefEstimate::kArgmax) {
+    bo = static_cast<int>(std::max_element(peak_.begin(), peak_.end()) - peak_.begin());
+    bp = peak_at_[static_cast<std::size_t>(bo)];
+  } else {
+    // The mode of the belief summed over the support window: a square of the disc's area per
+    // slice (box filter), summed over the slices within support_yaw_deg (a running sum around
+    // the circle); ties: lowest slice, then row, then column.
+    const int k = std::max(1, static_cast<int>(std::lround(std::sqrt(kPi) * params_.support_radius_m / grid_.resolution_m_per_px)) | 1);
+    const int span = std::min(static_cast<int>(std::floor(deg_to_rad(params_.support_yaw_deg) / (kTwoPi / D) + 1e-9)), (D - 1) / 2);
+    window_.resize(static_cast<std::size_t>(D));
+    tbb::parallel_for(0, D, [&](int o) {
+      cv::boxFilter(belief_[static_cast<std::size_t>(o)], window_[static_cast<std::size_t>(o)], CV_32F, cv::Size(k, k),
+                    cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+    });
+    cv::Mat acc = cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_32F);
+    for (int j = -span; j <= span; ++j) acc += window_[static_cast<std::size_t>((j + D) % D)];
+    double best = -1.0;
+    for (int o = 0; o < D; ++o) {
+      if (o > 0) {
+        acc += window_[static_cast<std::size_t>((o + span) % D)];
+        acc -= window_[static_cast<std::size_t>((o - span - 1 + D) % D)];
+      }
+      double mx = 0.0;
+      cv::Point at;
+      cv::minMaxLoc(acc, nullptr, &mx, nullptr, &at);
+      if (mx > best) {
+        best = mx;
+        bo = o;
+        bp = at;
+      }
+    }
+  }
+  const Vec2 c = grid_.cell_center_m(bp.y, bp.x) + offset_px_[static_cast<std::size_t>(bo)] * grid_.resolution_m_per_px;
+  current_.pose = {c.x(), c.y(), wrap_angle_rad(kTwoPi * bo / D + yaw_residual_rad_)};
+  // Convergence: the belief mass within the support window of the estimate (stage 2 when it
+  // reaches converged_mass); stage 1 when the estimate's heading bin and its two neighbours hold
+  // orientation_mass of the belief.
+  const double orient = mass_[static_cast<std::size_t>(bo)] + mass_[static_cast<std::size_t>((bo + 1) % D)] +
+                        mass_[static_cast<std::size_t>((bo + D - 1) % D)];
+  current_.support = mass_near(bo, bp);
+  current_.stage = current_.support >= params_.converged_mass ? 2 : (orient >= params_.orientation_mass ? 1 : 0);
 }
 
 TrackEstimate HistogramFilter::estimate() const {
-  TrackEstimate e;
+  TrackEstimate e = current_;
   e.degenerate = degenerate_;
-  const int D = params_.num_orientations;
-  if (peak_.size() != static_cast<std::size_t>(D)) return e;
-  const int bo = static_cast<int>(std::max_element(peak_.begin(), peak_.end()) - peak_.begin());
-  const cv::Point bp = peak_at_[static_cast<std::size_t>(bo)];
-  const Vec2 c = grid_.cell_center_m(bp.y, bp.x);
-  e.pose = {c.x(), c.y(), wrap_angle_rad(kTwoPi * bo / D)};
-  // Orientation mass of the best +-1 bins; belief mass within 1 m and 30 deg of the mode.
-  const double orient = mass_[static_cast<std::size_t>(bo)] + mass_[static_cast<std::size_t>((bo + 1) % D)] +
-                        mass_[static_cast<std::size_t>((bo + D - 1) % D)];
-  const int rad = static_cast<int>(std::ceil(1.0 / grid_.resolution_m_per_px));
-  const int span = static_cast<int>(std::floor(deg_to_rad(30.0) / (kTwoPi / D) + 1e-9));
-  double near = 0.0;
-  for (int k = -span; k <= span; ++k) {
-    const cv::Mat& b = belief_[static_cast<std::size_t>(((bo + k) % D + D) % D)];
-    for (int r = std::max(0, bp.y - rad); r <= std::min(grid_.height_px - 1, bp.y + rad); ++r)
-      for (int cc = std::max(0, bp.x - rad); cc <= std::min(grid_.width_px - 1, bp.x + rad); ++cc) {
-        if ((r - bp.y) * (r - bp.y) + (cc - bp.x) * (cc - bp.x) <= rad * rad) near += b.at<float>(r, cc);
-      }
+  if (lost_) {
+    e.support = 0.0;
+    e.stage = 0;
   }
-  e.support = near;
-  e.stage = near >= params_.converged_mass ? 2 : (orient >= params_.orientation_mass ? 1 : 0);
   return e;
 }
 
 Posterior HistogramFilter::belief() const {
+  // Each slice at its heading, its mass moved by its sub-cell offset onto the grid (linear
+  // interpolation: each cell's mass shared between the cells around where it stands), so the
+  // exported belief has the filter's mean position and mass; its spread grows by at most a
+  // quarter of a cell squared per axis.
   Posterior p;
   p.grid = grid_;
   for (int o = 0; o < params_.num_orientations; ++o) {
-    p.yaw_rad.push_back(wrap_angle_rad(kTwoPi * o / params_.num_orientations));
-    p.scores.push_back(belief_[static_cast<std::size_t>(o)].clone());
+    p.yaw_rad.push_back(wrap_angle_rad(kTwoPi * o / params_.num_orientations + yaw_residual_rad_));
+    const Vec2 off = offset_px_.empty() ? Vec2(0.0, 0.0) : offset_px_[static_cast<std::size_t>(o)];
+    cv::Mat moved;
+    const cv::Matx23d shift(1.0, 0.0, off.x(), 0.0, 1.0, off.y());
+    cv::warpAffine(belief_[static_cast<std::size_t>(o)], moved, shift, belief_[static_cast<std::size_t>(o)].size(), cv::INTER_LINEAR,
+                   cv::BORDER_CONSTANT, cv::Scalar(0));
+    p.scores.push_back(moved);
   }
   return p;
 }

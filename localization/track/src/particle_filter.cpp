@@ -46,6 +46,9 @@ nlohmann::ordered_json ParticleFilterParams::to_json() const {
   j["num_particles"] = num_particles;
   j["init"] = enum_name(init, particle_init_names());
   j["init_percentile"] = init_percentile;
+  j["motion_noise"] = enum_name(motion_noise, motion_noise_names());
+  j["odometry"] = odometry.to_json();
+  j["bias_growth"] = enum_name(bias_growth, bias_growth_names());
   j["drift_sigma_rad"] = drift_sigma_rad;
   j["heading_sigma_rad"] = heading_sigma_rad;
   j["step_sigma_m"] = step_sigma_m;
@@ -69,6 +72,9 @@ void ParticleFilterParams::apply_overrides(const nlohmann::json& overrides) {
   r.read("num_particles", num_particles, 1, 10000000);
   r.read_enum("init", init, particle_init_names());
   r.read("init_percentile", init_percentile, 0.0, 100.0);
+  r.read_enum("motion_noise", motion_noise, motion_noise_names());
+  r.section("odometry", [&](ParamReader& o) { odometry.read(o); });
+  r.read_enum("bias_growth", bias_growth, bias_growth_names());
   r.read("drift_sigma_rad", drift_sigma_rad, 0.0, 10.0);
   r.read("heading_sigma_rad", heading_sigma_rad, 0.0, 10.0);
   r.read("step_sigma_m", step_sigma_m, 0.0, 10.0);
@@ -124,8 +130,9 @@ std::size_t ParticleFilter::state_bytes() const {
 }
 
 void ParticleFilter::initialise(const Posterior& post, const OdometryStep& first) {
-  (void)first;
   Impl& d = *impl_;
+  last_t_s_ = first.t_s;
+  elapsed_ = {};
   const std::size_t n = d.x.size();
   const GridSpec& g = post.grid;
   const int S = post.num_slices();
@@ -222,17 +229,31 @@ void ParticleFilter::predict(const OdometryStep& step) {
   const double len = step.T_prev_curr.position_m().norm();
   const bool moves = step.moving && len > 0.0;
   const double direction = heading_before + std::atan2(step.T_prev_curr.y_m, step.T_prev_curr.x_m);
+  const double dt = step.t_s - last_t_s_;
+  last_t_s_ = step.t_s;
+  const ParticleFilterParams& p = params_;
+  // This increment's noise: from the odometry's stated error, or PALMS' constants. A standing
+  // increment still drifts in heading by the odometry's time terms (odometry mode).
+  double step_sigma = p.step_sigma_m, heading_sigma = p.heading_sigma_rad, drift_sigma = p.drift_sigma_rad;
+  bool drift_standing = false;
+  if (p.motion_noise == MotionNoiseSource::kOdometry) {
+    const IncrementNoise e = increment_noise(p.odometry, step, dt, params_.bias_growth, elapsed_);
+    step_sigma = e.along_m;
+    heading_sigma = len > 0.0 ? std::atan2(e.across_m, len) : 0.0;
+    drift_sigma = e.rotation_rad;
+    drift_standing = true;
+  }
   const CounterRng rng(params_.seed, kStreamMotion, static_cast<std::uint64_t>(step_));
   const std::size_t n = d.x.size();
-  const ParticleFilterParams& p = params_;
   const bool scheduled_zero = p.wall_handling == WallHandling::kScheduled && step_ > p.scheduled_updates;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      if (!moves) continue;
+      if (!moves && !drift_standing) continue;
       const CounterRng pr = rng.child(i);
-      d.drift[i] = wrap_angle_rad(d.drift[i] + p.drift_sigma_rad * pr.normal(0));
-      const double h = direction + d.drift[i] + p.heading_sigma_rad * pr.normal(1);
-      const double dist = len + p.step_sigma_m * pr.normal(2);
+      d.drift[i] = wrap_angle_rad(d.drift[i] + drift_sigma * pr.normal(0));
+      if (!moves) continue;
+      const double h = direction + d.drift[i] + heading_sigma * pr.normal(1);
+      const double dist = len + step_sigma * pr.normal(2);
       const Vec2 from(d.x[i], d.y[i]);
       Vec2 to = from + dist * Vec2(std::cos(h), std::sin(h));
       Vec2 stop = from;
@@ -284,6 +305,7 @@ void ParticleFilter::update(const Posterior& post) {
     }
     d.w[i] *= params_.measurement_floor + (1.0 - params_.measurement_floor) * value;
   }
+  elapsed_ = {};  // the biases' error restarts from the pose this update told
   resample();
   update_convergence();
 }

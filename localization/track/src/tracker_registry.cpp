@@ -45,6 +45,12 @@ const Entry& find(const std::string& name) {
 
 }  // namespace
 
+const std::vector<std::pair<const char*, MotionNoiseSource>>& motion_noise_names() {
+  static const std::vector<std::pair<const char*, MotionNoiseSource>> n = {{"odometry", MotionNoiseSource::kOdometry},
+                                                                           {"fixed", MotionNoiseSource::kFixed}};
+  return n;
+}
+
 std::unique_ptr<Tracker> make_tracker(const std::string& name, const FloorPlan& plan, const nlohmann::json& overrides) {
   return find(name).make(plan, overrides);
 }

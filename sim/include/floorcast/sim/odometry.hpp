@@ -66,6 +66,15 @@ struct OdometryTrack {
   std::vector<Pose2> poses;
 };
 
+/// The error a tracker should assume for odometry of this model (what a walk folder states for its
+/// odometry): exact -> all 0; vio -> scale_sigma per metre, translation_noise_mps per second,
+/// rotation_scale_sigma per radian, the yaw-rate bias sigma per second and the yaw random walk
+/// (the scale random walk, <= 0.01 over a walk of 100 s, is left out); pdr -> step_length_bias_sigma
+/// per metre, per step sqrt(step_length_sigma^2 + miss_probability x (0.7 m)^2) (a missed step of
+/// a typical length, sensors.md: ~2 steps/s at 1.0-1.4 m/s) and the heading random walk per step
+/// (the per-walk heading offset does not enter relative increments).
+OdometryUncertainty odometry_uncertainty(const OdometryParams& params);
+
 /// The odometry a phone would report for the walk.
 OdometryTrack simulate_odometry(const Walk& walk, const OdometryParams& params);
 

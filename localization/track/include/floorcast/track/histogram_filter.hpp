@@ -21,6 +21,15 @@
 
 namespace floorcast {
 
+/// What the filter reports as its pose.
+enum class BeliefEstimate {
+  kArgmax,  ///< the belief's largest cell (F3Loc)
+  /// The pose with the most belief mass within the support window (support_radius_m,
+  /// support_yaw_deg): the mode of the belief smoothed over the success window, the Bayes
+  /// estimate for "within 1 m and 30 deg". Costs a box filter of every slice per step.
+  kWindow,
+};
+
 enum class BeliefInit {
   kPosterior,  ///< the initial posterior as the belief (F3Loc: uniform prior x first likelihood)
   kUniform,    ///< uniform over the building, all headings
@@ -30,8 +39,15 @@ struct HistogramFilterParams {
   double resolution_m = 0.1;          ///< F3Loc desdf grid
   double grid_margin_m = 1.0;         ///< as the ray matcher, so its posteriors map cell to cell
   int num_orientations = 36;          ///< F3Loc: 36 (10 deg)
-  double translation_sigma_m = 0.1;   ///< F3Loc
-  double rotation_sigma_rad = 0.1;    ///< F3Loc
+  MotionNoiseSource motion_noise = MotionNoiseSource::kOdometry;
+  /// The odometry's error (motion_noise odometry): a walk states it for its odometry source; the
+  /// defaults are for uncharacterised odometry (core/odometry.hpp).
+  OdometryUncertainty odometry;
+  /// How the odometry's bias terms spread over increments (core/odometry.hpp; measured in
+  /// results/sequential.md): per increment (default) or linear growth.
+  BiasGrowth bias_growth = BiasGrowth::kPerIncrement;
+  double translation_sigma_m = 0.1;   ///< motion_noise fixed: per increment and axis (F3Loc)
+  double rotation_sigma_rad = 0.1;    ///< motion_noise fixed: per increment (F3Loc)
   /// Largest motion applied in one pass; larger motions are split into sub-steps. F3Loc's fixed
   /// 7 x 7 kernels span +-0.3 m and +-30 deg; floorcast builds each step's kernels to the size of
   /// its motion, so only turns need splitting (the translation follows the arc): a walking step
@@ -43,8 +59,15 @@ struct HistogramFilterParams {
   /// Belief below this fraction of the maximum is set to 0 after every step (0 = never): keeps
   /// the sums clean of round-off and lets converged beliefs skip empty slices.
   double prune_below = 1e-7;
-  /// Convergence: stage 1 when the best +-1 orientation bins hold this much of the belief, stage 2
-  /// when the mass within 1 m and 30 deg of the mode reaches converged_mass.
+  BeliefEstimate estimate = BeliefEstimate::kArgmax;
+  /// The support window: TrackEstimate::support is the belief mass within support_radius_m and
+  /// support_yaw_deg of the estimate (the success criterion's 1 m, 30 deg).
+  double support_radius_m = 1.0;
+  double support_yaw_deg = 30.0;
+  /// Convergence (this filter's, not PALMS' two stages of particle groups and clusters): stage 2
+  /// (converged) when the support reaches converged_mass, i.e. at least half the belief lies
+  /// within 1 m and 30 deg of the estimate; stage 1 when the estimate's heading bin and its two
+  /// neighbours hold orientation_mass of the belief.
   double orientation_mass = 0.8;
   double converged_mass = 0.5;
 
@@ -54,6 +77,7 @@ struct HistogramFilterParams {
 };
 
 const std::vector<std::pair<const char*, BeliefInit>>& belief_init_names();
+const std::vector<std::pair<const char*, BeliefEstimate>>& belief_estimate_names();
 
 class HistogramFilter final : public Tracker {
  public:
@@ -74,11 +98,19 @@ class HistogramFilter final : public Tracker {
   const HistogramFilterParams& params() const { return params_; }
 
  private:
-  void move(double dx_m, double dy_m, double dyaw_rad, double noise_scale);
+  /// One sub-step: body-frame motion, noise variances (translation per axis, rotation).
+  void move(double dx_m, double dy_m, double dyaw_rad, double translation_var_m2, double rotation_var_rad2);
+  /// Largest translation-noise sigma of one sub-step (larger noise is split into sub-steps): half
+  /// the largest sub-step motion.
+  double max_substep_sigma_m() const { return 0.5 * params_.max_substep_m; }
   /// Per-slice mass and maximum of the belief (pass 1 of normalise; move() produces them itself).
   void measure_slices();
   /// Scale to a PDF, prune and record the peaks, from mass_ and slice_max_ (pass 2).
   void finish_normalise();
+  /// The estimate, its support and stage from the normalised belief (into current_).
+  void update_estimate();
+  /// Belief mass within the support window of cell `at` of slice `slice`.
+  double mass_near(int slice, const cv::Point& at) const;
   void normalise() {
     measure_slices();
     finish_normalise();
@@ -103,6 +135,17 @@ class HistogramFilter final : public Tracker {
   };
   mutable tbb::enumerable_thread_specific<MotionWorkspace> workspace_;
   bool degenerate_ = false;
+  double last_t_s_ = 0.0;  ///< time of the last odometry sample (increment durations)
+  TrackEstimate current_;  ///< the estimate of the last normalised belief
+  bool lost_ = false;      ///< no mass left: every hypothesis walked out of the building
+  std::vector<cv::Mat> window_;  ///< estimate window: per-slice box sums
+  /// Odometry travelled since the start or the last update (the biases' error grows with it).
+  OdometryElapsed elapsed_;
+  /// The belief's heading grid: slice o is the heading 2 pi o / D + yaw_residual_rad_ (|residual|
+  /// <= half a bin); slice o's mass at cell (r, c) stands for the position cell_center(r, c) +
+  /// offset_px_[o] x resolution (|offset| <= half a cell per axis; x = column, y = row).
+  double yaw_residual_rad_ = 0.0;
+  std::vector<Vec2> offset_px_;
 };
 
 }  // namespace floorcast

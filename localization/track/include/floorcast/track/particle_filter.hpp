@@ -3,8 +3,12 @@
 //
 // State per particle: position, heading drift (world heading = odometry heading + drift), weight,
 // orientation-group label (the posterior slice it was drawn from), cluster membership.
-// Motion per step: drift += N(0, 0.015 rad); heading ~ N(odometry heading + drift, 0.05 rad);
-// step length = odometry step + N(0, 0.356 m). Walls (a raster of the map's walls and glass, at
+// Motion per step: drift += N(0, sigma_drift); heading ~ N(odometry heading + drift, sigma_heading);
+// step length = odometry step + N(0, sigma_step). The sigmas come from the odometry's stated error
+// (motion_noise odometry, the default: sigma_step = the increment's along-track error, sigma_heading
+// = atan(across-track error / step length), sigma_drift = the increment's rotation error, which
+// persists in the particle's heading as the odometry's own does), or are PALMS' constants
+// (motion_noise fixed: 0.356 m, 0.05 rad, 0.015 rad per step). Walls (a raster of the map's walls and glass, at
 // 0.05 m; doorways pass) are handled per wall_handling; a particle that leaves the building gets
 // weight 0. Low-variance resampling after every step, then a jitter of N(0, 0.1 m).
 // Convergence: stage 1 when one orientation group holds > 80% of the particles; then a mean shift
@@ -41,9 +45,16 @@ struct ParticleFilterParams {
   int num_particles = 2000;              ///< PALMS: 2000
   ParticleInit init = ParticleInit::kPalms;
   double init_percentile = 99.0;         ///< PALMS: top 1% of cells over all orientation heatmaps
-  double drift_sigma_rad = 0.015;        ///< PALMS: drift random walk per step
-  double heading_sigma_rad = 0.05;       ///< PALMS: heading noise per step
-  double step_sigma_m = 0.356;           ///< PALMS: step-length noise per step
+  MotionNoiseSource motion_noise = MotionNoiseSource::kOdometry;
+  /// The odometry's error (motion_noise odometry): a walk states it for its odometry source; the
+  /// defaults are for uncharacterised odometry (core/odometry.hpp).
+  OdometryUncertainty odometry;
+  /// How the odometry's bias terms spread over increments (core/odometry.hpp; measured in
+  /// results/sequential.md): per increment (default) or linear growth.
+  BiasGrowth bias_growth = BiasGrowth::kPerIncrement;
+  double drift_sigma_rad = 0.015;        ///< motion_noise fixed: drift random walk per step (PALMS)
+  double heading_sigma_rad = 0.05;       ///< motion_noise fixed: heading noise per step (PALMS)
+  double step_sigma_m = 0.356;           ///< motion_noise fixed: step-length noise per step (PALMS)
   WallHandling wall_handling = WallHandling::kWeighted;
   double wall_weight = 0.3;              ///< PALMS: weighted walls x0.3
   double scheduled_weight = 0.9;         ///< PALMS: scheduled walls x0.9 ...
@@ -103,6 +114,9 @@ class ParticleFilter final : public Tracker {
   ParticleFilterParams params_;
   std::unique_ptr<Impl> impl_;
   int step_ = 0;
+  double last_t_s_ = 0.0;  ///< time of the last odometry sample (increment durations)
+  /// Odometry travelled since the start or the last update (the biases' error grows with it).
+  OdometryElapsed elapsed_;
 };
 
 }  // namespace floorcast

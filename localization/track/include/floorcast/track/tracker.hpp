@@ -23,6 +23,19 @@
 
 namespace floorcast {
 
+/// Where a tracker's motion noise per odometry increment comes from.
+enum class MotionNoiseSource {
+  /// From the odometry's stated error (the tracker's `odometry` parameters, an
+  /// OdometryUncertainty: per metre, radian, second and step), so a filter diffuses as much as
+  /// its odometry drifts. Scenarios and `floorcast track` fill it from the walk's odometry.
+  kOdometry,
+  /// The same sigmas every increment, whatever the odometry (the papers' constants: F3Loc 0.1 m
+  /// and 0.1 rad per frame, PALMS 0.356 m, 0.05 rad and 0.015 rad per step).
+  kFixed,
+};
+
+const std::vector<std::pair<const char*, MotionNoiseSource>>& motion_noise_names();
+
 struct TrackEstimate {
   Pose2 pose;            ///< world position and heading
   /// Convergence stage: 0 = spread out, 1 = one orientation hypothesis dominates (particle filter
