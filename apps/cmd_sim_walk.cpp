@@ -100,6 +100,7 @@ void register_sim_walk(CLI::App& root) {
     WalkRecord rec;
     rec.walk = simulate_walk(plan, start, wp);
     rec.odometry_params = op;
+    rec.odometry_uncertainty = odometry_uncertainty(op);
     rec.odometry = simulate_odometry(rec.walk, op);
     rec.schedule = {!o->no_initial, o->scan_every, o->scan_every_m};
     rec.plan_name = plan.name;

@@ -74,6 +74,8 @@ void register_track(CLI::App& root) {
     for (const std::string& p : o->params) add_override(tracker_overrides, p, "--tracker-param");
     if (!o->init.empty()) tracker_overrides["init"] = o->init;
     if (o->filter == "pf" && !tracker_overrides.contains("seed")) tracker_overrides["seed"] = o->seed;
+    // The walk's stated odometry error (walk.json odometry_uncertainty), --param odometry={...} keys on top.
+    tracker_overrides = with_odometry(tracker_overrides, walk.odometry_uncertainty);
     nlohmann::json matcher_overrides = nlohmann::json::object();
     for (const std::string& p : o->matcher_params) add_override(matcher_overrides, p, "--matcher-param");
     if (range_opt->count() > 0 && matcher_overrides.contains("max_range_m")) {
@@ -160,6 +162,7 @@ void register_track(CLI::App& root) {
       m["success_" + threshold_name(scoring.success_thresholds_m[k])] = static_cast<bool>(out.success[k]);
     }
     m["converged"] = out.converged;
+    m["converged_means"] = describe_convergence(o->filter, tracker->parameters());
     m["convergence_time_s"] = num(out.convergence_time_s);
     m["convergence_distance_m"] = num(out.convergence_distance_m);
     m["stage1_time_s"] = num(out.stage1_time_s);
@@ -225,6 +228,7 @@ void register_track(CLI::App& root) {
               << (out.converged ? "converged after " + format_fixed(out.convergence_time_s - rec.t_s.front(), 1) + " s / " +
                                       format_fixed(out.convergence_distance_m, 1) + " m"
                                 : std::string("not converged"))
+              << " (" << describe_convergence(o->filter, tracker->parameters()) << ")"
               << "; " << std::setprecision(1) << 1e3 * rec.time_per_step_s << " ms/step -> " << o->out << "\n";
   });
 }

@@ -47,6 +47,7 @@ FilterBenchResult bench_filter(const FloorPlan& plan, const FilterBenchParams& b
       ParticleFilterParams p;
       p.num_particles = bp.particles;
       p.init = ParticleInit::kUniform;
+      p.motion_noise = MotionNoiseSource::kFixed;  // PALMS' per-step noise: the measured reference (bench_filter.md)
       p.seed = static_cast<std::uint64_t>(r + 1);
       ParticleFilter f(plan, p);
       f.initialise(empty, odo.steps[0]);
@@ -64,6 +65,7 @@ FilterBenchResult bench_filter(const FloorPlan& plan, const FilterBenchParams& b
     for (int r = 0; r < bp.repeats; ++r) {
       HistogramFilterParams p;
       p.init = BeliefInit::kUniform;
+      p.motion_noise = MotionNoiseSource::kFixed;  // F3Loc's 0.1 m, 0.1 rad kernels: the measured reference (bench_filter.md)
       HistogramFilter f(plan, p);
       f.initialise(empty, odo.steps[0]);
       const double w0 = now_s(), c0 = process_cpu_s();

@@ -10,6 +10,7 @@
 #include "floorcast/core/format.hpp"
 #include "floorcast/eval/plot.hpp"
 #include "floorcast/core/math.hpp"
+#include "floorcast/track/tracker.hpp"
 
 namespace floorcast {
 namespace {
@@ -314,6 +315,12 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
            << pct(v("within_" + threshold_name(sq.within_m) + "_after_convergence")) << " | "
            << num(1e3 * v("mean_time_per_step_s").value, 1) << " |\n";
       }
+      // "Converged" is each tracker's own (PALMS' two stages are a particle-filter notion).
+      md << "\nConverged means:";
+      for (const TrackerSpec& t : cell.sequential->trackers) {
+        md << " " << t.label << ", " << describe_convergence(t.tracker, t.parameters) << ";";
+      }
+      md << "\n";
       if (scenario.buildings.size() > 1) {
         md << "\nPer building, tracking success " << threshold_name(sq.success_thresholds_m.at(0)) << ":\n\n| building |";
         for (const TrackerSpec& t : cell.sequential->trackers) md << " " << t.label << " |";

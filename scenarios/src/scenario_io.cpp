@@ -18,6 +18,7 @@
 #include "floorcast/core/limits.hpp"
 #include "floorcast/core/params.hpp"
 #include "floorcast/core/types.hpp"
+#include "floorcast/sim/odometry.hpp"
 #include "floorcast/sim/scan_io.hpp"
 #include "floorcast/track/tracker.hpp"
 #include "floorcast/scenarios/scenario.hpp"
@@ -503,6 +504,9 @@ std::optional<SequentialSpec> parse_sequential(const OJson& tree, const Checker&
     Json overrides = Json::object();
     for (auto p = it.value().begin(); p != it.value().end(); ++p)
       if (p.key() != "tracker" && p.key() != "matcher") overrides[p.key()] = p.value();
+    // The walk's odometry error flows to every tracker (what a walk folder states for its
+    // odometry): the cell's odometry model's, with the tracker's own `odometry` keys on top.
+    overrides = with_odometry(overrides, odometry_uncertainty(q.odometry));
     try {
       t.parameters = resolve_tracker_parameters(t.tracker, overrides);
     } catch (const ParameterError& e) {

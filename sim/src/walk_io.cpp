@@ -63,6 +63,7 @@ void save_walk(const std::string& dir, const WalkRecord& rec) {
   j["plan"] = {{"name", rec.plan_name}, {"hash", rec.plan_hash}};
   j["walk_params"] = w.params.to_json();
   j["odometry_params"] = rec.odometry_params.to_json();
+  j["odometry_uncertainty"] = rec.odometry_uncertainty.to_json();
   j["schedule"] = {{"initial", rec.schedule.initial}, {"every_steps", rec.schedule.every_steps}, {"every_m", rec.schedule.every_m}};
   j["observation_settings"] = rec.observation_settings;
   j["summary"] = summary_json(w.summary);
@@ -115,8 +116,8 @@ WalkRecord load_walk(const std::string& dir) {
   if (!std::filesystem::is_regular_file(json_path)) throw InputError(json_path + ": missing (not a walk folder?)");
   const nlohmann::json j = read_json_file(json_path);
   const JsonReader r(j, json_path, "");
-  r.only({"format", "format_version", "frames", "plan", "walk_params", "odometry_params", "schedule",
-          "observation_settings", "summary", "observations", "route_m"});
+  r.only({"format", "format_version", "frames", "plan", "walk_params", "odometry_params", "odometry_uncertainty",
+          "schedule", "observation_settings", "summary", "observations", "route_m"});
   if (r.string("format") != "floorcast-walk") r.fail_key("format", "expected \"floorcast-walk\"");
   if (r.integer("format_version", 0, 1000000) != kWalkFormatVersion) r.fail_key("format_version", "unsupported");
   WalkRecord rec;
@@ -129,6 +130,8 @@ WalkRecord load_walk(const std::string& dir) {
   try {
     rec.walk.params.apply_overrides(r.raw("walk_params"));
     rec.odometry_params.apply_overrides(r.raw("odometry_params"));
+    rec.odometry_uncertainty = odometry_uncertainty(rec.odometry_params);
+    if (j.contains("odometry_uncertainty")) rec.odometry_uncertainty.apply_overrides(r.raw("odometry_uncertainty"));
   } catch (const InputError& e) {
     throw InputError(json_path + ": " + e.what());
   }

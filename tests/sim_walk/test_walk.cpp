@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 
@@ -232,6 +233,59 @@ TEST(Odometry, PdrStepsMatchTheirParameters) {
   EXPECT_GT(median(rel), 0.005);
 }
 
+// The error a walk states for its odometry (odometry_uncertainty) describes the simulated
+// odometry: over seeded walks the end heading error and the path-length error, divided by the
+// sigma the stated uncertainty predicts for the whole walk (increment_noise with linear bias
+// growth, variances summed), have a spread near 1 (between 0.6 and 1.6: 30 walks, odometry seeds
+// independent of the walks'). A mapping that forgot a term or mis-scaled one fails (e.g. the yaw
+// bias per second read as per sqrt(s)).
+TEST(Odometry, StatedUncertaintyDescribesTheSimulatedOdometry) {
+  std::vector<Walk> walks;
+  for (std::uint64_t seed = 1; seed <= 30; ++seed) walks.push_back(walk_in("office", seed, 150));
+  for (const OdometryModel model : {OdometryModel::kVio, OdometryModel::kPdr}) {
+    std::vector<double> z_heading, z_length;
+    for (std::uint64_t seed = 1; seed <= walks.size(); ++seed) {
+      const Walk& w = walks[seed - 1];
+      OdometryParams p;
+      p.model = model;
+      p.seed = 500 + seed;
+      const OdometryTrack o = simulate_odometry(w, p);
+      const OdometryUncertainty u = odometry_uncertainty(p);
+      OdometryElapsed elapsed;
+      double var_heading = 0.0, var_length = 0.0, odo_length = 0.0, true_length = 0.0, heading_error = 0.0;
+      for (std::size_t i = 1; i < o.steps.size(); ++i) {
+        const IncrementNoise n = increment_noise(u, o.steps[i], o.steps[i].t_s - o.steps[i - 1].t_s, BiasGrowth::kLinear, elapsed);
+        var_heading += n.rotation_rad * n.rotation_rad;
+        var_length += n.along_m * n.along_m;
+        odo_length += o.steps[i].T_prev_curr.position_m().norm();
+        true_length += relative_pose(w.steps[i - 1].T_world_body, w.steps[i].T_world_body).position_m().norm();
+        heading_error += wrap_angle_rad(o.steps[i].T_prev_curr.yaw_rad -
+                                        relative_pose(w.steps[i - 1].T_world_body, w.steps[i].T_world_body).yaw_rad);
+      }
+      z_heading.push_back(heading_error / std::sqrt(var_heading));
+      // PDR's length error is dominated by missed steps (a whole step at once): its stated
+      // per-step term is the average variance; the heading is checked for both models.
+      if (model == OdometryModel::kVio) z_length.push_back((odo_length - true_length) / std::sqrt(var_length));
+    }
+    auto rms = [](const std::vector<double>& v) {
+      double s = 0.0;
+      for (double x : v) s += x * x;
+      return std::sqrt(s / static_cast<double>(v.size()));
+    };
+    const char* name = model == OdometryModel::kVio ? "vio" : "pdr";
+    std::printf("%s: rms z heading %.2f, length %.2f\n", name, rms(z_heading), z_length.empty() ? 0.0 : rms(z_length));
+    EXPECT_GT(rms(z_heading), 0.6) << name;
+    EXPECT_LT(rms(z_heading), 1.6) << name;
+    if (!z_length.empty()) {
+      EXPECT_GT(rms(z_length), 0.6) << name;
+      EXPECT_LT(rms(z_length), 1.6) << name;
+    }
+  }
+  OdometryParams exact;
+  exact.model = OdometryModel::kExact;
+  EXPECT_EQ(odometry_uncertainty(exact).to_json(), OdometryUncertainty({0, 0, 0, 0, 0, 0, 0}).to_json());
+}
+
 TEST(WalkIo, RoundTripAndTum) {
   const std::string dir = (std::filesystem::temp_directory_path() / ("floorcast_walk_io_" + std::to_string(::getpid()))).string();
   std::filesystem::remove_all(dir);
@@ -239,6 +293,8 @@ TEST(WalkIo, RoundTripAndTum) {
   rec.walk = walk_in("apartment", 9, 60);
   rec.odometry_params.model = OdometryModel::kPdr;
   rec.odometry = simulate_odometry(rec.walk, rec.odometry_params);
+  rec.odometry_uncertainty = odometry_uncertainty(rec.odometry_params);
+  rec.odometry_uncertainty.rotation_rad_per_s = 0.001;  // a stated figure, not the model's: kept
   rec.schedule = {true, 20, 0.0};
   rec.plan_name = "apartment";
   rec.plan_hash = "0123456789abcdef";
@@ -255,6 +311,7 @@ TEST(WalkIo, RoundTripAndTum) {
   }
   EXPECT_EQ(back.observations.size(), rec.observations.size());
   EXPECT_EQ(back.odometry_params.to_json(), rec.odometry_params.to_json());
+  EXPECT_EQ(back.odometry_uncertainty.to_json(), rec.odometry_uncertainty.to_json());
   EXPECT_EQ(back.walk.params.to_json(), rec.walk.params.to_json());
   // TUM: 8 numbers per line, unit quaternions about z, the yaw back within round-off.
   const std::vector<StampedPose> truth = load_tum(dir + "/truth.tum");

@@ -304,9 +304,7 @@ WalkRun track_apartment_walk(const std::string& tracker, std::uint64_t seed,
   const PerfectObserver observer(plan);
   const Posterior post = matcher->match(observer.observe(walk.steps[0].T_world_body)).posterior;
   // The walk states its odometry's error (exact: none), as scenarios and `floorcast track` do.
-  nlohmann::json params = overrides;
-  if (!params.contains("odometry")) params["odometry"] = odometry_uncertainty(op).to_json();
-  const std::unique_ptr<Tracker> t = make_tracker(tracker, plan, params);
+  const std::unique_ptr<Tracker> t = make_tracker(tracker, plan, with_odometry(overrides, odometry_uncertainty(op)));
   t->initialise(post, odo.steps[0]);
   WalkRun run;
   for (std::size_t k = 1; k < walk.steps.size(); ++k) {

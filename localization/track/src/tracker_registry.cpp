@@ -1,6 +1,7 @@
 // The built-in tracker table (explicit, like the matcher registry: static self-registration is
 // dropped by the linker from static libraries).
 #include <algorithm>
+#include <sstream>
 
 #include "floorcast/track/histogram_filter.hpp"
 #include "floorcast/track/particle_filter.hpp"
@@ -23,15 +24,33 @@ nlohmann::ordered_json resolve(const nlohmann::json& overrides) {
   return p.to_json();
 }
 
+std::string number(const nlohmann::ordered_json& p, const char* key) {
+  std::ostringstream s;
+  s << p.at(key).get<double>();
+  return s.str();
+}
+
+std::string pf_convergence(const nlohmann::ordered_json& p) {
+  return "PALMS two-stage: one orientation group holds > " + number(p, "stage1_share") +
+         " of the particles, then the largest mean-shift cluster (" + number(p, "mean_shift_bandwidth_m") +
+         " m) of that group holds >= " + number(p, "stage2_share") + " of it";
+}
+
+std::string hist_convergence(const nlohmann::ordered_json& p) {
+  return "belief mass within " + number(p, "support_radius_m") + " m and " + number(p, "support_yaw_deg") +
+         " deg of the estimate >= " + number(p, "converged_mass");
+}
+
 struct Entry {
   const char* name;
   std::unique_ptr<Tracker> (*make)(const FloorPlan&, const nlohmann::json&);
   nlohmann::ordered_json (*resolve)(const nlohmann::json&);
+  std::string (*convergence)(const nlohmann::ordered_json&);
 };
 
 constexpr Entry kTrackers[] = {
-    {"hist", &build<HistogramFilterParams, HistogramFilter>, &resolve<HistogramFilterParams>},
-    {"pf", &build<ParticleFilterParams, ParticleFilter>, &resolve<ParticleFilterParams>},
+    {"hist", &build<HistogramFilterParams, HistogramFilter>, &resolve<HistogramFilterParams>, &hist_convergence},
+    {"pf", &build<ParticleFilterParams, ParticleFilter>, &resolve<ParticleFilterParams>, &pf_convergence},
 };
 
 const Entry& find(const std::string& name) {
@@ -51,6 +70,17 @@ const std::vector<std::pair<const char*, MotionNoiseSource>>& motion_noise_names
   return n;
 }
 
+nlohmann::json with_odometry(const nlohmann::json& overrides, const OdometryUncertainty& odometry) {
+  nlohmann::json out = overrides.is_object() ? overrides : nlohmann::json::object();
+  nlohmann::json section = odometry.to_json();
+  if (out.contains("odometry")) {
+    if (!out.at("odometry").is_object()) return out;
+    section.merge_patch(out.at("odometry"));
+  }
+  out["odometry"] = section;
+  return out;
+}
+
 std::unique_ptr<Tracker> make_tracker(const std::string& name, const FloorPlan& plan, const nlohmann::json& overrides) {
   return find(name).make(plan, overrides);
 }
@@ -64,6 +94,11 @@ std::vector<std::string> tracker_names() {
   for (const Entry& e : kTrackers) names.emplace_back(e.name);
   std::sort(names.begin(), names.end());
   return names;
+}
+
+std::string describe_convergence(const std::string& name, const nlohmann::json& overrides) {
+  const Entry& e = find(name);
+  return e.convergence(e.resolve(overrides));
 }
 
 }  // namespace floorcast

@@ -1,7 +1,9 @@
 // Walk folders (`floorcast sim walk ... -o DIR`), read by `floorcast track`:
 //
 //   DIR/walk.json          format, parameters (walk, odometry, schedule) in full, plan name and
-//                          hash, summary, the list of observations
+//                          hash, summary, the list of observations, and the odometry's stated
+//                          error (odometry_uncertainty: what trackers assume; a recording states
+//                          its sensor's, a simulated walk its odometry model's)
 //   DIR/truth.tum          true trajectory (TUM: evo reads it unchanged)
 //   DIR/odometry.tum       odometry trajectory in its own frame (first pose = identity), as a
 //                          real odometry source reports it (evo: align or compare relative poses)
@@ -34,6 +36,9 @@ struct WalkRecord {
   Walk walk;
   OdometryParams odometry_params;
   OdometryTrack odometry;
+  /// The odometry's error as trackers should assume it (walk.json "odometry_uncertainty"; when
+  /// absent, derived from odometry_params: odometry_uncertainty()).
+  OdometryUncertainty odometry_uncertainty;
   ObservationSchedule schedule;
   std::vector<WalkObservation> observations;
   std::string plan_name;

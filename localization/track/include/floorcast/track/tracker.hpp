@@ -39,7 +39,9 @@ const std::vector<std::pair<const char*, MotionNoiseSource>>& motion_noise_names
 struct TrackEstimate {
   Pose2 pose;            ///< world position and heading
   /// Convergence stage: 0 = spread out, 1 = one orientation hypothesis dominates (particle filter
-  /// stage 1), 2 = converged (the estimate is a well-supported mode).
+  /// stage 1), 2 = converged (the estimate is a well-supported mode). Each tracker defines it
+  /// (describe_convergence): PALMS' two stages for the particle filter, the belief mass near the
+  /// estimate for the histogram filter.
   int stage = 0;
   /// Share of the belief supporting the estimate (particle filter: the dominant cluster's share of
   /// all particles; histogram filter: belief mass within 1 m and 30 deg of the mode).
@@ -79,6 +81,16 @@ std::unique_ptr<Tracker> make_tracker(const std::string& name, const FloorPlan& 
 /// it: what scenarios check when they load. Throws like make_tracker.
 nlohmann::ordered_json resolve_tracker_parameters(const std::string& name,
                                                   const nlohmann::json& overrides = nlohmann::json::object());
+
+/// What "converged" (TrackEstimate::stage 2) means for tracker `name` with these parameters, in
+/// words for reports: PALMS' two stages for the particle filter, the mass near the estimate for
+/// the histogram filter. Throws like make_tracker.
+std::string describe_convergence(const std::string& name, const nlohmann::json& overrides = nlohmann::json::object());
+
+/// Tracker overrides with a walk's stated odometry error as their `odometry` section, the
+/// overrides' own `odometry` keys on top (how scenarios and `floorcast track` hand a walk's
+/// odometry to a tracker). A non-object `odometry` is left for make_tracker to refuse.
+nlohmann::json with_odometry(const nlohmann::json& overrides, const OdometryUncertainty& odometry);
 
 /// Names of all registered trackers, sorted.
 std::vector<std::string> tracker_names();
