@@ -1,10 +1,13 @@
-// Helpers shared by the importer tests.
+// Helpers shared by the importer tests (and the tests that run on the real development plans).
 #pragma once
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <string>
 
@@ -13,6 +16,23 @@
 namespace floorcast::test {
 
 inline std::string data_path(const std::string& relative) { return std::string(FLOORCAST_TEST_DATA_DIR) + "/" + relative; }
+
+inline bool is_dir(const std::string& p) {
+  struct stat st {};
+  return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+/// The real development plans (../shared/realplans; not part of the repository, so absent on a
+/// clean clone): FLOORCAST_REALPLANS_DIR, else ../shared/realplans next to the source tree (or one
+/// level up, for worktrees under wt/); empty if none exists.
+inline std::string realplans_dir() {
+  if (const char* env = std::getenv("FLOORCAST_REALPLANS_DIR")) return is_dir(env) ? env : "";
+  for (const char* rel : {"/../shared/realplans", "/../../shared/realplans"}) {
+    const std::string p = std::string(FLOORCAST_SOURCE_DIR) + rel;
+    if (is_dir(p)) return p;
+  }
+  return "";
+}
 
 /// Distance from p to segment ab.
 inline double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {

@@ -5,12 +5,10 @@
 // walls). Skipped when the folder is absent (the plans are not part of the repository).
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <iostream>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <sys/stat.h>
 
 #include <opencv2/imgproc.hpp>
 
@@ -23,21 +21,7 @@
 namespace floorcast {
 namespace {
 
-bool is_dir(const std::string& p) {
-  struct stat st {};
-  return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-}
-
-/// FLOORCAST_REALPLANS_DIR, else ../shared/realplans next to the source tree (or one level up,
-/// for worktrees under wt/); empty if none exists.
-std::string realplans_dir() {
-  if (const char* env = std::getenv("FLOORCAST_REALPLANS_DIR")) return is_dir(env) ? env : "";
-  for (const char* rel : {"/../shared/realplans", "/../../shared/realplans"}) {
-    const std::string p = std::string(FLOORCAST_SOURCE_DIR) + rel;
-    if (is_dir(p)) return p;
-  }
-  return "";
-}
+using test::realplans_dir;
 
 struct Level {
   const char* folder;

@@ -8,9 +8,10 @@
 // (motion_noise odometry, the default: sigma_step = the increment's along-track error, sigma_heading
 // = atan(across-track error / step length), sigma_drift = the increment's rotation error, which
 // persists in the particle's heading as the odometry's own does), or are PALMS' constants
-// (motion_noise fixed: 0.356 m, 0.05 rad, 0.015 rad per step). Walls (a raster of the map's walls and glass, at
-// 0.05 m; doorways pass) are handled per wall_handling; a particle that leaves the building gets
-// weight 0. Low-variance resampling after every step, then a jitter of N(0, 0.1 m).
+// (motion_noise fixed: 0.356 m, 0.05 rad, 0.015 rad per step). Walls (a raster of the map's walls
+// and glass, at 0.05 m; doorways pass) are handled per wall_handling; a particle that leaves the
+// building gets weight 0. Low-variance resampling after every step; a jitter of N(0, 0.1 m) after
+// the resampling of a measurement update, and (motion_noise fixed: PALMS) after every step's.
 // Convergence: stage 1 when one orientation group holds > 80% of the particles; then a mean shift
 // (1 m flat kernel) on that group every 5 steps; stage 2 (converged) when its largest cluster
 // holds >= 50% of the group. Estimate: mean of all particles before stage 1, then the mean of the
@@ -59,7 +60,8 @@ struct ParticleFilterParams {
   double wall_weight = 0.3;              ///< PALMS: weighted walls x0.3
   double scheduled_weight = 0.9;         ///< PALMS: scheduled walls x0.9 ...
   int scheduled_updates = 40;            ///< ... for 40 updates, then 0
-  double jitter_sigma_m = 0.1;           ///< PALMS: resampling jitter
+  /// PALMS: resampling jitter (after updates; after every step with motion_noise fixed)
+  double jitter_sigma_m = 0.1;
   double stage1_share = 0.8;             ///< PALMS: one orientation group > 80%
   int mean_shift_every = 5;              ///< PALMS: mean shift every 5 steps in stage 2
   double stage2_share = 0.5;             ///< PALMS: largest cluster >= 50% of the group
@@ -109,7 +111,8 @@ class ParticleFilter final : public Tracker {
 
  private:
   struct Impl;
-  void resample();
+  /// Low-variance resampling; jitter_copies: then the jitter of jitter_sigma_m.
+  void resample(bool jitter_copies);
   void update_convergence();
   ParticleFilterParams params_;
   std::unique_ptr<Impl> impl_;
