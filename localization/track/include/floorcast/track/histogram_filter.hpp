@@ -1,13 +1,25 @@
 // The F3Loc histogram filter (facts in ../shared/reference/f3loc.md; the thesis' sequential
 // chapter): a belief over an (x, y, yaw) grid (0.1 m, 36 directions: the ray matcher's grid).
 //
-// Motion: per orientation slice, the ego-motion rotated into that slice's heading is applied as a
-// Gaussian kernel (sigma 0.1 m) centred on the motion (F3Loc's grouped 2D convolution; separable
-// here: two 1D passes), then a circular Gaussian over yaw (sigma 0.1 rad) centred on the heading
-// change. Motions larger than the kernels' span (max_substep_m, max_substep_deg) are split into
-// sub-steps (the noise stays F3Loc's per odometry step: each sub-step diffuses by sigma/sqrt(n)). The belief is kept at 0 outside the building. Measurement: belief x (floor + (1 -
-// floor) x posterior / max), the posterior looked up at the nearest slice in yaw and the cell
-// (any matcher's posterior, any grid). Estimate: the belief's argmax.
+// Motion: per orientation slice, the ego-motion rotated into that slice's heading moves the slice
+// by whole cells, the sub-cell rest kept as the slice's offset (so small motions are not lost and
+// nothing is smoothed by interpolation), convolved with the discrete Gaussian of the increment's
+// translation noise (F3Loc's grouped 2D convolution; separable here: two 1D passes); then the
+// slices turn by whole bins (the rest kept as the heading residual) and are convolved with the
+// circular discrete Gaussian of the rotation noise. The noise of each increment is the odometry's
+// stated error (motion_noise odometry, the default: OdometryUncertainty, per metre, radian, second
+// and step; a walk states it for its odometry, the defaults are for uncharacterised odometry) or
+// F3Loc's constants (motion_noise fixed: 0.1 m and 0.1 rad per increment, whatever the odometry:
+// on VIO walks without observations that diffused a correct start into a 180 deg twin within
+// 20 steps, results/sequential.md). Motions larger than max_substep_m, max_substep_deg or with
+// more noise than the kernels reach are split into sub-steps (variances add: splitting adds no
+// noise). The belief is kept at 0 outside the building. Measurement: belief x (floor + (1 - floor)
+// x posterior / max), the posterior looked up at the nearest slice in yaw and the cell (any
+// matcher's posterior, any grid). Estimate: the belief's argmax (F3Loc; the default, measured
+// against the window mode in results/sequential.md), or the mode of the belief summed over the
+// success window. "Converged": the belief mass within 1 m and 30 deg of the estimate reaches
+// converged_mass. No mass left (every hypothesis walked out of the building) is reported as
+// degenerate with support 0, never a made-up pose.
 #pragma once
 
 #include <cstdint>
