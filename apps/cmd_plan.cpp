@@ -58,12 +58,15 @@ void register_plan_info(CLI::App& root) {
               << "obstacles:    " << j["obstacles"] << "\n";
   });
 
-  auto* validate = plan.add_subcommand("validate", "Check a plan file; exit non-zero with the reason if invalid");
+  auto* validate = plan.add_subcommand(
+      "validate", "Check a plan file (format, geometry, and a room-sized free region to stand in); exit non-zero with "
+                  "the reason if invalid");
   auto validate_files = std::make_shared<std::vector<std::string>>();
   validate->add_option("FILES", *validate_files, "Floor-plan JSON files")->required();
   validate->callback([validate_files] {
     for (const std::string& f : *validate_files) {
-      (void)load_floor_plan(f);
+      const FloorPlan p = load_floor_plan(f);
+      require_room_sized_free_region(p, f);
       std::cout << f << ": ok\n";
     }
   });

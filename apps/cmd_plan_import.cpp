@@ -32,8 +32,50 @@ struct ImportCliOptions {
   bool drop_bad_openings = false;
   bool include_outwall = false;
   std::vector<std::string> imdf_open_categories;
+  std::vector<std::string> imdf_void_categories;
+  std::string crs;
+  bool unmapped_as_floor = false;
+  bool infer_openings = false;
+  bool strict = false;
   bool json = false;
 };
+
+nlohmann::ordered_json faithfulness_json(const FaithfulnessReport& f) {
+  nlohmann::ordered_json j;
+  j["applicable"] = f.applicable;
+  if (!f.applicable) return j;
+  auto r2 = [](double v) { return std::round(v * 100.0) / 100.0; };
+  j["resolution_m_per_px"] = f.resolution_m_per_px;
+  j["spaces"] = f.spaces;
+  j["source_area_m2"] = r2(f.source_area_m2);
+  j["mapped_area_m2"] = r2(f.mapped_area_m2);
+  j["wall_area_m2"] = r2(f.wall_area_m2);
+  j["free_area_m2"] = r2(f.free_area_m2);
+  j["free_in_mapped_m2"] = r2(f.free_in_mapped_m2);
+  j["free_outside_mapped_m2"] = r2(f.free_outside_mapped_m2);
+  j["free_share"] = std::round(f.free_share * 10000.0) / 10000.0;
+  j["unmapped_area_m2"] = r2(f.unmapped_area_m2);
+  j["unmapped_regions"] = f.unmapped_regions;
+  nlohmann::ordered_json kinds = nlohmann::ordered_json::array();
+  for (const KindFaithfulness& k : f.kinds) {
+    kinds.push_back({{"kind", k.kind},
+                     {"spaces", k.spaces},
+                     {"source_area_m2", r2(k.source_area_m2)},
+                     {"mapped_area_m2", r2(k.mapped_area_m2)},
+                     {"wall_area_m2", r2(k.wall_area_m2)},
+                     {"free_area_m2", r2(k.free_area_m2)},
+                     {"free_share", std::round(k.free_share * 10000.0) / 10000.0}});
+  }
+  j["kinds"] = kinds;
+  j["sealed_spaces"] = f.sealed_spaces;
+  j["sealed_area_m2"] = r2(f.sealed_area_m2);
+  j["sealed_ids"] = f.sealed_ids;
+  j["unreachable_spaces"] = f.unreachable_spaces;
+  j["unreachable_area_m2"] = r2(f.unreachable_area_m2);
+  j["spaces_outside_free"] = f.spaces_outside_free;
+  j["levels_without_spaces"] = f.levels_without_spaces;
+  return j;
+}
 
 void print_report(const ImportResult& r, const std::string& output) {
   const CleanupReport& c = r.cleanup;
@@ -60,8 +102,23 @@ void print_report(const ImportResult& r, const std::string& output) {
   }
   std::cout << "plan: walls " << counts.walls << ", doors " << counts.doors << " (closed " << counts.doors_closed
             << "), windows " << counts.windows << ", rooms " << r.plan.rooms.size() << "\n";
+  if (r.faithfulness.applicable) {
+    std::cout << "faithfulness: " << faithfulness_summary(r.faithfulness) << "\n";
+    std::cout << "  by kind (free share of the mapped area less walls):";
+    for (const KindFaithfulness& k : r.faithfulness.kinds) {
+      std::cout << " " << k.kind << " " << std::setprecision(1) << 100.0 * k.free_share << "% of "
+                << std::setprecision(0) << k.mapped_area_m2 << " m^2;";
+    }
+    std::cout << std::setprecision(3) << "\n";
+    if (!r.faithfulness.levels_without_spaces.empty()) {
+      std::cout << "  levels of the source without spaces:";
+      for (const std::string& l : r.faithfulness.levels_without_spaces) std::cout << " " << l << ";";
+      std::cout << "\n";
+    }
+  }
   for (const std::string& n : c.notes) std::cout << "note: " << n << "\n";
   for (const std::string& n : r.notes) std::cout << "note: " << n << "\n";
+  for (const std::string& w : r.warnings) std::cout << "warning: " << w << "\n";
 }
 
 nlohmann::ordered_json report_json(const ImportResult& r, const std::string& output) {
@@ -102,6 +159,8 @@ nlohmann::ordered_json report_json(const ImportResult& r, const std::string& out
   for (const std::string& n : c.notes) notes.push_back(n);
   for (const std::string& n : r.notes) notes.push_back(n);
   j["notes"] = notes;
+  j["faithfulness"] = faithfulness_json(r.faithfulness);
+  j["warnings"] = r.warnings;
   return j;
 }
 
@@ -141,6 +200,21 @@ void register_plan_import(CLI::App& root) {
   cmd->add_flag("--include-outwall", o->include_outwall, "s3d: also import the exterior (outwall) surfaces");
   cmd->add_option("--imdf-open-category", o->imdf_open_categories,
                   "imdf: unit category whose shared boundaries are open, repeatable (default: walkway)");
+  cmd->add_flag("--unmapped-as-floor", o->unmapped_as_floor,
+                "imdf/osm/geojson: regions enclosed by walls that no space covers (courtyards, atria) stay free floor "
+                "(default: labelled \"unmapped\", not floor)");
+  cmd->add_flag("--infer-openings", o->infer_openings,
+                "imdf/osm/geojson: give each room without an opening in the source a door on the longest stretch of "
+                "wall it shares with a corridor or hall (counted as openings_inferred)");
+  cmd->add_flag("--strict", o->strict,
+                "Refuse the import when the faithfulness check warns (free floor missing from the mapped spaces, free "
+                "floor outside them, sealed spaces)");
+  cmd->add_option("--imdf-void-category", o->imdf_void_categories,
+                  "imdf: unit category that is no space (a void or building mass: walls around it, not floor), "
+                  "repeatable (default: opentobelow column structure brick concrete drywall glass wood)");
+  cmd->add_option("--crs", o->crs,
+                  "imdf/osm/geojson: coordinate reference system of the positions (e.g. EPSG:32632 for UTM 32N metres); "
+                  "overrides a GeoJSON crs member (default: the declared one, else WGS84 longitude/latitude)");
   cmd->add_flag("--json", o->json, "Print the import report as JSON");
   cmd->callback([o] {
     refuse_output_inside_inputs(o->output, {o->source});
@@ -153,7 +227,7 @@ void register_plan_import(CLI::App& root) {
     const bool unit_format = o->format == "csv" || o->format == "s3d" || o->format == "structured3d";
     if ((!o->units.empty() || o->scale != 0.0) && !unit_format) {
       throw InputError("--units/--scale apply to csv and s3d sources (" + o->format +
-                       " has its own units: png --resolution, imdf/osm/geojson WGS84)");
+                       " has its own units: png --resolution, imdf/osm/geojson their coordinate reference system, see --crs)");
     }
     if (o->resolution_m_per_px != 0.0) opts.resolution_m_per_px = o->resolution_m_per_px;
     if (o->wall_thickness_m != 0.0) opts.wall_thickness_m = o->wall_thickness_m;
@@ -168,7 +242,12 @@ void register_plan_import(CLI::App& root) {
     }
     opts.doors_closed = o->doors_closed;
     opts.s3d_include_outwall = o->include_outwall;
+    opts.unmapped_is_floor = o->unmapped_as_floor;
+    opts.strict = o->strict;
+    opts.infer_openings = o->infer_openings;
     if (!o->imdf_open_categories.empty()) opts.imdf_open_unit_categories = o->imdf_open_categories;
+    if (!o->imdf_void_categories.empty()) opts.imdf_void_unit_categories = o->imdf_void_categories;
+    if (!o->crs.empty()) opts.crs = o->crs;
     const ImportFormat format = parse_import_format(o->format);
     const ImportResult r = import_floor_plan(o->source, format, opts);
     save_floor_plan(r.plan, o->output);

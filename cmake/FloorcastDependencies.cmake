@@ -10,6 +10,8 @@ find_package(embree 3 REQUIRED)
 find_package(TinyGLTF REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(pugixml 1.13 REQUIRED)
+# Coordinate reference systems of geographic floor-plan sources (floorplans_import only).
+find_package(PROJ 9 REQUIRED CONFIG)
 find_package(yaml-cpp REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(TBB REQUIRED)

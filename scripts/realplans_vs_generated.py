@@ -11,6 +11,7 @@ import argparse
 import csv
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -59,6 +60,35 @@ def rng_text(values, fmt="{:.0f}"):
     return fmt.format(lo) if fmt.format(lo) == fmt.format(hi) else fmt.format(lo) + "-" + fmt.format(hi)
 
 
+def faithfulness_table(plans_dir):
+    """The import report (`plan import --json`, saved by scripts/import_realplans.sh) of every real
+    level: is the imported plan what the source says?"""
+    print("## Faithfulness of the imports (`floorcast plan import`; floorplans/README.md, \"Faithfulness check\")\n")
+    print("| level | spaces | mapped (m^2) | free share of mapped less walls | free outside every space (m^2) "
+          "| unmapped, not floor (m^2, regions) | sealed spaces (m^2) | not reachable from the largest free region "
+          "(m^2) | unwalled outlines walled at unmapped space | rooms without an opening in the source | warnings |")
+    print("|" + "---|" * 11)
+    for name in REAL_SMALL + REAL_LARGE:
+        path = os.path.join(plans_dir, "reports", name + ".json")
+        if not os.path.exists(path):
+            continue
+        with open(path) as fh:
+            r = json.load(fh)
+        f = r["faithfulness"]
+        rooms_without = "0"
+        for n in r["notes"]:
+            m = re.search(r"(\d+) of (\d+) rooms have no opening", n)
+            if m:
+                rooms_without = "%s of %s" % (m.group(1), m.group(2))
+        walled = r["repairs"].get("open_outlines_walled_at_unmapped", 0)
+        print("| %s | %d | %s | %.1f%% | %.1f | %.0f (%d) | %d (%.0f) | %d (%.0f) | %d | %s | %s |" % (
+            name, f["spaces"], "{:,.0f}".format(f["mapped_area_m2"]), 100.0 * f["free_share"],
+            f["free_outside_mapped_m2"], f["unmapped_area_m2"], f["unmapped_regions"], f["sealed_spaces"],
+            f["sealed_area_m2"], f["unreachable_spaces"], f["unreachable_area_m2"], walled, rooms_without,
+            "; ".join(r["warnings"]) if r["warnings"] else "none"))
+    print()
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--bin", default="build/bin/floorcast")
@@ -80,6 +110,8 @@ def main():
             run([args.bin, "plan", "generate", "--archetype", a, "--seed", s, "-o", f])
             files.append(f)
         sets[a] = files
+
+    faithfulness_table(args.plans)
 
     # Structure.
     real_small = [os.path.join(args.plans, n + ".json") for n in REAL_SMALL]

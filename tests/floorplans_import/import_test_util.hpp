@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <limits>
 #include <string>
 
@@ -32,6 +34,27 @@ inline std::string realplans_dir() {
     if (is_dir(p)) return p;
   }
   return "";
+}
+
+inline std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// WGS84 radii of curvature, the reference formulas the geographic tests check the importers'
+/// projection (PROJ) against: meridional M(lat) = a (1 - e^2) / (1 - e^2 sin^2)^1.5 and prime
+/// vertical N(lat) = a / sqrt(1 - e^2 sin^2).
+inline double meridian_radius_m(double lat_deg) {
+  const double a = 6378137.0, f = 1.0 / 298.257223563, e2 = f * (2.0 - f);
+  const double s = std::sin(lat_deg * M_PI / 180.0);
+  return a * (1.0 - e2) / std::pow(1.0 - e2 * s * s, 1.5);
+}
+inline double prime_vertical_radius_m(double lat_deg) {
+  const double a = 6378137.0, f = 1.0 / 298.257223563, e2 = f * (2.0 - f);
+  const double s = std::sin(lat_deg * M_PI / 180.0);
+  return a / std::sqrt(1.0 - e2 * s * s);
 }
 
 /// Distance from p to segment ab.

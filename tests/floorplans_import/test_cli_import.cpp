@@ -58,9 +58,14 @@ TEST(CliImport, ImportsCleansAndWritesAValidPlan) {
   const CliRun j = run_cli("plan import " + test::data_path("osm/building.osm") + " -f osm --level 0 --doors-closed --json -o " + plan);
   ASSERT_EQ(j.exit_code, 0) << j.err;
   const auto report = nlohmann::json::parse(j.out);
-  EXPECT_EQ(report["plan"]["walls"], 11);
+  EXPECT_EQ(report["plan"]["walls"], 12);
   EXPECT_EQ(report["plan"]["doors_closed"], 4);
-  EXPECT_EQ(report["notes"].size(), 1u);
+  // Two rooms without openings, the hall's outline walled toward unmapped space, a door node on
+  // an open boundary skipped.
+  EXPECT_EQ(report["notes"].size(), 3u);
+  EXPECT_TRUE(report["faithfulness"]["applicable"].get<bool>());
+  EXPECT_GT(report["faithfulness"]["free_share"].get<double>(), 0.95);
+  EXPECT_TRUE(report["warnings"].empty());
   std::filesystem::remove(plan);
 }
 

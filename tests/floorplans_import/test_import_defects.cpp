@@ -77,8 +77,8 @@ SourceUnits read_units(const std::string& path) {
   }
   lon0 /= n;
   lat0 /= n;
-  const double m_per_deg_lat = LocalTangentPlane::meridian_radius_m(lat0) * M_PI / 180.0;
-  const double m_per_deg_lon = LocalTangentPlane::prime_vertical_radius_m(lat0) * std::cos(lat0 * M_PI / 180.0) * M_PI / 180.0;
+  const double m_per_deg_lat = test::meridian_radius_m(lat0) * M_PI / 180.0;
+  const double m_per_deg_lon = test::prime_vertical_radius_m(lat0) * std::cos(lat0 * M_PI / 180.0) * M_PI / 180.0;
   SourceUnits out;
   for (const auto& ll : lonlat) {
     std::vector<Vec2> ring;

@@ -123,7 +123,7 @@ TEST(ImportImdf, BadFeaturesAreNamedByFileIndexAndId) {
     auto u = read_json("imdf/simple/unit.geojson");
     u["features"][2]["geometry"]["coordinates"][0][1][1] = 95.0;
     expect_input_error([&] { import_imdf_texts(level, u.dump(), opening, "venue"); },
-                       {"features[2] (id \"walk-1\")", "[0][1]", "not a WGS84"});
+                       {"features[2] (id \"walk-1\")", ", 95]", "not a longitude/latitude of WGS 84"});
   }
   {
     auto u = read_json("imdf/simple/unit.geojson");

@@ -19,6 +19,20 @@ GeoJsonFile::GeoJsonFile(const std::string& text, std::string name, const char* 
   if (!root_.contains("features") || !root_["features"].is_array()) {
     throw InputError(name_ + ": FeatureCollection has no \"features\" array");
   }
+  if (root_.contains("crs") && !root_["crs"].is_null()) {
+    const Json& c = root_["crs"];
+    const std::string type = c.is_object() && c.contains("type") && c["type"].is_string() ? c["type"].get<std::string>() : "";
+    const Json* props = c.is_object() && c.contains("properties") && c["properties"].is_object() ? &c["properties"] : nullptr;
+    if (type == "name" && props && props->contains("name") && (*props)["name"].is_string()) {
+      crs_ = (*props)["name"].get<std::string>();
+    } else if (type == "EPSG" && props && props->contains("code") && (*props)["code"].is_number_integer()) {
+      crs_ = "EPSG:" + std::to_string((*props)["code"].get<long long>());
+    } else {
+      throw InputError(name_ + ": crs " + c.dump() +
+                       " is not a named CRS ({\"type\": \"name\", \"properties\": {\"name\": \"EPSG:NNNN\"}}); "
+                       "give the coordinate reference system with --crs");
+    }
+  }
 }
 
 const GeoJsonFile::Json& GeoJsonFile::feature(std::size_t i) const {
@@ -76,9 +90,7 @@ LonLat GeoJsonFile::position(std::size_t i, const Json& v, const std::string& pa
     fail(i, "geometry position " + path + " must be [longitude, latitude], got " + v.dump());
   }
   LonLat p{v[0].get<double>(), v[1].get<double>()};
-  if (!std::isfinite(p.lon) || !std::isfinite(p.lat) || std::abs(p.lon) > 180.0 || std::abs(p.lat) > 90.0) {
-    fail(i, "geometry position " + path + " is not a WGS84 [longitude, latitude]: " + v.dump());
-  }
+  if (!std::isfinite(p.lon) || !std::isfinite(p.lat)) fail(i, "geometry position " + path + " is not finite: " + v.dump());
   return p;
 }
 

@@ -34,6 +34,7 @@ class GeoJsonFile {
   /// The geometry's "type" ("" when the geometry is null or has none).
   std::string geometry_type(std::size_t i) const;
 
+  /// A position as written ([x, y], finite numbers); GeoFrame checks it against the CRS.
   LonLat position(std::size_t i, const Json& v, const std::string& path) const;
   /// Rings of a Polygon / MultiPolygon geometry (outer rings and holes), closed (last = first).
   std::vector<Ring> polygon_rings(std::size_t i, std::vector<bool>* is_outer = nullptr) const;
@@ -43,11 +44,16 @@ class GeoJsonFile {
   LonLat point(std::size_t i) const;
 
   const std::string& name() const { return name_; }
+  /// The coordinate reference system the file declares in a top-level "crs" member (GeoJSON 2008:
+  /// {"type": "name", "properties": {"name": "EPSG:32632"}} or {"type": "EPSG", "properties":
+  /// {"code": 32632}}), as text for PROJ; empty when none (RFC 7946: WGS84). A linked CRS is refused.
+  const std::string& crs() const { return crs_; }
 
  private:
   std::string name_;
   const char* expected_type_;
   Json root_;
+  std::string crs_;
 };
 
 }  // namespace floorcast::import_detail

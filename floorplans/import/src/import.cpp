@@ -1,4 +1,4 @@
-// Importer entry point, shared helpers, WGS84 local tangent plane, OSM level values.
+// Importer entry point, shared helpers, OSM level values.
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -12,9 +12,12 @@
 
 
 #include "floorcast/core/image_io.hpp"
+#include "floorcast/core/limits.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/import.hpp"
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/floorplans/raster.hpp"
+#include "floorcast/floorplans/rooms.hpp"
 #include "import_common.hpp"
 
 namespace floorcast {
@@ -58,7 +61,8 @@ int plain_level(const ImportOptions& options, const std::string& source) {
 }
 
 ImportResult finish_import(FloorPlan plan, const std::string& source, const std::string& default_name,
-                           const ImportOptions& options, ImportResult partial, const UnitCheck* units) {
+                           const ImportOptions& options, ImportResult partial, const UnitCheck* units,
+                           bool mapped_spaces) {
   plan.name = options.name.empty() ? default_name : options.name;
   if (plan.walls.empty()) throw InputError(source + ": no walls found");
   // A level kilometres wide is refused before anything else looks at it; the finer checks (too
@@ -68,6 +72,45 @@ ImportResult finish_import(FloorPlan plan, const std::string& source, const std:
   if (plan.walls.empty()) throw InputError(source + ": no walls left after clean-up (all degenerate)");
   validate_floor_plan(plan, source);
   if (units) check_plan_units(plan, source, units->unit_m, units->native_unit, units->remedy, false);
+  // Free space = the union of the mapped spaces: enclosed regions no space covers are not floor.
+  if (!options.unmapped_is_floor) {
+    std::vector<Room> unmapped = unmapped_regions(plan, options.faithfulness);
+    if (!unmapped.empty()) {
+      double area = 0.0;
+      for (const Room& r : unmapped) area += room_area_m2(r);
+      partial.notes.push_back(std::to_string(unmapped.size()) + " enclosed region(s) of " + fmt(std::round(area * 10.0) / 10.0) +
+                              " m^2 (first: " + unmapped.front().id + ", " + fmt(std::round(room_area_m2(unmapped.front()) * 10.0) / 10.0) +
+                              " m^2) lie in no mapped space: labelled \"unmapped\", not floor (--unmapped-as-floor keeps them)");
+      count_repair(partial, "unmapped_regions_not_floor", static_cast<int>(unmapped.size()));
+      for (Room& r : unmapped) plan.rooms.push_back(std::move(r));
+      validate_floor_plan(plan, source);
+    }
+  }
+  std::vector<std::string> levels_without_spaces = std::move(partial.faithfulness.levels_without_spaces);
+  partial.faithfulness = check_faithfulness(plan, options.faithfulness);
+  partial.faithfulness.levels_without_spaces = std::move(levels_without_spaces);
+  partial.warnings.insert(partial.warnings.begin(), partial.faithfulness.warnings.begin(), partial.faithfulness.warnings.end());
+  // Somewhere to stand: `plan validate` refuses a plan without a room-sized free region. Sources
+  // of mapped spaces (imdf, osm, geojson) are refused too; csv, s3d and png plans (fragments, PALMS
+  // plans with doors drawn as gaps) get a warning.
+  try {
+    require_room_sized_free_region(plan, source);
+  } catch (const LimitError&) {
+    throw;
+  } catch (const InputError& e) {
+    if (!mapped_spaces) {
+      partial.warnings.push_back(std::string(e.what()) + " (`plan validate` refuses the plan)");
+    } else {
+      std::string why = e.what();
+      for (const std::string& w : partial.warnings) why += "; " + w;
+      throw InputError(why);
+    }
+  }
+  if (options.strict && !partial.warnings.empty()) {
+    std::string why;
+    for (const std::string& w : partial.warnings) why += (why.empty() ? "" : "; ") + w;
+    throw InputError(source + ": --strict: the import is not faithful to its source: " + why);
+  }
   partial.plan = std::move(plan);
   return partial;
 }
@@ -373,45 +416,6 @@ ImportResult import_floor_plan(const std::string& path, ImportFormat format, con
       return import_geojson_text(read_text_file(path), path, opts);
   }
   throw InputError(path + ": unknown import format");
-}
-
-// ---- WGS84 local tangent plane ------------------------------------------------------------------
-
-namespace {
-constexpr double kWgs84A = 6378137.0;
-constexpr double kWgs84F = 1.0 / 298.257223563;
-constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
-
-Eigen::Vector3d geodetic_to_ecef(double lat_deg, double lon_deg) {
-  const double phi = lat_deg * kDegToRad, lam = lon_deg * kDegToRad;
-  const double s = std::sin(phi);
-  const double n = kWgs84A / std::sqrt(1.0 - kWgs84E2 * s * s);
-  return {n * std::cos(phi) * std::cos(lam), n * std::cos(phi) * std::sin(lam), n * (1.0 - kWgs84E2) * s};
-}
-}  // namespace
-
-LocalTangentPlane::LocalTangentPlane(double lat0_deg, double lon0_deg) {
-  origin_ecef_ = geodetic_to_ecef(lat0_deg, lon0_deg);
-  const double phi = lat0_deg * kDegToRad, lam = lon0_deg * kDegToRad;
-  R_enu_ecef_ << -std::sin(lam), std::cos(lam), 0.0,
-      -std::sin(phi) * std::cos(lam), -std::sin(phi) * std::sin(lam), std::cos(phi),
-      std::cos(phi) * std::cos(lam), std::cos(phi) * std::sin(lam), std::sin(phi);
-}
-
-Vec2 LocalTangentPlane::to_local_m(double lat_deg, double lon_deg) const {
-  const Eigen::Vector3d enu = R_enu_ecef_ * (geodetic_to_ecef(lat_deg, lon_deg) - origin_ecef_);
-  return {enu.x(), enu.y()};
-}
-
-double LocalTangentPlane::meridian_radius_m(double lat_deg) {
-  const double s = std::sin(lat_deg * kDegToRad);
-  return kWgs84A * (1.0 - kWgs84E2) / std::pow(1.0 - kWgs84E2 * s * s, 1.5);
-}
-
-double LocalTangentPlane::prime_vertical_radius_m(double lat_deg) {
-  const double s = std::sin(lat_deg * kDegToRad);
-  return kWgs84A / std::sqrt(1.0 - kWgs84E2 * s * s);
 }
 
 // ---- OSM level values ---------------------------------------------------------------------------

@@ -26,9 +26,13 @@ struct UnitCheck {
 };
 
 /// Runs cleanup and validation on an imported plan and fills the result. `default_name` is used
-/// when options.name is empty. With `units`, the validated plan then gets the unit check.
+/// when options.name is empty. With `units`, the validated plan then gets the unit check. Then the
+/// free-space rule (enclosed regions no space covers become "unmapped"), the faithfulness check,
+/// and the room-sized free region check: a refusal for `mapped_spaces` sources (imdf, osm,
+/// geojson), a warning for the others; --strict turns warnings into a refusal.
 ImportResult finish_import(FloorPlan plan, const std::string& source, const std::string& default_name,
-                           const ImportOptions& options, ImportResult partial, const UnitCheck* units = nullptr);
+                           const ImportOptions& options, ImportResult partial, const UnitCheck* units = nullptr,
+                           bool mapped_spaces = false);
 
 /// Wall thickness for formats with a fixed default.
 double wall_thickness_or(const ImportOptions& options, double fallback_m, const std::string& source);
@@ -53,6 +57,50 @@ struct BoundaryPieces {
 BoundaryPieces classify_boundaries(const std::vector<BoundaryEdge>& edges, double tolerance_m,
                                    double angle_tolerance_rad);
 
+/// The free-space rule at the outlines (floorplans/README.md, "Free space"): an outline piece that
+/// is not a wall (an indoor=area or wall=no outline, a boundary between corridors) becomes a wall
+/// where it borders unmapped space, i.e. where no space lies within `offset_m` on one of its sides.
+/// `spaces` are the level's spaces (room labels). Returns the length turned into walls (m) and the
+/// number of pieces; `pieces.open` keeps the rest.
+struct WalledAtUnmapped {
+  double length_m = 0.0;
+  int pieces = 0;
+};
+WalledAtUnmapped wall_unmapped_sides(BoundaryPieces& pieces, const std::vector<Room>& spaces, double offset_m = 0.15);
+
+/// Openings of the level's rooms (floorplans/README.md, "Openings"): a room is a space whose kind
+/// is neither transitional nor "area" (its outline is walled); it has an opening when a door lies on
+/// its outline (within `reach_m`) or a stretch of its outline is no wall (farther than `reach_m`
+/// from every wall). With `infer`, each room without one gets a door (id "inferred-<room id>",
+/// `width_m` wide, narrower down to 0.6 m on a short boundary, 0.2 m from its ends) at the middle of
+/// the longest stretch of its outline that lies on a wall and has a transitional space on its
+/// other side (0.15 m beyond it); rooms without such a stretch stay sealed. Notes name what was
+/// found and done.
+struct OpeningsReport {
+  int rooms = 0;
+  int rooms_without = 0;  ///< before inference
+  int inferred = 0;
+  int left_sealed = 0;    ///< without an opening after inference (all of rooms_without without it)
+};
+OpeningsReport check_openings(FloorPlan& plan, const std::vector<Segment2>& walls, bool infer, double width_m,
+                              double reach_m, std::vector<std::string>& notes);
+
+/// A wall drawn as a polygon with its thickness (GeoJSON Polygon with indoor=wall or type=wall,
+/// ...), in plan metres: outer ring first, then holes.
+struct WallPolygon {
+  std::string what;  ///< names it in notes
+  std::string id;
+  std::vector<std::vector<Vec2>> rings;
+  bool glass = false;
+};
+/// Walls of wall polygons: a rectangle (opposite sides parallel, adjacent perpendicular, within 1
+/// degree) is one wall along its long axis, as thick as its short side (a polygon over 5 m thick is
+/// skipped with a note); every other shape (L and T pieces, a floor's walls as one polygon with the
+/// rooms as holes) is drawn on a 2 cm raster (coarser above 20 million cells) and vectorised like an
+/// occupancy image (vectorize_occupancy), each wall's thickness measured. Counts both kinds.
+std::vector<Wall> walls_from_polygons(const std::vector<WallPolygon>& polygons, const ImportOptions& options,
+                                      std::vector<std::string>& notes, int& rectangles, int& traced);
+
 /// Appends one wall per segment, ids "w1", "w2", ... continuing the plan's wall count.
 void append_walls(FloorPlan& plan, const std::vector<Segment2>& segments, double thickness_m);
 
@@ -76,6 +124,8 @@ void count_repair(ImportResult& result, const std::string& name, int n = 1);
 
 // ---- Geographic sources -------------------------------------------------------------------------
 
+/// A source position as read: longitude/latitude degrees, or easting/northing of a projected CRS
+/// (GeoFrame converts it).
 struct LonLat {
   double lon = 0.0, lat = 0.0;
   bool operator==(const LonLat& o) const { return lon == o.lon && lat == o.lat; }
@@ -93,6 +143,9 @@ struct IndoorFeature {
   /// Rings (areas: closed, first = last; lines: open) and which are inner rings (holes).
   std::vector<Ring> rings;
   std::vector<bool> inner;
+  /// Room kind of the space when the schema says more than its indoor=* value (IndoorOSM
+  /// buildingpart=hall -> "hall"); empty: from the tags.
+  std::string kind;
   bool area = false;      ///< area geometry (closed way, multipolygon, GeoJSON (Multi)Polygon)
   bool unclosed = false;  ///< an area whose ring does not close (a data defect: skipped with a note)
 };
@@ -106,6 +159,10 @@ struct IndoorData {
   std::vector<IndoorFeature> features;
   std::vector<IndoorPoint> points;
   std::vector<std::pair<std::string, int>> source_counts;  ///< what the parser read
+  std::string crs;  ///< the coordinate reference system the source declares (empty: WGS84)
+  /// The most frequent tag keys of the source's ways and relations (for the message when it holds
+  /// no indoor schema the importer reads), most frequent first.
+  std::vector<std::pair<std::string, int>> frequent_keys;
 };
 
 /// Imports one level of OSM Simple Indoor Tagging data (the OSM XML and the OSM-derived GeoJSON

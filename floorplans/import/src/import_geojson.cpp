@@ -5,6 +5,9 @@
 // others holes), LineString/MultiLineString features are lines (indoor=wall), Point features are
 // nodes (doors, columns). Levels may also be written as ranges "2~2", "-1~4". The indoor
 // semantics are import_indoor()'s, exactly as for OSM XML.
+#include <algorithm>
+#include <cctype>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "floorcast/floorplans/import.hpp"
@@ -18,6 +21,7 @@ ImportResult import_geojson_text(const std::string& text, const std::string& sou
   const import_detail::GeoJsonFile file(text, source, nullptr);
   import_detail::IndoorData data;
   int points = 0, lines = 0, areas = 0, other = 0;
+  std::map<std::string, int> keys;
   for (std::size_t i = 0; i < file.size(); ++i) {
     const Json& f = file.feature(i);
     if (!f.contains("properties") || f["properties"].is_null()) {
@@ -33,6 +37,22 @@ ImportResult import_geojson_text(const std::string& text, const std::string& sou
         tags[it.key()] = v.get<std::string>();
       } else if (v.is_number() || v.is_boolean()) {
         tags[it.key()] = v.dump();
+      }
+    }
+    for (const auto& [k, v] : tags) ++keys[k];
+    // Wall-polygon / door-line exports (CAD, BIM and indoor-map tools) without OSM tags: the
+    // element's class under a common key (type, category, class, layer, kind, feature_type).
+    if (!tags.count("indoor")) {
+      for (const char* key : {"type", "category", "class", "layer", "kind", "feature_type"}) {
+        auto it = tags.find(key);
+        if (it == tags.end()) continue;
+        std::string v = it->second;
+        std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+        if (v == "wall" || v == "walls") tags["indoor"] = "wall";
+        else if (v == "door" || v == "doors" || v == "opening" || v == "entrance") tags["indoor"] = "door";
+        else if (v == "window" || v == "windows") tags["indoor"] = "window";
+        else continue;
+        break;
       }
     }
     const std::string fid = file.id(i);
@@ -57,7 +77,8 @@ ImportResult import_geojson_text(const std::string& text, const std::string& sou
       feat.inner.assign(feat.rings.size(), false);
       // A line drawing a space (indoor=room as a LineString) is an area that does not close
       // unless its ends meet.
-      feat.area = feat.tags.count("indoor") && feat.tags.at("indoor") != "wall";
+      const std::string indoor = feat.tags.count("indoor") ? feat.tags.at("indoor") : std::string();
+      feat.area = !indoor.empty() && indoor != "wall" && indoor != "door" && indoor != "window";
       for (const import_detail::Ring& r : feat.rings) {
         feat.unclosed = feat.unclosed || r.size() < 4 || !(r.front() == r.back());
       }
@@ -77,6 +98,10 @@ ImportResult import_geojson_text(const std::string& text, const std::string& sou
       ++other;  // null geometry, GeometryCollection: nothing indoor to draw
     }
   }
+  data.crs = file.crs();
+  data.frequent_keys.assign(keys.begin(), keys.end());
+  std::stable_sort(data.frequent_keys.begin(), data.frequent_keys.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
   data.source_counts = {{"features", static_cast<int>(file.size())},
                         {"points", points},
                         {"lines", lines},

@@ -261,11 +261,21 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
     lon0 = ref_lon + cx / (3.0 * area);
     lat0 = ref_lat + cy / (3.0 * area);
   }
-  const LocalTangentPlane ltp(lat0, lon0);
-  auto project = [&](const LonLat& p) { return ltp.to_local_m(p.lat, p.lon); };
-
+  // Coordinates: --crs, else the CRS level.geojson declares, else WGS84 (IMDF's own); the local
+  // plane about the level's centroid.
   ImportResult result;
+  GeoFrame frame(options.crs.value_or(levels.crs()), source);
+  if (options.crs && !levels.crs().empty() && *options.crs != levels.crs()) {
+    result.notes.push_back(levels.name() + " declares the coordinate reference system " + quoted(levels.crs()) + "; --crs " +
+                           quoted(*options.crs) + " used instead");
+  }
+  frame.set_origin_deg(frame.to_geographic_deg({lon0, lat0}, levels.where(selected->index) + " (centroid)"));
+  const std::string* where = &source;
+  auto project = [&](const LonLat& p) { return frame.to_local_m(frame.to_geographic_deg({p.lon, p.lat}, *where)); };
+
   std::set<std::string> open_categories(options.imdf_open_unit_categories.begin(), options.imdf_open_unit_categories.end());
+  std::set<std::string> void_categories(options.imdf_void_unit_categories.begin(), options.imdf_void_unit_categories.end());
+  int void_units = 0;
   std::vector<import_detail::BoundaryEdge> edges;
   int unit_count = 0;
   std::vector<Room> rooms;
@@ -277,6 +287,10 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
     std::vector<bool> outer;
     const std::vector<Ring> rings = units.polygon_rings(i, &outer);
     const std::string fid = units.id(i);
+    const std::string unit_where = units.where(i);
+    where = &unit_where;
+    const bool no_space = void_categories.count(category) > 0;
+    void_units += no_space ? 1 : 0;
     for (std::size_t r = 0; r < rings.size(); ++r) {
       const Ring& ring = rings[r];
       for (std::size_t k = 0; k + 1 < ring.size(); ++k) {
@@ -290,7 +304,9 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
       // The unit as a room label (its category is the kind); holes go to the polygon before them.
       std::vector<Vec2> poly;
       for (std::size_t k = 0; k + 1 < ring.size(); ++k) poly.push_back(project(ring[k]));
-      if (outer[r]) {
+      if (no_space) {
+        continue;  // a void or building mass: walls around it, no room label (not floor)
+      } else if (outer[r]) {
         Room room;
         room.id = "unit-" + (fid.empty() ? std::to_string(i) : fid);
         int n = 2;
@@ -323,6 +339,8 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
       // A LineString, or a MultiLineString whose pieces are chained where their ends meet; each
       // resulting polyline is one opening from its first to its last point.
       std::vector<std::vector<Vec2>> parts;
+      const std::string opening_where = openings.where(i);
+      where = &opening_where;
       for (const Ring& line : openings.line_strings(i)) {
         std::vector<Vec2> part;
         for (const LonLat& q : line) part.push_back(project(q));
@@ -381,14 +399,26 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
     }
   }
 
+  const import_detail::OpeningsReport inferred =
+      import_detail::check_openings(plan, pieces.walls, options.infer_openings, options.default_door_width_m,
+                                    0.5 * thickness + options.cleanup.opening_attach_tolerance_m, result.notes);
+  import_detail::count_repair(result, "openings_inferred", inferred.inferred);
+  for (const Level& l : all_levels) {
+    bool any = false;
+    for (std::size_t i = 0; i < units.size() && !any; ++i) any = units.string_property(i, "level_id", true) == l.id;
+    if (!any) result.faithfulness.levels_without_spaces.push_back(describe(l) + " (no units)");
+  }
+
   result.level_description = describe(*selected);
+  if (!frame.geographic() || !options.crs.value_or(levels.crs()).empty()) result.level_description += ", " + frame.description();
   result.source_counts = {{"levels", static_cast<int>(all_levels.size())},
                           {"units_on_level", unit_count},
                           {"unit_edges", static_cast<int>(edges.size())},
-                          {"openings_on_level", opening_count}};
+                          {"openings_on_level", opening_count},
+                          {"void_or_structure_units", void_units}};
   std::string default_name = import_detail::stem_of(source);
   if (!selected->name.empty()) default_name += " " + selected->name;
-  return import_detail::finish_import(std::move(plan), source, default_name, options, std::move(result));
+  return import_detail::finish_import(std::move(plan), source, default_name, options, std::move(result), nullptr, true);
 }
 
 }  // namespace floorcast

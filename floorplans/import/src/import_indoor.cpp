@@ -21,6 +21,8 @@
 #include <map>
 #include <set>
 
+#include <opencv2/imgproc.hpp>
+
 #include "floorcast/core/limits.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/floorplans/import.hpp"
@@ -32,7 +34,7 @@ namespace {
 
 using Ranges = std::vector<std::pair<double, double>>;
 
-enum class Kind { kNone, kRoom, kCorridor, kArea, kWall, kColumn, kElevator, kLevel };
+enum class Kind { kNone, kRoom, kCorridor, kArea, kWall, kColumn, kElevator, kLevel, kDoor, kWindow };
 
 Kind kind_of(const std::string& indoor) {
   if (indoor == "room") return Kind::kRoom;
@@ -42,6 +44,8 @@ Kind kind_of(const std::string& indoor) {
   if (indoor == "column") return Kind::kColumn;
   if (indoor == "elevator") return Kind::kElevator;
   if (indoor == "level") return Kind::kLevel;
+  if (indoor == "door") return Kind::kDoor;      // a door drawn as a line or polygon (GeoJSON)
+  if (indoor == "window") return Kind::kWindow;  // likewise
   return Kind::kNone;
 }
 
@@ -54,6 +58,8 @@ const char* kind_name(Kind k) {
     case Kind::kColumn: return "column";
     case Kind::kElevator: return "elevator";
     case Kind::kLevel: return "level";
+    case Kind::kDoor: return "door";
+    case Kind::kWindow: return "window";
     case Kind::kNone: break;
   }
   return "none";
@@ -221,8 +227,14 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
     (door ? doors_in : columns_in).push_back({&p, std::move(lv), has});
   }
   if (features.empty()) {
-    throw InputError(source + ": no Simple Indoor Tagging features (ways, multipolygons or polygons with indoor=room, "
-                              "corridor, area, wall, column, elevator or level)");
+    std::string found;
+    for (std::size_t k = 0; k < data.frequent_keys.size() && k < 8; ++k) {
+      found += (k ? ", " : "") + data.frequent_keys[k].first + "=* (" + std::to_string(data.frequent_keys[k].second) + ")";
+    }
+    throw InputError(source + ": no indoor features of a schema floorcast reads: neither Simple Indoor Tagging (ways, "
+                              "multipolygons or polygons with indoor=room, corridor, area, wall, column, elevator or level) "
+                              "nor IndoorOSM (buildingpart=room, corridor, hall, verticalpassage or shell ways in type=level "
+                              "relations); the file's most frequent tags: " + (found.empty() ? std::string("none") : found));
   }
 
   // Level selection.
@@ -256,14 +268,31 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
                      " levels, choose one with --level; available levels: " + list_levels());
   }
 
+  // Spaces: what may be floor (free space is their union).
+  auto is_space_kind = [](Kind k) {
+    return k == Kind::kRoom || k == Kind::kCorridor || k == Kind::kArea || k == Kind::kElevator || k == Kind::kLevel;
+  };
   ImportResult result;
+  for (double v : available) {
+    bool any = false;
+    int others = 0;
+    for (const Feature& f : features) {
+      if (!on_level(f.levels, v)) continue;
+      if (is_space_kind(f.kind) && !f.f->unclosed) any = true;
+      else ++others;
+    }
+    if (!any) {
+      result.faithfulness.levels_without_spaces.push_back("level " + fmt(v) + " (" + std::to_string(others) +
+                                                          " wall, column or unclosed features, no space)");
+    }
+  }
   // Selected features; areas whose outline does not close are skipped (a data defect of one
   // element, not of the level).
   std::vector<const Feature*> selected;
   std::set<LonLat> vertices;
   for (const Feature& f : features) {
     if (!on_level(f.levels, level)) continue;
-    const bool needs_area = f.kind != Kind::kWall;
+    const bool needs_area = f.kind != Kind::kWall && f.kind != Kind::kDoor && f.kind != Kind::kWindow;
     if (needs_area && f.f->unclosed) {
       result.notes.push_back(f.f->what + ": indoor=" + kind_name(f.kind) +
                              " is not closed (its first and last nodes differ), skipped");
@@ -278,20 +307,60 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
     for (const std::string& n : result.notes) why += (why.empty() ? " (" : "; ") + n;
     throw InputError(source + ": no usable indoor features on level " + fmt(level) + (why.empty() ? "" : why + ")"));
   }
-
-  // Projection origin: mean of the selected features' distinct vertices.
-  double lat0 = 0.0, lon0 = 0.0;
-  for (const LonLat& v : vertices) {
-    lat0 += v.lat;
-    lon0 += v.lon;
+  const bool any_space = std::any_of(features.begin(), features.end(),
+                                     [&](const Feature& f) { return is_space_kind(f.kind) && !f.f->unclosed; });
+  if (!any_space) {
+    result.notes.push_back("the source maps no spaces (only walls and columns): the free space is what its walls "
+                           "enclose, and there is no faithfulness check");
+  } else if (std::none_of(selected.begin(), selected.end(), [&](const Feature* f) { return is_space_kind(f->kind); })) {
+    std::string with;
+    for (double v : available) {
+      for (const Feature& f : features) {
+        if (on_level(f.levels, v) && is_space_kind(f.kind) && !f.f->unclosed) {
+          with += (with.empty() ? "" : ", ") + fmt(v);
+          break;
+        }
+      }
+    }
+    throw InputError(source + ": level " + fmt(level) + " maps no space (indoor=room, corridor, area, elevator or level): only " +
+                     std::to_string(selected.size()) + " wall or column feature(s), so nothing on it is floor" +
+                     (with.empty() ? std::string() : "; levels with spaces: " + with));
   }
-  lat0 /= static_cast<double>(std::max<std::size_t>(vertices.size(), 1));
-  lon0 /= static_cast<double>(std::max<std::size_t>(vertices.size(), 1));
-  const LocalTangentPlane ltp(lat0, lon0);
-  auto project = [&](const LonLat& p) { return ltp.to_local_m(p.lat, p.lon); };
+
+  // Coordinates: the source's CRS (--crs, else declared, else WGS84) to longitude/latitude, then
+  // the local plane about the mean of the selected features' distinct vertices.
+  GeoFrame frame(options.crs.value_or(data.crs), source);
+  if (options.crs && !data.crs.empty() && *options.crs != data.crs) {
+    result.notes.push_back("the source declares the coordinate reference system " + quoted(data.crs) + "; --crs " +
+                           quoted(*options.crs) + " used instead");
+  }
+  std::map<LonLat, Vec2> geographic;
+  for (const Feature* f : selected) {
+    for (const Ring& ring : f->f->rings) {
+      for (const LonLat& v : ring) {
+        if (!geographic.count(v)) geographic.emplace(v, frame.to_geographic_deg({v.lon, v.lat}, f->f->what));
+      }
+    }
+  }
+  Vec2 origin = Vec2::Zero();
+  for (const auto& [raw, g] : geographic) origin += g;
+  origin /= static_cast<double>(std::max<std::size_t>(geographic.size(), 1));
+  frame.set_origin_deg(origin);
+  auto project_at = [&](const LonLat& p, const std::string& what) {
+    auto it = geographic.find(p);
+    return frame.to_local_m(it != geographic.end() ? it->second : frame.to_geographic_deg({p.lon, p.lat}, what));
+  };
+  auto project = [&](const LonLat& p) { return project_at(p, source); };
 
   std::vector<BoundaryEdge> edges;
   std::vector<Segment2> glass;
+  std::vector<WallPolygon> wall_polygons;
+  struct OpeningLine {
+    const IndoorFeature* f;
+    Vec2 a, b;
+    bool window;
+  };
+  std::vector<OpeningLine> opening_lines;
   std::map<Kind, int> kind_counts;
   FloorPlan plan;
   for (std::size_t fi = 0; fi < selected.size(); ++fi) {
@@ -299,6 +368,48 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
     ++kind_counts[f.kind];
     const bool no_wall = tag(f.f->tags, "wall") == "no";
     const bool is_glass = f.kind == Kind::kWall && tag(f.f->tags, "material") == "glass";
+    if (f.kind == Kind::kWall && f.f->area) {
+      // A wall drawn with its thickness (a polygon): walls_from_polygons below.
+      WallPolygon wp{f.f->what, "wallpolygon-" + f.f->id, {}, is_glass};
+      for (const Ring& ring : f.f->rings) {
+        std::vector<Vec2> local;
+        for (const LonLat& v : ring) local.push_back(project(v));
+        wp.rings.push_back(std::move(local));
+      }
+      wall_polygons.push_back(std::move(wp));
+      continue;
+    }
+    if (f.kind == Kind::kDoor || f.kind == Kind::kWindow) {
+      // An opening drawn as a line (its two ends) or a polygon (its minimum-area rectangle's long
+      // side through the middle): centred on it, as wide as it is long.
+      std::vector<cv::Point2f> pts;
+      for (const Ring& ring : f.f->rings) {
+        for (const LonLat& v : ring) {
+          const Vec2 q = project(v);
+          pts.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()));
+        }
+      }
+      if (pts.size() < 2) continue;
+      OpeningLine line{f.f, {}, {}, f.kind == Kind::kWindow};
+      if (f.f->area) {
+        const cv::RotatedRect box = cv::minAreaRect(pts);
+        const double angle = box.angle * kPi / 180.0;
+        Vec2 u(std::cos(angle), std::sin(angle));
+        double half = 0.5 * box.size.width;
+        if (box.size.height > box.size.width) {
+          u = Vec2(-u.y(), u.x());
+          half = 0.5 * box.size.height;
+        }
+        const Vec2 c(box.center.x, box.center.y);
+        line.a = c - half * u;
+        line.b = c + half * u;
+      } else {
+        line.a = project(f.f->rings.front().front());
+        line.b = project(f.f->rings.back().back());
+      }
+      opening_lines.push_back(line);
+      continue;
+    }
     for (const Ring& ring : f.f->rings) {
       for (std::size_t k = 0; k + 1 < ring.size(); ++k) {
         const Segment2 s{project(ring[k]), project(ring[k + 1])};
@@ -322,7 +433,7 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
       if (f.f->inner[r] || f.f->rings[r].size() < 4) continue;
       Room room;
       room.id = f.f->id + (rooms.empty() ? "" : "-" + std::to_string(rooms.size() + 1));
-      room.kind = room_kind(f.kind, f.f->tags);
+      room.kind = f.f->kind.empty() ? room_kind(f.kind, f.f->tags) : f.f->kind;
       for (std::size_t k = 0; k + 1 < f.f->rings[r].size(); ++k) room.polygon_m.push_back(project(f.f->rings[r][k]));
       rooms.push_back(std::move(room));
     }
@@ -339,7 +450,16 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
     }
     for (Room& room : rooms) plan.rooms.push_back(std::move(room));
   }
-  const auto pieces = classify_boundaries(edges, options.cleanup.snap_tolerance_m, options.cleanup.angle_tolerance_rad);
+  auto pieces = classify_boundaries(edges, options.cleanup.snap_tolerance_m, options.cleanup.angle_tolerance_rad);
+  // Free space is the union of the spaces: an unwalled outline (indoor=area, wall=no, corridor
+  // pieces) that borders unmapped space is a wall there.
+  const WalledAtUnmapped walled = wall_unmapped_sides(pieces, plan.rooms);
+  if (walled.pieces > 0) {
+    count_repair(result, "open_outlines_walled_at_unmapped", walled.pieces);
+    result.notes.push_back(fmt(std::round(walled.length_m * 100.0) / 100.0) + " m of unwalled space outline (indoor=area, wall=no, "
+                           "corridor pieces) in " + std::to_string(walled.pieces) +
+                           " piece(s) borders unmapped space: walls there (free space is the union of the mapped spaces)");
+  }
 
   plan.level = static_cast<int>(std::floor(level));
   if (static_cast<double>(plan.level) != level) {
@@ -348,6 +468,38 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
   append_walls(plan, pieces.walls, thickness);
   append_walls(plan, glass, thickness);
   for (std::size_t k = pieces.walls.size(); k < plan.walls.size(); ++k) plan.walls[k].material = WallMaterial::kGlass;
+  int rectangle_walls = 0, traced_walls = 0;
+  if (!wall_polygons.empty()) {
+    for (Wall& w : walls_from_polygons(wall_polygons, options, result.notes, rectangle_walls, traced_walls)) {
+      plan.walls.push_back(std::move(w));
+    }
+  }
+  // Openings drawn as lines: doors and windows without a wall yet (the clean-up puts each on the
+  // wall carrying its centre).
+  int line_doors = 0, line_windows = 0;
+  for (const OpeningLine& line : opening_lines) {
+    const double width = (line.b - line.a).norm();
+    if (width < 0.05) {
+      result.notes.push_back(line.f->what + ": opening shorter than 5 cm, skipped");
+      continue;
+    }
+    if (line.window) {
+      Window w;
+      w.id = line.f->id;
+      w.center_m = 0.5 * (line.a + line.b);
+      w.width_m = width;
+      plan.windows.push_back(std::move(w));
+      ++line_windows;
+    } else {
+      Door d;
+      d.id = line.f->id;
+      d.center_m = 0.5 * (line.a + line.b);
+      d.width_m = width;
+      d.closed = options.doors_closed;
+      plan.doors.push_back(std::move(d));
+      ++line_doors;
+    }
+  }
 
   // Columns mapped as nodes: square pillars (a wall as long as it is thick) squared to the
   // building's dominant wall direction.
@@ -368,7 +520,7 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
           break;
         }
       }
-      const Vec2 at = project(c.p->at);
+      const Vec2 at = project_at(c.p->at, c.p->what);
       Wall w;
       w.id = "column-" + c.p->id;
       w.a_m = at - 0.5 * size * u;
@@ -388,7 +540,7 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
   for (const Point& dp : doors_in) {
     if (!(dp.has_level ? on_level(dp.levels, level) : vertices.count(dp.p->at) > 0)) continue;
     ++door_count;
-    const Vec2 p = project(dp.p->at);
+    const Vec2 p = project_at(dp.p->at, dp.p->what);
     const std::string& what = dp.p->what;
     const double d_wall = distance_to_segments(p, door_walls);
     if (d_wall > reach) {
@@ -418,7 +570,12 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
     plan.doors.push_back(std::move(d));
   }
 
+  const OpeningsReport openings =
+      check_openings(plan, door_walls, options.infer_openings, options.default_door_width_m, reach, result.notes);
+  count_repair(result, "openings_inferred", openings.inferred);
+
   result.level_description = "level " + fmt(level);
+  if (!frame.geographic() || !options.crs.value_or(data.crs).empty()) result.level_description += ", " + frame.description();
   result.source_counts = data.source_counts;
   for (const auto& [k, name] : std::vector<std::pair<Kind, const char*>>{{Kind::kRoom, "rooms"},
                                                                          {Kind::kCorridor, "corridors"},
@@ -430,8 +587,16 @@ ImportResult import_indoor(const IndoorData& data, const std::string& source, co
     result.source_counts.emplace_back(name, kind_counts[k]);
   }
   result.source_counts.emplace_back("column_nodes", column_count);
+  if (!wall_polygons.empty()) {
+    result.source_counts.emplace_back("wall_polygons", static_cast<int>(wall_polygons.size()));
+    result.source_counts.emplace_back("wall_polygon_rectangles", rectangle_walls);
+  }
+  if (!opening_lines.empty()) {
+    result.source_counts.emplace_back("door_lines", line_doors);
+    result.source_counts.emplace_back("window_lines", line_windows);
+  }
   result.source_counts.emplace_back("doors", door_count);
-  return finish_import(std::move(plan), source, name_stem + " level " + fmt(level), options, std::move(result));
+  return finish_import(std::move(plan), source, name_stem + " level " + fmt(level), options, std::move(result), nullptr, true);
 }
 
 }  // namespace floorcast::import_detail

@@ -122,8 +122,9 @@ ImportResult import_osm_xml(const std::string& xml_text, const std::string& sour
       throw InputError(source + ": <node> at byte " + std::to_string(e.offset_debug()) + ": missing or invalid id");
     }
     Node n;
+    // WGS84 unless --crs gives another system (then GeoFrame checks the numbers when a node is used).
     if (!parse_coordinate(e.attribute("lat").as_string(), n.lat) || !parse_coordinate(e.attribute("lon").as_string(), n.lon) ||
-        std::abs(n.lat) > 90.0 || std::abs(n.lon) > 180.0) {
+        (!options.crs && (std::abs(n.lat) > 90.0 || std::abs(n.lon) > 180.0))) {
       throw InputError(source + ": node " + std::to_string(id) + ": missing or invalid lat/lon (lat " +
                        quoted(e.attribute("lat").as_string()) + ", lon " + quoted(e.attribute("lon").as_string()) + ")");
     }
@@ -193,9 +194,83 @@ ImportResult import_osm_xml(const std::string& xml_text, const std::string& sour
     if (w.nodes.size() < 2) throw InputError(f.what + ": fewer than 2 nodes");
     f.rings.push_back(ring_of(w.nodes, f.what));
     f.inner.push_back(false);
-    f.area = tag(w.tags, "indoor") != "wall";
+    // indoor=wall is a line; with area=yes a closed way is the wall's footprint (its thickness).
+    f.area = tag(w.tags, "indoor") != "wall" || tag(w.tags, "area") == "yes";
     f.unclosed = f.area && (w.nodes.front() != w.nodes.back() || w.nodes.size() < 4);
     data.features.push_back(std::move(f));
+  }
+  // IndoorOSM (Goetz & Zipf 2011): spaces are ways tagged buildingpart=room|corridor|hall|
+  // verticalpassage, grouped per storey by relations type=level (level=N; or the role level_N in a
+  // type=building relation) with the level's outline as the member of role "shell". They are read
+  // as their Simple Indoor Tagging equivalents: room -> indoor=room, corridor -> indoor=corridor,
+  // hall -> indoor=area (kind "hall"), verticalpassage -> indoor=room (stairway: stairs=yes,
+  // elevator: indoor=elevator, else kind from buildingpart:verticalpassage), shell -> indoor=level;
+  // a way's levels are those of the level relations holding it (plus a verticalpassage's
+  // buildingpart:verticalpassage:floorrange), unless it carries level=* itself.
+  std::map<long long, std::string> building_role_level;  // level relation id -> N from "level_N"
+  for (const auto& [id, r] : relations) {
+    if (tag(r.tags, "type") != "building") continue;
+    for (const Member& m : r.members) {
+      if (m.type == "relation" && m.role.rfind("level_", 0) == 0) building_role_level[m.ref] = m.role.substr(6);
+    }
+  }
+  std::map<long long, std::set<std::string>> way_levels;
+  std::set<long long> shells;
+  for (const auto& [id, r] : relations) {
+    if (tag(r.tags, "type") != "level") continue;
+    std::string lv = tag(r.tags, "level");
+    if (lv.empty() && building_role_level.count(id)) lv = building_role_level[id];
+    if (lv.empty()) continue;
+    for (const Member& m : r.members) {
+      if (m.type != "way") continue;
+      way_levels[m.ref].insert(lv);
+      if (m.role == "shell") shells.insert(m.ref);
+    }
+  }
+  int indoorosm_parts = 0;
+  for (const auto& [id, w] : ways) {
+    const std::string part = tag(w.tags, "buildingpart");
+    const bool shell = shells.count(id) > 0 || part == "shell";
+    if (is_indoor(w.tags) || (part.empty() && !shell)) continue;
+    import_detail::IndoorFeature f;
+    f.what = source + ": way " + std::to_string(id) + " (IndoorOSM buildingpart=" + (part.empty() ? "shell" : part) + ")";
+    f.id = "way" + std::to_string(id);
+    f.tags = w.tags;
+    if (shell) {
+      f.tags["indoor"] = "level";
+    } else if (part == "room") {
+      f.tags["indoor"] = "room";
+    } else if (part == "corridor") {
+      f.tags["indoor"] = "corridor";
+    } else if (part == "hall") {
+      f.tags["indoor"] = "area";
+      f.kind = "hall";
+    } else if (part == "verticalpassage") {
+      const std::string vp = tag(w.tags, "buildingpart:verticalpassage");
+      f.tags["indoor"] = vp == "elevator" ? "elevator" : "room";
+      if (vp == "stairway" || vp == "stairs") f.tags["stairs"] = "yes";
+      else if (!vp.empty() && vp != "elevator") f.kind = vp;
+      else if (vp.empty()) f.kind = "verticalpassage";
+    } else {
+      continue;  // buildingpart values without a space meaning here
+    }
+    if (tag(w.tags, "level").empty()) {
+      std::string levels;
+      for (const std::string& lv : way_levels[id]) levels += (levels.empty() ? "" : ";") + lv;
+      std::string range = tag(w.tags, "buildingpart:verticalpassage:floorrange");
+      std::replace(range.begin(), range.end(), ' ', ';');
+      std::replace(range.begin(), range.end(), ',', ';');
+      while (!range.empty() && range.back() == ';') range.pop_back();
+      if (!range.empty()) levels += (levels.empty() ? "" : ";") + range;
+      if (!levels.empty()) f.tags["level"] = levels;
+    }
+    if (w.nodes.size() < 2) throw InputError(f.what + ": fewer than 2 nodes");
+    f.rings.push_back(ring_of(w.nodes, f.what));
+    f.inner.push_back(false);
+    f.area = true;
+    f.unclosed = w.nodes.front() != w.nodes.back() || w.nodes.size() < 4;
+    data.features.push_back(std::move(f));
+    ++indoorosm_parts;
   }
   for (const auto& [id, r] : relations) {
     if (!is_indoor(r.tags) || tag(r.tags, "indoor") == "wall" || tag(r.tags, "type") != "multipolygon") continue;
@@ -235,6 +310,17 @@ ImportResult import_osm_xml(const std::string& xml_text, const std::string& sour
     data.points.push_back(std::move(p));
   }
   data.source_counts = {{"nodes", static_cast<int>(nodes.size())}, {"ways", static_cast<int>(ways.size())}};
+  if (indoorosm_parts > 0) data.source_counts.emplace_back("indoorosm_buildingparts", indoorosm_parts);
+  std::map<std::string, int> keys;
+  for (const auto& [id, w] : ways) {
+    for (const auto& [k, v] : w.tags) ++keys[k];
+  }
+  for (const auto& [id, r] : relations) {
+    for (const auto& [k, v] : r.tags) ++keys[k];
+  }
+  data.frequent_keys.assign(keys.begin(), keys.end());
+  std::stable_sort(data.frequent_keys.begin(), data.frequent_keys.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
   return import_detail::import_indoor(data, source, import_detail::stem_of(source), options);
 }
 

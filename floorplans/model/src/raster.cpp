@@ -1,10 +1,12 @@
 #include "floorcast/floorplans/raster.hpp"
 
 #include "floorcast/floorplans/geometry.hpp"
+#include "floorcast/floorplans/rooms.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 #include <opencv2/imgproc.hpp>
@@ -136,7 +138,11 @@ cv::Mat valid_mask_with(const FloorPlan& plan, const GridSpec& grid, double gap_
                      cv::Scalar(0));
     envelope = padded(cv::Rect(pad, pad, envelope.cols, envelope.rows)).clone();
   }
-  return enclosed_free_cells(envelope, rasterize_occupancy(plan, grid, free_blocking), radius_px);
+  cv::Mat valid = enclosed_free_cells(envelope, rasterize_occupancy(plan, grid, free_blocking), radius_px);
+  // Regions the source mapped as no space are not floor, however enclosed.
+  const auto unmapped = [](const Room& r) { return is_unmapped_kind(r.kind); };
+  if (std::any_of(plan.rooms.begin(), plan.rooms.end(), unmapped)) valid.setTo(0, rooms_mask(plan.rooms, grid, unmapped));
+  return valid;
 }
 
 }  // namespace
@@ -172,6 +178,63 @@ double free_floor_area_m2(const FloorPlan& plan, double resolution_m_per_px) {
   blocking.cut_height_m = 0.01;  // any obstacle standing on the floor takes floor area
   const cv::Mat valid = valid_mask_with(plan, grid, 0.5, blocking);
   return cv::countNonZero(valid) * resolution_m_per_px * resolution_m_per_px;
+}
+
+FreeRegionSummary free_region_summary(const FloorPlan& plan, const FreeRegionOptions& options) {
+  // Resolution: the requested one, coarser for plans whose raster would exceed max_cells.
+  const Eigen::Vector4d box = plan_bbox_m(plan);
+  const double extent_area = std::max(1.0, (box[2] - box[0] + 2.0) * (box[3] - box[1] + 2.0));
+  const double res = std::max(options.resolution_m_per_px, std::sqrt(extent_area / options.max_cells));
+  const GridSpec grid = grid_for_plan(plan, res, 1.0);
+  const cv::Mat valid = valid_area_mask(plan, grid);  // open doors free, closed doors and glass block
+  FreeRegionSummary s;
+  s.resolution_m_per_px = res;
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(valid, labels, stats, centroids, 8, CV_32S);
+  cv::Mat distance;
+  cv::distanceTransform(valid, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  std::vector<float> widest(static_cast<std::size_t>(n), 0.0f);
+  for (int r = 0; r < labels.rows; ++r) {
+    const int* l = labels.ptr<int>(r);
+    const float* d = distance.ptr<float>(r);
+    for (int c = 0; c < labels.cols; ++c) {
+      if (l[c] > 0) widest[static_cast<std::size_t>(l[c])] = std::max(widest[static_cast<std::size_t>(l[c])], d[c]);
+    }
+  }
+  const double cell = res * res;
+  for (int k = 1; k < n; ++k) {
+    const double area = stats.at<int>(k, cv::CC_STAT_AREA) * cell;
+    // distanceTransform measures to the nearest zero cell centre: the free width through a cell
+    // is about twice that less one cell.
+    const double width = std::max(0.0, 2.0 * widest[static_cast<std::size_t>(k)] * res - res);
+    ++s.regions;
+    s.free_area_m2 += area;
+    if (area > s.largest_region_m2) s.largest_region_m2 = area;
+    s.widest_m = std::max(s.widest_m, width);
+    if (area >= options.min_area_m2 && width >= options.min_width_m) {
+      ++s.room_sized_regions;
+      s.largest_room_sized_m2 = std::max(s.largest_room_sized_m2, area);
+    }
+  }
+  return s;
+}
+
+void require_room_sized_free_region(const FloorPlan& plan, const std::string& source, const FreeRegionOptions& options) {
+  const FreeRegionSummary s = free_region_summary(plan, options);
+  if (s.room_sized_regions > 0) return;
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(2);
+  os << source << ": no room-sized free region: ";
+  if (s.regions == 0) {
+    os << "the plan has no free floor enclosed by its walls";
+  } else {
+    os << s.free_area_m2 << " m^2 of free floor in " << s.regions << " region" << (s.regions == 1 ? "" : "s")
+       << ", the largest " << s.largest_region_m2 << " m^2, the widest " << s.widest_m << " m across";
+  }
+  os << " (a room needs at least " << options.min_area_m2 << " m^2 and " << options.min_width_m
+     << " m of width; measured at " << s.resolution_m_per_px << " m/px with doors open)";
+  throw InputError(os.str());
 }
 
 namespace {

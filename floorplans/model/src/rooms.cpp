@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <opencv2/imgproc.hpp>
+
 namespace floorcast {
 
 bool point_in_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
@@ -95,6 +97,51 @@ cv::Mat room_index_raster(const std::vector<Room>& rooms, const GridSpec& grid) 
   }
   return out;
 }
+
+cv::Mat rooms_mask(const std::vector<Room>& rooms, const GridSpec& grid, const std::function<bool(const Room&)>& select) {
+  cv::Mat mask(grid.height_px, grid.width_px, CV_8U, cv::Scalar(0));
+  constexpr int kShift = 4;  // 1/16 cell
+  for (const Room& room : rooms) {
+    if (room.polygon_m.size() < 3 || (select && !select(room))) continue;
+    double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
+    for (const Vec2& v : room.polygon_m) {
+      const Vec2 g = grid.world_to_grid(v);
+      xmin = std::min(xmin, g.x());
+      xmax = std::max(xmax, g.x());
+      ymin = std::min(ymin, g.y());
+      ymax = std::max(ymax, g.y());
+    }
+    const int c0 = std::max(0, static_cast<int>(std::floor(xmin)) - 1);
+    const int r0 = std::max(0, static_cast<int>(std::floor(ymin)) - 1);
+    const int c1 = std::min(grid.width_px, static_cast<int>(std::ceil(xmax)) + 1);
+    const int r1 = std::min(grid.height_px, static_cast<int>(std::ceil(ymax)) + 1);
+    if (c1 <= c0 || r1 <= r0) continue;
+    const cv::Rect roi(c0, r0, c1 - c0, r1 - r0);
+    // Cell (r, c) is pixel (c, r) with its centre at integer coordinates.
+    auto ring_px = [&](const std::vector<Vec2>& ring) {
+      std::vector<cv::Point> out;
+      out.reserve(ring.size());
+      for (const Vec2& v : ring) {
+        const Vec2 g = grid.world_to_grid(v) - Vec2(0.5 + c0, 0.5 + r0);
+        out.emplace_back(static_cast<int>(std::lround(g.x() * (1 << kShift))),
+                         static_cast<int>(std::lround(g.y() * (1 << kShift))));
+      }
+      return out;
+    };
+    cv::Mat one(roi.size(), CV_8U, cv::Scalar(0));
+    cv::fillPoly(one, std::vector<std::vector<cv::Point>>{ring_px(room.polygon_m)}, cv::Scalar(255), cv::LINE_8, kShift);
+    for (const auto& hole : room.holes_m) {
+      if (hole.size() >= 3) {
+        cv::fillPoly(one, std::vector<std::vector<cv::Point>>{ring_px(hole)}, cv::Scalar(0), cv::LINE_8, kShift);
+      }
+    }
+    cv::Mat target = mask(roi);
+    cv::bitwise_or(target, one, target);
+  }
+  return mask;
+}
+
+bool is_unmapped_kind(const std::string& kind) { return kind == kUnmappedRoomKind; }
 
 const std::vector<std::string>& transitional_room_kinds() {
   static const std::vector<std::string> kinds = {"hallway", "corridor", "walkway", "lobby", "foyer", "entrance",

@@ -154,13 +154,15 @@ PlanStats plan_stats(const FloorPlan& plan, const PlanStatsParams& params) {
   for (const Obstacle& o : plan.obstacles) s.pillars += o.kind == ObstacleKind::kPillar ? 1 : 0;
 
   // Rooms.
-  s.rooms = static_cast<int>(plan.rooms.size());
+  // Regions the source did not map ("unmapped", not floor) are no rooms.
+  s.rooms = static_cast<int>(std::count_if(plan.rooms.begin(), plan.rooms.end(),
+                                           [](const Room& r) { return !is_unmapped_kind(r.kind); }));
   std::vector<int> plain;  // non-transitional rooms large enough to count
   std::vector<double> areas, widths;
   std::vector<int> transitional;
   for (std::size_t i = 0; i < plan.rooms.size(); ++i) {
     const Room& r = plan.rooms[i];
-    if (r.polygon_m.size() < 3) continue;
+    if (r.polygon_m.size() < 3 || is_unmapped_kind(r.kind)) continue;
     if (is_transitional_kind(r.kind)) {
       ++s.transitional_rooms;
       transitional.push_back(static_cast<int>(i));

@@ -251,6 +251,22 @@ class Osm:
     def closed(self, refs, **tags):
         return self.way(refs + [refs[0]], **tags)
 
+    def at(self, x, y, **tags):
+        """The node at (x, y), shared by every way that passes there (tagged nodes are never shared)."""
+        if tags:
+            return self.node(x, y, **tags)
+        cache = self.__dict__.setdefault("_at", {})
+        if (x, y) not in cache:
+            cache[(x, y)] = self.node(x, y)
+        return cache[(x, y)]
+
+    def relation(self, members, **tags):
+        """members: (type, ref, role) triples."""
+        rels = self.__dict__.setdefault("relations", [])
+        rid = 5000 + len(rels)
+        rels.append((rid, members, tags))
+        return rid
+
     def xml(self):
         def tag_xml(tags):
             return "".join('    <tag k="%s" v="%s"/>\n' % (k.replace("_colon_", ":"), v) for k, v in sorted(tags.items()))
@@ -265,6 +281,11 @@ class Osm:
             out.extend('    <nd ref="%d"/>\n' % r for r in refs)
             out.append(tag_xml(tags))
             out.append("  </way>\n")
+        for rid, members, tags in self.__dict__.get("relations", []):
+            out.append('  <relation id="%d">\n' % rid)
+            out.extend('    <member type="%s" ref="%d" role="%s"/>\n' % m for m in members)
+            out.append(tag_xml(tags))
+            out.append("  </relation>\n")
         out.append("</osm>\n")
         return "".join(out)
 
@@ -507,6 +528,256 @@ def make_csv_units():
           "".join("%.4f,%.4f,%.4f,%.4f\n" % tuple(v / 0.3048 for v in s) for s in segs))
 
 
+# ---- Imports that must say what the source says (issue 23) ------------------------------------
+def box(o, x0, y0, x1, y1, doors=(), **tags):
+    """A closed rectangular way through shared corner nodes; `doors` are (x, y) door nodes on its
+    outline, inserted on the edge they lie on."""
+    corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+    refs = []
+    for k, (ax, ay) in enumerate(corners):
+        bx, by = corners[(k + 1) % 4]
+        refs.append(o.at(ax, ay))
+        on_edge = [(dx, dy) for dx, dy in doors
+                   if abs((bx - ax) * (dy - ay) - (by - ay) * (dx - ax)) < 1e-9
+                   and min(ax, bx) <= dx <= max(ax, bx) and min(ay, by) <= dy <= max(ay, by)]
+        on_edge.sort(key=lambda d: (d[0] - ax) ** 2 + (d[1] - ay) ** 2)
+        refs.extend(o.node(dx, dy, door="hinged") for dx, dy in on_edge)
+    return o.closed(refs, **tags)
+
+
+def make_osm_corridors_open():
+    """A ground floor whose circulation is mapped but not walled toward the outside: a foyer
+    (indoor=area [0,4]x[0,13], the entrance door on its west side) opens onto a corridor split in
+    two pieces ([4,12]x[5,8] and [12,20]x[5,8]); rooms R1-R4 south of it ([4,20]x[0,5], 4 m
+    wide), R5 [4,12]x[8,13] and R6 [12,16]x[8,13] north of it; nothing is mapped north of the
+    corridor at x 16-20 or around the building. Mapped: rooms 140, corridor 48, foyer 52 = 240 m^2.
+    Before issue 23 the foyer's outline drew no wall, the outside flooded in through it and the
+    whole corridor network lay outside the free space."""
+    o = Osm()
+    for k, x in enumerate([4, 8, 12, 16]):
+        box(o, x, 0, x + 4, 5, doors=[(x + 2, 5)], indoor="room", level="0", name="R%d" % (k + 1))
+    box(o, 4, 5, 12, 8, indoor="corridor", level="0", name="C1")
+    box(o, 12, 5, 20, 8, indoor="corridor", level="0", name="C2")
+    box(o, 4, 8, 12, 13, doors=[(8, 8)], indoor="room", level="0", name="R5")
+    box(o, 12, 8, 16, 13, doors=[(14, 8)], indoor="room", level="0", name="R6")
+    box(o, 0, 0, 4, 13, doors=[(0, 6.5)], indoor="area", level="0", name="foyer")
+    write("osm/corridors_open.osm", o.xml())
+
+
+COURTYARD_ROOMS = [  # (x0, y0, x1, y1, door)
+    (4, 0, 12, 4, (8, 4)), (12, 0, 20, 4, (16, 4)), (4, 14, 12, 18, (8, 14)), (12, 14, 20, 18, (16, 14)),
+    (0, 0, 4, 9, (4, 5)), (0, 9, 4, 18, (4, 13)), (20, 0, 24, 9, (20, 5)), (20, 9, 24, 18, (20, 13))]
+COURTYARD_CORRIDORS = [(4, 4, 20, 6), (4, 12, 20, 14), (4, 6, 6, 12), (18, 6, 20, 12)]
+
+
+def make_osm_courtyard():
+    """A 24 x 18 m block: a corridor ring (four pieces, 2 m wide, 88 m^2) around an unmapped
+    courtyard [6,18]x[6,12] (72 m^2), eight rooms around the ring (272 m^2) with a door each.
+    The courtyard is enclosed by the corridor's walls, but no space covers it: not floor."""
+    o = Osm()
+    for k, (x0, y0, x1, y1, door) in enumerate(COURTYARD_ROOMS):
+        box(o, x0, y0, x1, y1, doors=[door], indoor="room", level="0", name="R%d" % (k + 1))
+    for k, (x0, y0, x1, y1) in enumerate(COURTYARD_CORRIDORS):
+        box(o, x0, y0, x1, y1, indoor="corridor", level="0", name="C%d" % (k + 1))
+    write("osm/courtyard.osm", o.xml())
+
+
+def make_imdf_courtyard():
+    """The courtyard block of osm/courtyard.osm as IMDF units (walkways, offices) and openings."""
+    L = "lvl-0"
+    units = [unit("room-%d" % (k + 1), L, "office", rect(x0, y0, x1, y1))
+             for k, (x0, y0, x1, y1, _) in enumerate(COURTYARD_ROOMS)]
+    units += [unit("walk-%d" % (k + 1), L, "walkway", rect(*c)) for k, c in enumerate(COURTYARD_CORRIDORS)]
+    openings = []
+    for k, (x0, y0, x1, y1, (dx, dy)) in enumerate(COURTYARD_ROOMS):
+        horizontal = dy in (y0, y1)
+        a, b = ((dx - 0.45, dy), (dx + 0.45, dy)) if horizontal else ((dx, dy - 0.45), (dx, dy + 0.45))
+        openings.append(opening("door-%d" % (k + 1), L, a, b))
+    write("imdf/courtyard/level.geojson", collection([level(L, 0, "Ground", rect(0, 0, 24, 18), "b1")]))
+    write("imdf/courtyard/unit.geojson", collection(units))
+    write("imdf/courtyard/opening.geojson", collection(openings))
+    # The same block one floor up: the courtyard is an atrium, mapped as a unit of category
+    # opentobelow (a hole in the floor); the openings file is empty (every room sealed in the data).
+    units.append(unit("atrium-void", L, "opentobelow", rect(6, 6, 18, 12)))
+    write("imdf/atrium_no_openings/level.geojson", collection([level(L, 1, "First", rect(0, 0, 24, 18), "b1")]))
+    write("imdf/atrium_no_openings/unit.geojson", collection(units))
+    write("imdf/atrium_no_openings/opening.geojson", collection([]))
+
+
+def make_osm_pillars():
+    """Level 0: a room [0,10]x[0,8] and a corridor [0,8]x[8,10] (the level with spaces); level 1:
+    six column outlines (indoor=column, 0.5 m squares) and nothing else: no space, no floor."""
+    o = Osm()
+    box(o, 0, 0, 10, 8, doors=[(5, 8)], indoor="room", level="0", name="hall room")
+    box(o, 0, 8, 10, 10, indoor="corridor", level="0", name="C")
+    for k in range(6):
+        x, y = 1 + 4 * (k % 3), 2 + 4 * (k // 3)
+        o.closed([o.node(x, y), o.node(x + 0.5, y), o.node(x + 0.5, y + 0.5), o.node(x, y + 0.5)],
+                 indoor="column", level="1")
+    write("osm/pillars.osm", o.xml())
+
+
+def make_osm_concourse():
+    """A station concourse [0,40]x[0,20] mapped as one indoor=corridor with wall=no (an open hall),
+    a multipolygon relation whose outer ring is drawn as two ways, with four shops (indoor=room,
+    shop=*, 10 x 8 m, no door nodes: sealed in the data) standing inside it, and an exit passage
+    (indoor=corridor) [40,8]x[46,12] off its east side. Mapped: 800 + 24 m^2 (the shops lie inside
+    the concourse). Before issue 23 the concourse drew no wall and lay outside: the level imported
+    as four sealed shops."""
+    o = Osm()
+    a, b, c, d = o.at(0, 0), o.at(40, 0), o.at(40, 20), o.at(0, 20)
+    e1, e2 = o.at(40, 8), o.at(40, 12)
+    w1 = o.way([a, b, e1, e2, c])
+    w2 = o.way([c, d, a])
+    o.relation([("way", w1, "outer"), ("way", w2, "outer")], type="multipolygon", indoor="corridor", wall="no",
+               level="0", name="concourse")
+    box(o, 40, 8, 46, 12, indoor="corridor", level="0", name="exit passage")
+    for k, (x, y) in enumerate([(4, 2), (26, 2), (4, 10), (26, 10)]):
+        box(o, x, y, x + 10, y + 8, indoor="room", shop="kiosk", level="0", name="shop %d" % (k + 1))
+    write("osm/concourse.osm", o.xml())
+
+
+# ---- Coordinate systems and schemas (issue 23 item 4) -------------------------------------------
+def utm32n(lon, lat):
+    """WGS84 longitude/latitude -> UTM zone 32N (EPSG:32632) easting/northing: the transverse
+    Mercator projection by Krueger's series to sixth order in n (Karney 2011, eqs. 9-12; exact to
+    well below a millimetre in the zone)."""
+    a, f, k0, lon0 = A, F, 0.9996, 9.0
+    n = f / (2.0 - f)
+    big_a = a / (1.0 + n) * (1.0 + n ** 2 / 4.0 + n ** 4 / 64.0 + n ** 6 / 256.0)
+    alpha = [
+        n / 2 - 2 * n ** 2 / 3 + 5 * n ** 3 / 16 + 41 * n ** 4 / 180 - 127 * n ** 5 / 288 + 7891 * n ** 6 / 37800,
+        13 * n ** 2 / 48 - 3 * n ** 3 / 5 + 557 * n ** 4 / 1440 + 281 * n ** 5 / 630 - 1983433 * n ** 6 / 1935360,
+        61 * n ** 3 / 240 - 103 * n ** 4 / 140 + 15061 * n ** 5 / 26880 + 167603 * n ** 6 / 181440,
+        49561 * n ** 4 / 161280 - 179 * n ** 5 / 168 + 6601661 * n ** 6 / 7257600,
+        34729 * n ** 5 / 80640 - 3418889 * n ** 6 / 1995840,
+        212378941 * n ** 6 / 319334400,
+    ]
+    e = 2.0 * math.sqrt(n) / (1.0 + n)
+    phi, lam = math.radians(lat), math.radians(lon - lon0)
+    t = math.sinh(math.atanh(math.sin(phi)) - e * math.atanh(e * math.sin(phi)))
+    xi1 = math.atan2(t, math.cos(lam))
+    eta1 = math.atanh(math.sin(lam) / math.sqrt(1.0 + t * t))
+    xi = xi1 + sum(al * math.sin(2 * j * xi1) * math.cosh(2 * j * eta1) for j, al in enumerate(alpha, 1))
+    eta = eta1 + sum(al * math.cos(2 * j * xi1) * math.sinh(2 * j * eta1) for j, al in enumerate(alpha, 1))
+    return [round(500000.0 + k0 * big_a * eta, 4), round(k0 * big_a * xi, 4)]
+
+
+# One small office, level 0: (kind, rectangle, door points on its outline, extra tags).
+TWIN_OFFICE = [
+    ("room", (0, 0, 5, 4), [(2.5, 4)], {"name": "R1"}),
+    ("room", (5, 0, 10, 4), [(7.5, 4)], {"name": "R2"}),
+    ("room", (10, 0, 15, 4), [(12.5, 4)], {"name": "R3"}),
+    ("corridor", (0, 4, 15, 6.5), [(0, 5.25)], {"name": "C"}),
+    ("room", (0, 6.5, 7, 11), [(3.5, 6.5)], {"name": "R4"}),
+    ("room", (7, 6.5, 10, 11), [(8.5, 6.5)], {"name": "stairs", "stairs": "yes"}),
+    ("room", (10, 6.5, 15, 11), [(12.5, 6.5)], {"name": "R5"}),
+]
+
+
+def make_geojson_crs_twins():
+    """The office of TWIN_OFFICE as OSM-derived GeoJSON twice: in WGS84 longitude/latitude
+    (office_wgs84.geojson) and in UTM zone 32N metres with a crs member naming EPSG:32632
+    (office_utm32n.geojson). Both must import to the same plan."""
+    def f(fid, geom, props):
+        return {"type": "Feature", "id": fid, "geometry": geom, "properties": props}
+    def build(pos):
+        feats = []
+        for k, (kind, (x0, y0, x1, y1), doors, extra) in enumerate(TWIN_OFFICE):
+            ring = [pos(x, y) for x, y in rect(x0, y0, x1, y1)]
+            props = {"indoor": kind, "level": "0"}
+            props.update(extra)
+            feats.append(f("way/%d" % (100 + k), {"type": "Polygon", "coordinates": [ring + [ring[0]]]}, props))
+            for j, (dx, dy) in enumerate(doors):
+                feats.append(f("node/%d" % (1000 + 10 * k + j), {"type": "Point", "coordinates": pos(dx, dy)},
+                               {"door": "hinged", "level": "0"}))
+        feats.append(f("way/200", {"type": "LineString", "coordinates": [pos(2, 8), pos(5, 8)]},
+                       {"indoor": "wall", "level": "0"}))
+        return feats
+    write("geojson/office_wgs84.geojson",
+          json.dumps({"type": "FeatureCollection", "features": build(lonlat)}, indent=1) + "\n")
+    utm = lambda x, y: utm32n(*lonlat(x, y))
+    write("geojson/office_utm32n.geojson",
+          json.dumps({"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::32632"}},
+                      "features": build(utm)}, indent=1) + "\n")
+
+
+# A two-level building for the IndoorOSM twin: (IndoorOSM buildingpart, SIT tags, rectangle,
+# doors, levels). Level 1 has a hall where level 0 has room R4; the stairs pass both levels.
+TWIN_LEVELS = [
+    ("room", {"indoor": "room"}, (0, 0, 5, 4), [(2.5, 4)], [0, 1]),
+    ("room", {"indoor": "room"}, (5, 0, 10, 4), [(7.5, 4)], [0, 1]),
+    ("room", {"indoor": "room"}, (10, 0, 15, 4), [(12.5, 4)], [0, 1]),
+    ("corridor", {"indoor": "corridor"}, (0, 4, 15, 6.5), [], [0, 1]),
+    ("room", {"indoor": "room"}, (0, 6.5, 7, 11), [(3.5, 6.5)], [0]),
+    ("hall", {"indoor": "area"}, (0, 6.5, 7, 11), [], [1]),
+    ("verticalpassage", {"indoor": "room", "stairs": "yes"}, (7, 6.5, 10, 11), [(8.5, 6.5)], [0, 1]),
+    ("room", {"indoor": "room"}, (10, 6.5, 15, 11), [(12.5, 6.5)], [0, 1]),
+]
+
+
+def make_osm_indoorosm_twins():
+    """The building of TWIN_LEVELS in the IndoorOSM schema (indoorosm.osm: ways tagged
+    buildingpart=room|corridor|hall|verticalpassage, grouped by level relations type=level with a
+    shell way each, under a building relation type=building with roles level_0, level_1; doors as
+    door=yes nodes) and in Simple Indoor Tagging (indoorosm_sit_twin.osm: indoor=room|corridor|area,
+    stairs=yes, level=*, indoor=level outlines). Both must import to the same plans."""
+    # IndoorOSM: one set of ways; each level relation lists the ways on its level.
+    o = Osm()
+    members = {0: [], 1: []}
+    for part, _sit, (x0, y0, x1, y1), doors, levels in TWIN_LEVELS:
+        tags = {"buildingpart": part}
+        if part == "verticalpassage":
+            tags["buildingpart_colon_verticalpassage"] = "stairway"
+        wid = box(o, x0, y0, x1, y1, doors=doors, **tags)
+        for lv in levels:
+            members[lv].append(("way", wid, "buildingpart"))
+    level_rels = {}
+    for lv in (0, 1):
+        shell = box(o, 0, 0, 15, 11)
+        level_rels[lv] = o.relation(members[lv] + [("way", shell, "shell")], type="level", level=str(lv),
+                                    name="Level %d" % lv, height="3.5")
+    o.relation([("relation", level_rels[lv], "level_%d" % lv) for lv in (0, 1)], type="building", building="university",
+               building_colon_min_level="0", building_colon_max_level="1", name="Twin building")
+    write("osm/indoorosm.osm", o.xml())
+    # The same in Simple Indoor Tagging.
+    o = Osm()
+    for _part, sit, (x0, y0, x1, y1), doors, levels in TWIN_LEVELS:
+        box(o, x0, y0, x1, y1, doors=doors, level=";".join(str(v) for v in levels), **sit)
+    box(o, 0, 0, 15, 11, indoor="level", level="0;1")
+    write("osm/indoorosm_sit_twin.osm", o.xml())
+
+
+def make_geojson_wall_polygons():
+    """Walls drawn as polygons with their thickness and doors/windows as lines, the way CAD and
+    indoor-map exports write them (no OSM tags; the element class under category/layer/type/class):
+    rooms A [0,6]x[0,5] and B [6,10]x[0,5]; the outer walls are four 0.30 m rectangles centred on
+    the outline (south and north run 10.3 m, west and east 4.7 m between them); the partition at
+    x = 6 is one T-shaped 0.15 m polygon with a 1.425 m return along y = 2.5 into B; a 0.9 m door
+    line in the south wall of A, a 0.9 m door line in the partition, a 1.5 m window line in the north
+    wall of B."""
+    def f(fid, geom, props):
+        return {"type": "Feature", "id": fid, "geometry": geom, "properties": props}
+    def poly(pts):
+        ring = [lonlat(x, y) for x, y in pts]
+        return {"type": "Polygon", "coordinates": [ring + [ring[0]]]}
+    def line(a, b):
+        return {"type": "LineString", "coordinates": [lonlat(*a), lonlat(*b)]}
+    t = 0.15
+    feats = [
+        f("south", poly(rect(-t, -t, 10 + t, t)), {"category": "Wall"}),
+        f("north", poly(rect(-t, 5 - t, 10 + t, 5 + t)), {"category": "wall"}),
+        f("west", poly(rect(-t, t, t, 5 - t)), {"layer": "Walls"}),
+        f("east", poly(rect(10 - t, t, 10 + t, 5 - t)), {"layer": "Walls"}),
+        f("partition", poly([(5.925, t), (6.075, t), (6.075, 2.425), (7.5, 2.425), (7.5, 2.575), (6.075, 2.575),
+                             (6.075, 5 - t), (5.925, 5 - t)]), {"type": "wall"}),
+        f("door-a", line((2, 0), (2.9, 0)), {"type": "door"}),
+        f("door-ab", line((6, 3.5), (6, 4.4)), {"category": "Door"}),
+        f("window-b", line((7.5, 5), (9, 5)), {"class": "window"}),
+    ]
+    write("geojson/wall_polygons.geojson", json.dumps({"type": "FeatureCollection", "features": feats}, indent=1) + "\n")
+
+
 if __name__ == "__main__":
     make_s3d()
     make_imdf()
@@ -517,3 +788,11 @@ if __name__ == "__main__":
     make_geojson()
     make_png_exterior()
     make_csv_units()
+    make_osm_corridors_open()
+    make_osm_courtyard()
+    make_imdf_courtyard()
+    make_osm_pillars()
+    make_osm_concourse()
+    make_geojson_crs_twins()
+    make_osm_indoorosm_twins()
+    make_geojson_wall_polygons()

@@ -16,6 +16,7 @@
 // format also has an in-memory entry point for tests.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -24,6 +25,7 @@
 #include <opencv2/core.hpp>
 
 #include "floorcast/floorplans/cleanup.hpp"
+#include "floorcast/floorplans/faithfulness.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 
 namespace floorcast {
@@ -54,6 +56,9 @@ struct ImportOptions {
   std::optional<double> resolution_m_per_px;
   /// png only: world coordinates (metres) of the image's bottom-left corner.
   Vec2 png_origin_m = Vec2::Zero();
+  /// imdf/osm/geojson: the coordinate reference system of the source's positions (GeoFrame), e.g.
+  /// "EPSG:32632"; overrides a GeoJSON `crs` member. Unset: the declared one, else WGS84.
+  std::optional<std::string> crs;
   /// Thickness of imported walls. Unset: 0.10 m for csv, imdf and osm (PALMS rasters draw
   /// walls about 0.1 m wide); 0.02 m for s3d, whose walls are room surfaces (the wall's axis is
   /// the annotated surface). png measures each wall's thickness from the image.
@@ -79,6 +84,27 @@ struct ImportOptions {
   /// units that all have one of these categories is open (IMDF splits large walkways into several
   /// units for naming). Default {"walkway"}. Every other unit boundary is a wall.
   std::vector<std::string> imdf_open_unit_categories = {"walkway"};
+  /// imdf: unit categories that are no space to stand in: voids (opentobelow, an atrium's hole in
+  /// the floor) and building mass drawn as units (column, structure and the wall materials brick,
+  /// concrete, drywall, glass, wood). Their outlines are walls like every unit's; they are not
+  /// room labels, so what they enclose is unmapped, not floor.
+  std::vector<std::string> imdf_void_unit_categories = {"opentobelow", "column", "structure", "brick",
+                                                        "concrete",    "drywall", "glass",    "wood"};
+
+  /// imdf/osm/geojson (sources of mapped spaces): free space is the union of the level's spaces, so
+  /// a region the walls enclose but no space covers (a courtyard, an atrium void) is labelled
+  /// "unmapped" and is not floor. With this set it stays free floor (as before issue 23), and the
+  /// faithfulness check says how much of it there is.
+  bool unmapped_is_floor = false;
+  /// imdf/osm/geojson: a room (a walled space that is not a corridor, hall or area) without any
+  /// opening in the source gets a door on the longest stretch of wall it shares with a transitional
+  /// space (heuristic in floorplans/README.md, "Openings"); counted as openings_inferred. Without
+  /// it such rooms stay sealed, and a note says how many there are.
+  bool infer_openings = false;
+  /// Thresholds of the faithfulness check every import of mapped spaces reports.
+  FaithfulnessOptions faithfulness;
+  /// Warnings (faithfulness above its thresholds, a level without spaces) become refusals.
+  bool strict = false;
 
   /// png: occupied connected components smaller than this many pixels are noise and dropped.
   int png_min_component_px = 4;
@@ -107,6 +133,12 @@ struct ImportResult {
   /// What the importer repaired or skipped before clean-up, by name (e.g. {"unclosed_ways_skipped",
   /// 1}); the clean-up's own counts are in `cleanup`. Each has notes naming the elements.
   std::vector<std::pair<std::string, int>> repairs;
+  /// Sources of mapped spaces (imdf, osm, geojson): is the plan what the source says
+  /// (faithfulness.hpp)? Not applicable for csv, s3d and png.
+  FaithfulnessReport faithfulness;
+  /// What looks wrong beyond the thresholds (the faithfulness warnings and the importer's own);
+  /// the import still succeeds unless ImportOptions::strict.
+  std::vector<std::string> warnings;
 };
 
 /// Imports a file (csv/s3d/osm: a file; png: an image file; imdf: a folder).
@@ -137,20 +169,43 @@ ImportResult import_imdf_texts(const std::string& level_geojson, const std::stri
 std::vector<Wall> vectorize_occupancy(const cv::Mat& occupied, double resolution_m_per_px,
                                       const ImportOptions& options, std::vector<std::string>* notes = nullptr);
 
-/// Local tangent plane about a WGS84 origin: exact geodetic -> ECEF -> east/north conversion
-/// (ellipsoid height 0), so distances use the ellipsoid's radii of curvature at the origin.
-class LocalTangentPlane {
+/// Coordinates of a geographic source (imdf, osm, geojson) -> plan metres, through PROJ. The source
+/// is WGS84 longitude/latitude unless a coordinate reference system is declared (a GeoJSON `crs`
+/// member) or given (--crs): any CRS PROJ reads ("EPSG:32632", "urn:ogc:def:crs:EPSG::2056", WKT,
+/// a PROJ string), geographic (longitude, latitude in degrees) or projected (easting, northing).
+/// A projected source is first converted to longitude/latitude on its own datum (an exact inverse
+/// projection; no datum shift, which only moves a building as a whole), then every point goes onto
+/// the local tangent plane of that datum's ellipsoid about an origin: geodetic -> geocentric ->
+/// topocentric east/north (PROJ's cart and topocentric operations, height 0). x = east, y = north,
+/// metres. Over a building (< 1 km) the plane departs from distances on the ellipsoid by less than a
+/// millimetre. Errors are InputErrors naming `what`; PROJ prints nothing.
+class GeoFrame {
  public:
-  LocalTangentPlane(double lat0_deg, double lon0_deg);
-  /// (east, north) metres of a WGS84 point.
-  Vec2 to_local_m(double lat_deg, double lon_deg) const;
-  /// Meridional radius of curvature M(lat) and prime-vertical radius N(lat), metres.
-  static double meridian_radius_m(double lat_deg);
-  static double prime_vertical_radius_m(double lat_deg);
+  /// `crs` empty: WGS84 longitude/latitude.
+  explicit GeoFrame(const std::string& crs = std::string(), const std::string& what = "coordinates");
+  ~GeoFrame();
+  GeoFrame(GeoFrame&&) noexcept;
+  GeoFrame& operator=(GeoFrame&&) noexcept;
+  GeoFrame(const GeoFrame&) = delete;
+  GeoFrame& operator=(const GeoFrame&) = delete;
+
+  /// Geographic source (positions are longitude, latitude in degrees), else projected.
+  bool geographic() const;
+  /// "WGS 84 longitude/latitude (default)", "WGS 84 / UTM zone 32N (EPSG:32632)", ...
+  const std::string& description() const;
+  /// A source position (x = longitude or easting, y = latitude or northing) as (longitude,
+  /// latitude) degrees on the source's datum. Throws InputError naming `where` when it is not a
+  /// position of the CRS (a geographic source outside [-180, 180] x [-90, 90], with the hint to
+  /// declare the projected CRS the numbers look like; a point PROJ cannot convert).
+  Vec2 to_geographic_deg(const Vec2& source_xy, const std::string& where) const;
+  /// The local plane's origin (longitude, latitude degrees on the source's datum).
+  void set_origin_deg(const Vec2& lonlat_deg);
+  /// (east, north) metres of a (longitude, latitude) point, after set_origin_deg().
+  Vec2 to_local_m(const Vec2& lonlat_deg) const;
 
  private:
-  Eigen::Vector3d origin_ecef_;
-  Eigen::Matrix3d R_enu_ecef_;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 /// One OSM level=* / repeat_on=* value as closed ranges: "1" -> [1,1]; "1;3" -> [1,1],[3,3];

@@ -56,6 +56,34 @@ PlanRasters make_plan_rasters(const FloorPlan& plan, const RasterOptions& option
 /// doors' leaves, glass and obstacles excluded).
 double free_floor_area_m2(const FloorPlan& plan, double resolution_m_per_px = 0.05);
 
+/// Is there somewhere to stand? The plan's free regions: connected components (8-neighbour) of
+/// the valid area (doors open; closed doors, glass and walls block; obstacles do not), each with
+/// its area and its width (twice the largest distance from a cell to the region's edge, less one
+/// cell).
+struct FreeRegionOptions {
+  double resolution_m_per_px = 0.1;  ///< raster resolution (coarser for plans above max_cells)
+  double max_cells = 4.0e6;          ///< cells of the raster at most (a 10 km plan is measured at 5 m/px)
+  double min_area_m2 = 4.0;          ///< a room-sized region has at least this area ...
+  double min_width_m = 1.0;          ///< ... and is at least this wide somewhere
+};
+struct FreeRegionSummary {
+  double resolution_m_per_px = 0.0;  ///< the resolution used
+  double free_area_m2 = 0.0;         ///< all free regions together
+  int regions = 0;
+  double largest_region_m2 = 0.0;
+  double widest_m = 0.0;             ///< the widest region's width
+  int room_sized_regions = 0;        ///< regions meeting min_area_m2 and min_width_m
+  double largest_room_sized_m2 = 0.0;
+};
+FreeRegionSummary free_region_summary(const FloorPlan& plan, const FreeRegionOptions& options = {});
+
+/// Refuses (InputError naming `source`, with the largest region's area and width) a plan with no
+/// room-sized free region: nowhere an observer could stand (a level of pillar outlines only, a plan
+/// whose mapped spaces all lie outside its walls). `floorcast plan validate` and every importer
+/// run it.
+void require_room_sized_free_region(const FloorPlan& plan, const std::string& source,
+                                    const FreeRegionOptions& options = {});
+
 /// Zhang-Suen thinning of a binary CV_8UC1 image (non-zero = foreground) to a one-pixel skeleton,
 /// 255 on the skeleton and 0 elsewhere (border pixels are never removed). The same pixels as
 /// OpenCV ximgproc's THINNING_ZHANGSUEN for 0/255 input (tested against it), without linking

@@ -58,7 +58,7 @@ struct PlanStats {
   int doors = 0;
   double doors_per_10m_wall = 0.0;
   int pillars = 0;                   ///< obstacles of kind pillar (columns)
-  int rooms = 0;                     ///< labelled rooms (FloorPlan::rooms)
+  int rooms = 0;                     ///< labelled rooms (FloorPlan::rooms, "unmapped" regions not counted)
   int transitional_rooms = 0;        ///< is_transitional_kind
   /// Non-transitional rooms of at least min_room_area_m2.
   Distribution room_area_m2;
