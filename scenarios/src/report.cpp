@@ -134,6 +134,9 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
       md << sep;
       sep = "; ";
       if (region == "transitional") md << "in transitional spaces (hallways, corridors, lobbies, ...)";
+      else if (region == "transitional_or_uniform")
+        md << "in transitional spaces where they can be sampled, else uniform over the free space (the run log says "
+              "which)";
       else if (region == "kinds") md << "in rooms of kinds " << list(scenario.sampling.region_kinds);
       else if (region == "uniform") md << "uniform over the free space";
       else md << "uniform over the free space, **no room labels** (not the transitional protocol)";

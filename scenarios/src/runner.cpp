@@ -61,6 +61,8 @@ struct ScenarioRunner::Impl {
   struct Building {
     FloorPlan plan;
     std::vector<Pose2> poses;
+    std::string sampling_used;  // the region sampled ("uniform (fallback: ...)" for transitional_or_uniform)
+    SamplingCoverage coverage;
     std::unique_ptr<RayScene> scene;  // only when some cell simulates scans
   };
   std::vector<Building> buildings;
@@ -112,14 +114,30 @@ ScenarioRunner::ScenarioRunner(const Scenario& scenario, const std::function<voi
       rooms = std::move(generated.rooms);
     }
     std::vector<std::string> kinds;
-    if (spec.sampling_region == "transitional") kinds = {"transitional"};
+    const bool or_uniform = spec.sampling_region == "transitional_or_uniform";
+    if (spec.sampling_region == "transitional" || or_uniform) kinds = {"transitional"};
     if (spec.sampling_region == "kinds") kinds = scenario.sampling.region_kinds;
     if (!kinds.empty() && rooms.empty()) {
       throw InputError("building \"" + spec.label + "\": sampling by room kind needs room labels (a plan with "
                        "\"rooms\", a generated building, or a rooms file: buildings[].rooms)");
     }
-    building.poses = sample_observation_poses(building.plan, scenario.sampling.count, scenario.sampling.seed,
-                                              static_cast<int>(b), scenario.sampling.clearance_m, 0.1, rooms, kinds);
+    auto sample = [&](const std::vector<std::string>& k) {
+      return sample_observation_points(building.plan, scenario.sampling.count, scenario.sampling.seed, static_cast<int>(b),
+                                       scenario.sampling.clearance_m, 0.1, rooms, k);
+    };
+    SampledPoints sampled;
+    building.sampling_used = or_uniform ? "transitional" : spec.sampling_region;
+    try {
+      sampled = sample(kinds);
+    } catch (const SamplingError& e) {
+      // sampling.region transitional_or_uniform: a plan whose transitional spaces cannot be
+      // sampled (none, outside the free space, too narrow) is sampled uniformly, and says why.
+      if (!or_uniform || e.cause() == SamplingRefusal::kNoClearance) throw;
+      sampled = sample({});
+      building.sampling_used = std::string("uniform (fallback: ") + e.what() + ")";
+    }
+    building.poses = std::move(sampled.poses);
+    building.coverage = std::move(sampled.coverage);
     if (static_cast<int>(building.poses.size()) != scenario.sampling.count) {
       throw InputError("building \"" + spec.label + "\": only " + std::to_string(building.poses.size()) + " of " +
                        std::to_string(scenario.sampling.count) + " observation points fit with clearance " +
@@ -129,7 +147,9 @@ ScenarioRunner::ScenarioRunner(const Scenario& scenario, const std::function<voi
       for (Pose2& p : building.poses) p.yaw_rad = 0.0;
     if (any_scan) building.scene = std::make_unique<RayScene>(extrude_plan(building.plan));
     say("building " + spec.label + ": " + std::to_string(building.plan.walls.size()) + " walls, " +
-        std::to_string(building.poses.size()) + " points (" + spec.sampling_region + ", " + std::to_string(seconds_since(t0)) + " s)");
+        std::to_string(building.poses.size()) + " points (" + building.sampling_used + ", " + std::to_string(seconds_since(t0)) +
+        " s): " + sampling_coverage_summary(building.coverage));
+    for (const std::string& w : building.coverage.warnings) say("building " + spec.label + ": sampling warning: " + w);
     d.buildings.push_back(std::move(building));
   }
 
@@ -170,6 +190,12 @@ SimulatedScan ScenarioRunner::unit_scan(const WorkUnit& unit, int step) const {
 const FloorPlan& ScenarioRunner::building_plan(int b) const { return impl_->buildings.at(static_cast<std::size_t>(b)).plan; }
 const std::vector<Pose2>& ScenarioRunner::building_points(int b) const {
   return impl_->buildings.at(static_cast<std::size_t>(b)).poses;
+}
+const std::string& ScenarioRunner::building_sampling_region(int b) const {
+  return impl_->buildings.at(static_cast<std::size_t>(b)).sampling_used;
+}
+const SamplingCoverage& ScenarioRunner::building_sampling_coverage(int b) const {
+  return impl_->buildings.at(static_cast<std::size_t>(b)).coverage;
 }
 const Mesh* ScenarioRunner::building_mesh(int b) const {
   const auto& scene = impl_->buildings.at(static_cast<std::size_t>(b)).scene;

@@ -674,7 +674,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
       }
     }
     s.sampling.region = chk.string_in(o, "sampling", "region", s.sampling.region_kinds.empty() ? "transitional" : "kinds",
-                                      {"transitional", "uniform", "kinds"});
+                                      {"transitional", "transitional_or_uniform", "uniform", "kinds"});
     if (s.sampling.region == "kinds" && s.sampling.region_kinds.empty()) {
       chk.fail("sampling.region", "\"kinds\" needs sampling.region_kinds");
     }
@@ -683,8 +683,8 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
     }
   }
   for (BuildingSpec& b : s.buildings) {
-    if (s.sampling.region != "transitional") b.sampling_region = s.sampling.region;
-    else b.sampling_region = has_room_labels(b) ? "transitional" : "uniform_unlabelled";
+    if (s.sampling.region != "transitional" && s.sampling.region != "transitional_or_uniform") b.sampling_region = s.sampling.region;
+    else b.sampling_region = has_room_labels(b) ? s.sampling.region : "uniform_unlabelled";
   }
   if (root.contains("scoring")) {
     const OJson& o = root.at("scoring");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include "floorcast/floorplans/io.hpp"
@@ -191,6 +192,102 @@ matchers: {kernel: {matcher: kernel}}
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("needs room labels"), std::string::npos) << e.what();
   }
+}
+
+
+// Sampling says what it sampled and, when it cannot, why: one message per cause (issue 23).
+TEST(Sampling, RefusalsNameTheirCause) {
+  const FloorPlan plan = test::asymmetric_floor();
+  auto refusal = [&](const std::vector<Room>& rooms, double clearance_m) {
+    try {
+      (void)sample_observation_points(plan, 5, 1, 0, clearance_m, 0.1, rooms, {"transitional"});
+    } catch (const SamplingError& e) {
+      return std::make_pair(e.cause(), std::string(e.what()));
+    }
+    return std::make_pair(SamplingRefusal::kNoClearance, std::string("no refusal"));
+  };
+  // No room of the sampled kinds: the message lists the kinds the plan has.
+  const auto none = refusal({{"o", "office", {{5, 0}, {12, 0}, {12, 5}, {5, 5}}, {}}}, 0.3);
+  EXPECT_EQ(none.first, SamplingRefusal::kNoRoomOfKinds);
+  EXPECT_NE(none.second.find("no room of the sampled kinds"), std::string::npos) << none.second;
+  EXPECT_NE(none.second.find("office 1"), std::string::npos) << none.second;
+  // Corridors labelled but outside the free space (an import that left them out).
+  const auto outside = refusal({{"c", "corridor", {{20, 0}, {40, 0}, {40, 3}, {20, 3}}, {}}}, 0.3);
+  EXPECT_EQ(outside.first, SamplingRefusal::kKindsOutsideFreeSpace);
+  EXPECT_NE(outside.second.find("outside the plan's free space"), std::string::npos) << outside.second;
+  EXPECT_NE(outside.second.find("60.0 m^2"), std::string::npos) << outside.second;
+  // Corridors free but too narrow for the clearance.
+  const auto narrow = refusal({{"c", "corridor", {{5, 0}, {12, 0}, {12, 5}, {5, 5}}, {}}}, 3.0);
+  EXPECT_EQ(narrow.first, SamplingRefusal::kKindsTooNarrow);
+  EXPECT_NE(narrow.second.find("nowhere more than"), std::string::npos) << narrow.second;
+  EXPECT_NE(narrow.second.find("3.00 m clearance"), std::string::npos) << narrow.second;
+  // Uniform: no free cell with the clearance.
+  try {
+    (void)sample_observation_points(plan, 5, 1, 0, 50.0);
+    FAIL() << "expected a refusal";
+  } catch (const SamplingError& e) {
+    EXPECT_EQ(e.cause(), SamplingRefusal::kNoClearance);
+  }
+}
+
+TEST(Sampling, CoverageCountsKindsAndCellsAndWarns) {
+  const FloorPlan plan = test::asymmetric_floor();
+  const std::vector<Room> rooms = {{"l", "lobby", {{5, 0}, {12, 0}, {12, 5}, {5, 5}}, {}},
+                                   {"o", "office", {{0, 0}, {5, 0}, {5, 5}, {0, 5}}, {}}};
+  const SampledPoints all = sample_observation_points(plan, 60, 4, 0, 0.3, 0.1, rooms);
+  int total = 0;
+  for (const auto& [kind, count] : all.coverage.points_per_kind) total += count;
+  EXPECT_EQ(total, 60);
+  EXPECT_EQ(all.coverage.points, 60);
+  EXPECT_GT(all.coverage.distinct_cells_2m, 8);
+  EXPECT_TRUE(all.coverage.warnings.empty());
+  // The same points as sample_observation_poses.
+  const std::vector<Pose2> same = sample_observation_poses(plan, 60, 4, 0, 0.3, 0.1, rooms);
+  for (std::size_t i = 0; i < same.size(); ++i) EXPECT_EQ(same[i].x_m, all.poses[i].x_m);
+  // A corridor label mostly outside the walls: the points land in its small free part, and the
+  // coverage says the corridors are mostly outside the free space and the points crowd together.
+  const std::vector<Room> stray = {{"c", "corridor", {{11, 3.5}, {60, 3.5}, {60, 20}, {11, 20}}, {}}};
+  const SampledPoints crowded = sample_observation_points(plan, 40, 4, 0, 0.3, 0.1, stray, {"transitional"});
+  ASSERT_EQ(crowded.coverage.points_per_kind.size(), 1u);
+  EXPECT_EQ(crowded.coverage.points_per_kind[0].first, "corridor");
+  EXPECT_LE(crowded.coverage.distinct_cells_2m, 3);
+  ASSERT_EQ(crowded.coverage.warnings.size(), 2u);
+  EXPECT_NE(crowded.coverage.warnings[0].find("outside the plan's free space"), std::string::npos);
+  EXPECT_NE(crowded.coverage.warnings[1].find("distinct 2 m cells"), std::string::npos);
+}
+
+// sampling.region: transitional_or_uniform samples a labelled plan without transitional spaces
+// uniformly and says why; the plain transitional region refuses it with the cause.
+TEST(Sampling, TransitionalOrUniformFallsBackWithTheReason) {
+  const std::string dir = ::testing::TempDir() + "/sampling_fallback";
+  std::filesystem::create_directories(dir);
+  FloorPlan plan = load_floor_plan(std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/two_rooms.json");
+  Room office;
+  office.id = "o";
+  office.kind = "office";
+  office.polygon_m = {{0, 0}, {8, 0}, {8, 5}, {0, 5}};
+  plan.rooms = {office};
+  save_floor_plan(plan, dir + "/offices.json");
+  const std::string yaml = R"(
+buildings: [offices.json]
+sampling: {count: 6, seed: 5, region: transitional_or_uniform}
+observation: {source: perfect}
+matchers: {kernel: {matcher: kernel}}
+)";
+  const Scenario s = parse_scenario(yaml, "fallback.yaml", dir, FLOORCAST_SOURCE_DIR);
+  EXPECT_EQ(s.buildings[0].sampling_region, "transitional_or_uniform");
+  std::vector<std::string> log;
+  const ScenarioRunner runner(s, [&](const std::string& line) { log.push_back(line); });
+  EXPECT_EQ(runner.building_points(0).size(), 6u);
+  EXPECT_NE(runner.building_sampling_region(0).find("uniform (fallback: "), std::string::npos);
+  EXPECT_NE(runner.building_sampling_region(0).find("no room of the sampled kinds"), std::string::npos);
+  bool logged = false;
+  for (const std::string& l : log) logged = logged || (l.find("fallback") != std::string::npos && l.find("6 office") != std::string::npos);
+  EXPECT_TRUE(logged);
+  const Scenario strict = parse_scenario("buildings: [offices.json]\nsampling: {count: 6}\nmatchers: {k: {matcher: kernel}}\n",
+                                         "strict.yaml", dir, FLOORCAST_SOURCE_DIR);
+  EXPECT_THROW(ScenarioRunner r(strict), SamplingError);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "floorcast/scenarios/sampling.hpp"
 #include "floorcast/scenarios/units.hpp"
 #include "floorcast/sim/mesh.hpp"
 #include "floorcast/sim/simulated_scan.hpp"
@@ -84,6 +85,11 @@ class ScenarioRunner {
   /// its 3D mesh (only when some cell simulates scans; null otherwise).
   const FloorPlan& building_plan(int b) const;
   const std::vector<Pose2>& building_points(int b) const;
+  /// Where building b's points were drawn: its resolved sampling region, or for
+  /// transitional_or_uniform "transitional" or "uniform (fallback: <why transitional failed>)".
+  const std::string& building_sampling_region(int b) const;
+  /// What building b's points cover (points per room kind, distinct 2 m cells, warnings).
+  const SamplingCoverage& building_sampling_coverage(int b) const;
   const Mesh* building_mesh(int b) const;
 
  private:

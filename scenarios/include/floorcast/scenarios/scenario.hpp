@@ -34,7 +34,8 @@ struct BuildingSpec {
   /// sampling.region_kinds; generated buildings carry their rooms themselves.
   std::string rooms_file;
   /// Resolved at load: how this building's observation points are placed: "transitional"
-  /// (rooms of transitional kinds), "kinds" (rooms of sampling.region_kinds), "uniform" (asked
+  /// (rooms of transitional kinds), "transitional_or_uniform" (the same, uniform when they cannot
+  /// be sampled), "kinds" (rooms of sampling.region_kinds), "uniform" (asked
   /// for), or "uniform_unlabelled" (sampling.region transitional, but the plan has no room labels:
   /// the whole free space, stated in the resolved configuration and the summary).
   std::string sampling_region;
@@ -50,7 +51,9 @@ struct SamplingSpec {
   /// transitional kinds (rooms.hpp: hallways, corridors, lobbies, atria, ...) of plans with room
   /// labels (generated buildings, plan files with "rooms", imported OSM/IMDF/GeoJSON plans, a
   /// rooms file); a plan without labels is sampled uniformly, and the resolved configuration and
-  /// summary say so. "uniform": the whole free space. "kinds": rooms of region_kinds (labels
+  /// summary say so. "transitional_or_uniform": transitional where the plan's transitional spaces
+  /// can be sampled, else (none, outside the free space, too narrow for the clearance) uniform, the
+  /// reason in the run log. "uniform": the whole free space. "kinds": rooms of region_kinds (labels
   /// required). A point belongs to the smallest labelled room containing it (room_at).
   std::string region = "transitional";
   /// Room kinds for region "kinds" (giving region_kinds implies it; the word "transitional"
