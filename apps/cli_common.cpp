@@ -139,32 +139,6 @@ CLI::App& group(CLI::App& parent, const std::string& name, const std::string& de
   return *sub;
 }
 
-std::string source_dir() {
-  namespace fs = std::filesystem;
-  static const std::string root = [] {
-    auto is_root = [](const fs::path& p) {
-      std::error_code ec;
-      return fs::is_regular_file(p / "scenarios" / "quickstart.yaml", ec) &&
-             fs::is_directory(p / "floorplans" / "buildings", ec);
-    };
-    if (const char* env = std::getenv("FLOORCAST_DATA_DIR"); env && *env) return std::string(env);
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (!ec) {
-      // Installed: <prefix>/bin/floorcast with the data in <prefix>/share/floorcast.
-      const fs::path installed = exe.parent_path().parent_path() / "share" / "floorcast";
-      if (is_root(installed)) return installed.string();
-      // Built inside the source tree (build/bin/floorcast, or any depth below it).
-      for (fs::path p = exe.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path()) {
-        if (is_root(p)) return p.string();
-      }
-    }
-    // Last resort: the working directory (a checkout run from its root).
-    return fs::current_path(ec).string();
-  }();
-  return root;
-}
-
 Pose2 parse_pose(const std::string& text, const std::string& option) {
   std::vector<double> v;
   std::stringstream ss(text);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "floorcast/core/types.hpp"
+#include "floorcast/scenarios/driver.hpp"
 #include "floorcast/scenarios/scenario.hpp"
 
 namespace floorcast::cli {
@@ -27,11 +28,6 @@ void register_all(CLI::App& root);
 /// files add sub-commands to one group (`plan`, `sim`, `bench`, ...).
 CLI::App& group(CLI::App& parent, const std::string& name, const std::string& description);
 
-/// Where the shipped data lives (floorplans/buildings, scenarios, results/baselines): the
-/// FLOORCAST_DATA_DIR environment variable when set; else <prefix>/share/floorcast next to an
-/// installed binary; else the source tree the binary was built in (found by walking up from the
-/// executable); else the working directory. Nothing of the build machine is compiled in.
-std::string source_dir();
 
 /// Parses "X,Y,YAW_DEG" (metres, metres, degrees); errors name `option`.
 Pose2 parse_pose(const std::string& text, const std::string& option = "--pose");
@@ -69,18 +65,11 @@ struct CommandExit {
   int code = 1;
 };
 
-/// Runs a scenario (or shard "I/N" of it) into the run directory `out` (resuming what is there),
-/// with progress and notes on stderr unless quiet, the summary table on stdout when
-/// print_summary (the CLI's result; Python's run_scenario(quiet=True) prints nothing at all),
-/// and writes the report when every unit is done: the one experiment engine behind `run` and
-/// `compare-matchers`.
+/// floorcast::run_scenario (scenarios/driver.hpp) with progress and notes on stderr unless quiet,
+/// and the summary tables on stdout when print_summary and every unit is done: the front of `run`
+/// and `compare-matchers`.
 void run_scenario(const Scenario& scenario, const std::string& out, int jobs, const std::string& shard, bool quiet,
                   bool print_summary = true);
-
-/// Combines shard run directories into one run at `out` (creating or completing it) and writes
-/// its report (summary.md/json, observations.csv, plots/); prints the summary unless quiet.
-/// Throws InputError when the shards disagree, come from different scenarios, or miss units.
-void merge_runs(const std::vector<std::string>& inputs, const std::string& out, bool quiet);
 
 /// Writes DIR/report.html (the self-contained page `floorcast report` writes) of a finished run.
 void write_html_report(const std::string& run_dir);

@@ -28,7 +28,7 @@ void register_bench_filter(CLI::App& root) {
   cmd->callback([o] {
     std::vector<std::string> plans = o->plans;
     if (plans.empty()) {
-      plans = {source_dir() + "/floorplans/buildings/office.json", source_dir() + "/floorplans/buildings/campus.json"};
+      plans = {data_dir() + "/floorplans/buildings/office.json", data_dir() + "/floorplans/buildings/campus.json"};
     }
     nlohmann::ordered_json all = nlohmann::ordered_json::object();
     for (const std::string& path : plans) {

@@ -113,7 +113,7 @@ void register_bench_match(CLI::App& root) {
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
     std::vector<std::string> plans = o->plans;
-    if (plans.empty()) plans = {source_dir() + "/floorplans/buildings/campus.json"};
+    if (plans.empty()) plans = {data_dir() + "/floorplans/buildings/campus.json"};
     std::vector<int> rays;
     for (int d : o->params.ray_directions) {
       if (d < 0 || d == 1 || d == 2 || d == 3 || d > 3600) throw InputError("--rays: direction counts must be 4 - 3600 (or 0 for none)");

@@ -148,7 +148,7 @@ void register_compare_matchers(CLI::App& root) {
     doc["matchers"] = matchers;
     doc["output"] = {{"heatmaps", 0}};
     const Scenario scenario = parse_scenario(doc.dump(2), "compare-matchers (command line)",
-                                             std::filesystem::current_path().string(), source_dir());
+                                             std::filesystem::current_path().string(), data_dir());
     run_scenario(scenario, o->out, o->jobs, "0/1", o->quiet);
   });
 }

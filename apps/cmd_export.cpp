@@ -37,7 +37,7 @@ void register_export(CLI::App& root) {
   cmd->add_flag("--quiet", o->quiet, "No progress output");
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
   cmd->callback([o] {
-    const Scenario scenario = load_scenario(o->scenario, source_dir());
+    const Scenario scenario = load_scenario(o->scenario, data_dir());
     DatasetExportOptions options;
     options.rgb = !o->no_rgb;
     options.cells = o->cells;

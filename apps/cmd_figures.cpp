@@ -21,7 +21,7 @@ namespace {
 /// folder (the source tree, or <prefix>/share/floorcast when installed).
 std::string figures_script() {
   if (const char* env = std::getenv("FLOORCAST_FIGURES_SCRIPT"); env && *env) return env;
-  return (std::filesystem::path(source_dir()) / "python" / "floorcast" / "figures.py").string();
+  return (std::filesystem::path(data_dir()) / "python" / "floorcast" / "figures.py").string();
 }
 
 /// FLOORCAST_PYTHON, else Debian's /usr/bin/python3 (where python3-matplotlib installs), else

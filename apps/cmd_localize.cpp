@@ -19,7 +19,9 @@
 #include "floorcast/core/hash.hpp"
 #include "floorcast/scenarios/run_directory.hpp"
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/match/estimate_record.hpp"
 #include "floorcast/match/matcher.hpp"
+#include "floorcast/match/ray_matcher.hpp"
 #include "floorcast/eval/heatmap.hpp"
 #include "floorcast/match/plan_raster.hpp"
 #include "floorcast/core/observation_io.hpp"
@@ -163,15 +165,6 @@ std::string write_posterior(const std::string& dir, const std::string& mode, con
   return "posterior_top.npz";
 }
 
-nlohmann::ordered_json hypothesis_json(const PoseHypothesis& h) {
-  nlohmann::ordered_json j;
-  j["x_m"] = h.x_m;
-  j["y_m"] = h.y_m;
-  j["yaw_deg"] = h.yaw_rad * 180.0 / kPi;
-  j["score"] = h.score;
-  return j;
-}
-
 void register_localize(CLI::App& root) {
   struct Options {
     std::string plan, obs, matcher = "kernel", orientations, out;
@@ -220,20 +213,7 @@ void register_localize(CLI::App& root) {
   cmd->callback([o, range_opt] {
     check_argument_order(o->plan, o->obs);
     refuse_output_inside_inputs(o->out, {o->obs});
-    const FloorPlan plan = load_floor_plan(o->plan);
-    LocalizationInput input;
-    {
-      const Heartbeat hb("localize: reading the observation " + o->obs, o->quiet);
-      input = load_localization_input(o->obs, o->observe);
-    }
-    // An observation made in another building (or another version of this plan) localizes
-    // against the wrong map: say so, do not refuse (a plan may have been repaired since).
-    const std::string plan_hash_hex = hex64(plan_hash(plan));
-    if (auto it = input.record.metadata.find("plan_hash"); it != input.record.metadata.end() && it->second != plan_hash_hex) {
-      std::cerr << "floorcast: warning: " << o->obs << " was made on a plan with hash " << it->second << ", but "
-                << o->plan << " has hash " << plan_hash_hex
-                << " (another building or another version of the plan): the estimate may be meaningless\n";
-    }
+    // Every parameter is parsed, typed and checked before any work.
     nlohmann::json overrides = nlohmann::json::object();
     for (const std::string& p : o->params) add_override(overrides, p, "--matcher-param");
     if (range_opt->count() > 0 && overrides.contains("max_range_m")) {
@@ -249,19 +229,35 @@ void register_localize(CLI::App& root) {
       if (o->matcher != "ray") throw InputError("--rays applies to the ray matcher only");
       overrides["num_directions"] = o->rays;
     }
+    const std::shared_ptr<const MatcherConfig> matcher_config = make_matcher_config(o->matcher, overrides, shared);
+    (void)observation_params_from_cli(o->observe, nullptr);  // the observation module's, checked now
+    const FloorPlan plan = load_floor_plan(o->plan);
+    LocalizationInput input;
+    {
+      const Heartbeat hb("localize: reading the observation " + o->obs, o->quiet);
+      input = load_localization_input(o->obs, o->observe);
+    }
+    // An observation made in another building (or another version of this plan) localizes
+    // against the wrong map: say so, do not refuse (a plan may have been repaired since).
+    const std::string plan_hash_hex = hex64(plan_hash(plan));
+    if (auto it = input.record.metadata.find("plan_hash"); it != input.record.metadata.end() && it->second != plan_hash_hex) {
+      std::cerr << "floorcast: warning: " << o->obs << " was made on a plan with hash " << it->second << ", but "
+                << o->plan << " has hash " << plan_hash_hex
+                << " (another building or another version of the plan): the estimate may be meaningless\n";
+    }
     std::unique_ptr<Matcher> matcher;
     {
       const Heartbeat hb("localize: preparing the " + o->matcher + " matcher on " + o->plan, o->quiet);
-      matcher = make_matcher_config(o->matcher, overrides, shared)->build(plan);
+      matcher = matcher_config->build(plan);
     }
     // Said, not silent: ray ranges the ray matcher cannot use (auto casts rays on the segments).
     std::vector<std::string> notes;
-    const nlohmann::ordered_json mp = matcher->parameters();
     const std::size_t obs_rays = input.record.observation.ray_ranges_m.size();
-    if (mp.contains("ray_source") && mp["ray_source"] == "auto" && mp.contains("num_directions") && obs_rays > 0 &&
-        mp["num_directions"].get<std::size_t>() != obs_rays) {
+    if (const auto* ray = dynamic_cast<const RayMatcher*>(matcher.get());
+        ray && ray->params().ray_source == RaySource::kAuto && obs_rays > 0 &&
+        static_cast<std::size_t>(ray->params().num_directions) != obs_rays) {
       notes.push_back("the observation's " + std::to_string(obs_rays) + " ray ranges do not match the " +
-                      std::to_string(mp["num_directions"].get<int>()) +
+                      std::to_string(ray->params().num_directions) +
                       " directions of the ray matcher: rays are cast on its segments instead (ray_source auto)");
       std::cerr << "note: " << notes.back() << "\n";
     }
@@ -285,52 +281,36 @@ void register_localize(CLI::App& root) {
     post.yaw_rad = {0.0};
     post.scores = {result.posterior.num_slices() > 0 ? result.posterior.max_over_yaw() : result.max_over_yaw};
     if (post.scores.front().empty()) post.scores.front() = cv::Mat::zeros(post.grid.height_px, post.grid.width_px, CV_32F);
-    nlohmann::ordered_json j;
-    j["status"] = found ? "ok" : "no pose: empty posterior (every cell scored 0)";
-    j["x_m"] = found ? nlohmann::ordered_json(best.x_m) : nlohmann::ordered_json(nullptr);
-    j["y_m"] = found ? nlohmann::ordered_json(best.y_m) : nlohmann::ordered_json(nullptr);
-    j["yaw_deg"] = found ? nlohmann::ordered_json(best.yaw_rad * 180.0 / kPi) : nlohmann::ordered_json(nullptr);
-    j["score"] = best.score;
-    nlohmann::ordered_json top = nlohmann::ordered_json::array();
-    for (const PoseHypothesis& h : modes) top.push_back(hypothesis_json(h));
-    j["top_k"] = top;
+    EstimateRecord est;
+    est.status = found ? "ok" : "no pose: empty posterior (every cell scored 0)";
+    if (found) est.best = hypothesis_record(best);
+    est.score = best.score;
+    for (const PoseHypothesis& h : modes) est.top_k.push_back(hypothesis_record(h));
     if (input.record.T_world_observer) {
       const Pose2& t = *input.record.T_world_observer;
-      nlohmann::ordered_json g;
-      g["x_m"] = t.x_m;
-      g["y_m"] = t.y_m;
-      g["yaw_deg"] = t.yaw_rad * 180.0 / kPi;
-      j["ground_truth"] = g;
+      est.ground_truth = HypothesisRecord{t.x_m, t.y_m, t.yaw_rad * 180.0 / kPi, 0.0};
       if (found) {
-        j["position_error_m"] = std::hypot(best.x_m - t.x_m, best.y_m - t.y_m);
-        j["yaw_error_deg"] = angle_distance_rad(best.yaw_rad, t.yaw_rad) * 180.0 / kPi;
+        est.position_error_m = std::hypot(best.x_m - t.x_m, best.y_m - t.y_m);
+        est.yaw_error_deg = angle_distance_rad(best.yaw_rad, t.yaw_rad) * 180.0 / kPi;
       }
     }
-    nlohmann::ordered_json timings;
-    timings["precompute_s"] = matcher->precompute_s();
-    timings["match_s"] = result.match_s;
-    nlohmann::ordered_json stages;
-    for (const auto& [k, v] : result.stage_s) stages[k] = v;
-    timings["stages_s"] = stages;
-    j["timings"] = timings;
-    j["matcher"] = matcher->name();
-    j["parameters"] = matcher->parameters();
-    j["precompute_mb"] = matcher->precompute_bytes() / 1e6;
-    j["plan"] = o->plan;
-    j["observation"] = o->obs;
-    j["observation_input"] = input.description;
-    j["observation_segments"] = input.record.observation.segments_m.size();
-    if (!notes.empty()) j["notes"] = notes;
-    nlohmann::ordered_json grid;
-    grid["origin_m"] = {post.grid.origin_x_m, post.grid.origin_y_m};
-    grid["resolution_m"] = post.grid.resolution_m_per_px;
-    grid["size_px"] = {post.grid.width_px, post.grid.height_px};
-    grid["slices"] = result.posterior.num_slices() > 0 ? nlohmann::ordered_json(result.posterior.num_slices()) : nlohmann::ordered_json(nullptr);
-    j["grid"] = grid;
-    j["posterior_output"] = o->posterior;
+    est.precompute_s = matcher->precompute_s();
+    est.match_s = result.match_s;
+    est.stages_s = result.stage_s;
+    est.matcher = matcher->name();
+    est.parameters = matcher->parameters();
+    est.precompute_mb = matcher->precompute_bytes() / 1e6;
+    est.plan = o->plan;
+    est.observation = o->obs;
+    est.observation_input = input.description;
+    est.observation_segments = input.record.observation.segments_m.size();
+    est.notes = notes;
+    est.grid = post.grid;
+    if (result.posterior.num_slices() > 0) est.slices = result.posterior.num_slices();
+    est.posterior_output = o->posterior;
 
     ensure_directory(o->out);
-    write_json(o->out + "/estimate.json", j);
+    write_json(o->out + "/estimate.json", estimate_record_fields().write(est));
     if (input.observation_diagnostics) {  // what the observation module made of the scan
       save_observation(o->out + "/observation.json", input.record);
       write_json(o->out + "/observation.diagnostics.json", *input.observation_diagnostics);
@@ -347,8 +327,8 @@ void register_localize(CLI::App& root) {
     HeatmapStyle style;
     style.title = matcher->name() + " matcher: " +
                   (!found ? std::string("no pose")
-                          : truth ? "error " + format_fixed(j["position_error_m"].get<double>(), 2) + " m, " +
-                                        format_fixed(j["yaw_error_deg"].get<double>(), 1) + " deg"
+                          : truth ? "error " + format_fixed(*est.position_error_m, 2) + " m, " +
+                                        format_fixed(*est.yaw_error_deg, 1) + " deg"
                                   : "estimate " + format_pose(Pose2{best.x_m, best.y_m, best.yaw_rad}));
     const cv::Mat img = render_posterior_heatmap(post, raster, truth,
                                                  found ? std::optional<PoseHypothesis>(best) : std::nullopt, style);
@@ -357,26 +337,14 @@ void register_localize(CLI::App& root) {
     {
       const std::string file = write_posterior(o->out, o->posterior, result.posterior, o->posterior_cells);
       if (!file.empty()) {
-        const Posterior& full = result.posterior;
-        nlohmann::ordered_json gj;
-        gj["file"] = file;
-        gj["axes"] = {"yaw", "y", "x"};
-        gj["shape"] = {full.num_slices(), full.grid.height_px, full.grid.width_px};
-        gj["dtype"] = o->posterior == "npz-f16" ? "float16" : "float32";
+        PosteriorGridRecord g = posterior_grid_record(result.posterior, matcher->name());
+        g.file = file;
+        g.dtype = o->posterior == "npz-f16" ? "float16" : "float32";
         if (o->posterior == "top-k") {
-          gj["top_k"] = "posterior_top.npz holds the best cells in descending score: arrays index (N x 3: yaw slice, row, "
-                        "col), x_m, y_m, yaw_deg, score";
+          g.top_k = "posterior_top.npz holds the best cells in descending score: arrays index (N x 3: yaw slice, row, "
+                    "col), x_m, y_m, yaw_deg, score";
         }
-        gj["origin_m"] = {full.grid.origin_x_m, full.grid.origin_y_m};
-        gj["resolution_m"] = full.grid.resolution_m_per_px;
-        std::vector<double> yaw_deg;
-        for (double y : full.yaw_rad) yaw_deg.push_back(y * 180.0 / kPi);
-        gj["yaw_deg"] = yaw_deg;
-        gj["cell_centre"] = "posterior[s, row, col] is the observer at x = origin_m[0] + (col + 0.5) * resolution_m, "
-                            "y = origin_m[1] + (row + 0.5) * resolution_m (row 0 = lowest y), heading yaw_deg[s]";
-        gj["values"] = "unnormalised scores >= 0, higher is better; all zero = no pose";
-        gj["matcher"] = matcher->name();
-        write_json(o->out + "/posterior_grid.json", gj);
+        write_json(o->out + "/posterior_grid.json", posterior_grid_record_fields().write(g));
       }
 
       std::vector<TrajectoryLayer> layers;
@@ -412,8 +380,8 @@ void register_localize(CLI::App& root) {
               << " m, yaw " << std::setprecision(1) << best.yaw_rad * 180.0 / kPi << " deg (score "
               << std::setprecision(4) << best.score << ")";
     if (input.record.T_world_observer) {
-      std::cout << std::setprecision(2) << "; error " << j["position_error_m"].get<double>() << " m, "
-                << std::setprecision(1) << j["yaw_error_deg"].get<double>() << " deg";
+      std::cout << std::setprecision(2) << "; error " << *est.position_error_m << " m, " << std::setprecision(1)
+                << *est.yaw_error_deg << " deg";
     }
     std::cout << std::setprecision(3) << "; precompute " << matcher->precompute_s() << " s, match " << result.match_s
               << " s -> " << o->out << "\n";

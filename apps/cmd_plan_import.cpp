@@ -40,43 +40,6 @@ struct ImportCliOptions {
   bool json = false;
 };
 
-nlohmann::ordered_json faithfulness_json(const FaithfulnessReport& f) {
-  nlohmann::ordered_json j;
-  j["applicable"] = f.applicable;
-  if (!f.applicable) return j;
-  auto r2 = [](double v) { return std::round(v * 100.0) / 100.0; };
-  j["resolution_m_per_px"] = f.resolution_m_per_px;
-  j["spaces"] = f.spaces;
-  j["source_area_m2"] = r2(f.source_area_m2);
-  j["mapped_area_m2"] = r2(f.mapped_area_m2);
-  j["wall_area_m2"] = r2(f.wall_area_m2);
-  j["free_area_m2"] = r2(f.free_area_m2);
-  j["free_in_mapped_m2"] = r2(f.free_in_mapped_m2);
-  j["free_outside_mapped_m2"] = r2(f.free_outside_mapped_m2);
-  j["free_share"] = std::round(f.free_share * 10000.0) / 10000.0;
-  j["unmapped_area_m2"] = r2(f.unmapped_area_m2);
-  j["unmapped_regions"] = f.unmapped_regions;
-  nlohmann::ordered_json kinds = nlohmann::ordered_json::array();
-  for (const KindFaithfulness& k : f.kinds) {
-    kinds.push_back({{"kind", k.kind},
-                     {"spaces", k.spaces},
-                     {"source_area_m2", r2(k.source_area_m2)},
-                     {"mapped_area_m2", r2(k.mapped_area_m2)},
-                     {"wall_area_m2", r2(k.wall_area_m2)},
-                     {"free_area_m2", r2(k.free_area_m2)},
-                     {"free_share", std::round(k.free_share * 10000.0) / 10000.0}});
-  }
-  j["kinds"] = kinds;
-  j["sealed_spaces"] = f.sealed_spaces;
-  j["sealed_area_m2"] = r2(f.sealed_area_m2);
-  j["sealed_ids"] = f.sealed_ids;
-  j["unreachable_spaces"] = f.unreachable_spaces;
-  j["unreachable_area_m2"] = r2(f.unreachable_area_m2);
-  j["spaces_outside_free"] = f.spaces_outside_free;
-  j["levels_without_spaces"] = f.levels_without_spaces;
-  return j;
-}
-
 void print_report(const ImportResult& r, const std::string& output) {
   const CleanupReport& c = r.cleanup;
   const PlanCounts counts = plan_counts(r.plan);
@@ -119,49 +82,6 @@ void print_report(const ImportResult& r, const std::string& output) {
   for (const std::string& n : c.notes) std::cout << "note: " << n << "\n";
   for (const std::string& n : r.notes) std::cout << "note: " << n << "\n";
   for (const std::string& w : r.warnings) std::cout << "warning: " << w << "\n";
-}
-
-nlohmann::ordered_json report_json(const ImportResult& r, const std::string& output) {
-  const CleanupReport& c = r.cleanup;
-  nlohmann::ordered_json j;
-  j["output"] = output;
-  j["name"] = r.plan.name;
-  j["level"] = r.level_description;
-  nlohmann::ordered_json src = nlohmann::ordered_json::object();
-  for (const auto& [what, n] : r.source_counts) src[what] = n;
-  j["source"] = src;
-  j["cleanup"] = {{"input_walls", c.input_walls},
-                  {"output_walls", c.output_walls},
-                  {"dropped_degenerate_walls", c.dropped_degenerate_walls},
-                  {"snapped_endpoints", c.snapped_endpoints},
-                  {"endpoints_snapped_to_walls", c.endpoints_snapped_to_walls},
-                  {"collinear_groups_merged", c.collinear_groups_merged},
-                  {"walls_merged_away", c.walls_merged_away},
-                  {"duplicate_length_m", c.duplicate_length_m},
-                  {"gaps_closed", c.gaps_closed},
-                  {"openings_reattached", c.openings_reattached},
-                  {"openings_merged", c.openings_merged},
-                  {"openings_trimmed", c.openings_trimmed},
-                  {"openings_slid", c.openings_slid},
-                  {"openings_narrowed", c.openings_narrowed},
-                  {"openings_moved_to_axis", c.openings_moved_to_axis},
-                  {"openings_dropped", c.openings_dropped}};
-  nlohmann::ordered_json repairs = nlohmann::ordered_json::object();
-  for (const auto& [what, n] : r.repairs) repairs[what] = n;
-  j["repairs"] = repairs;
-  const PlanCounts counts = plan_counts(r.plan);
-  j["plan"] = {{"walls", counts.walls},
-               {"doors", counts.doors},
-               {"doors_closed", counts.doors_closed},
-               {"windows", counts.windows},
-               {"rooms", r.plan.rooms.size()}};
-  nlohmann::ordered_json notes = nlohmann::ordered_json::array();
-  for (const std::string& n : c.notes) notes.push_back(n);
-  for (const std::string& n : r.notes) notes.push_back(n);
-  j["notes"] = notes;
-  j["faithfulness"] = faithfulness_json(r.faithfulness);
-  j["warnings"] = r.warnings;
-  return j;
 }
 
 void register_plan_import(CLI::App& root) {
@@ -252,7 +172,7 @@ void register_plan_import(CLI::App& root) {
     const ImportResult r = import_floor_plan(o->source, format, opts);
     save_floor_plan(r.plan, o->output);
     if (o->json) {
-      std::cout << report_json(r, o->output).dump(2) << "\n";
+      std::cout << import_report_json(r, o->output).dump(2) << "\n";
     } else {
       print_report(r, o->output);
     }

@@ -12,51 +12,6 @@
 namespace floorcast::cli {
 namespace {
 
-double r3(double x) { return std::round(x * 1000.0) / 1000.0; }
-
-nlohmann::ordered_json distribution_json(const Distribution& d) {
-  nlohmann::ordered_json j;
-  j["count"] = d.count;
-  j["min"] = r3(d.min);
-  j["q1"] = r3(d.q1);
-  j["median"] = r3(d.median);
-  j["q3"] = r3(d.q3);
-  j["max"] = r3(d.max);
-  j["mean"] = r3(d.mean);
-  j["cv"] = r3(d.cv);
-  return j;
-}
-
-nlohmann::ordered_json stats_json(const std::string& file, const PlanStats& s, const PlanStatsParams& p) {
-  nlohmann::ordered_json j;
-  j["file"] = file;
-  j["name"] = s.name;
-  j["free_area_m2"] = r3(s.free_area_m2);
-  j["walls"] = s.walls;
-  j["glass_walls"] = s.glass_walls;
-  j["wall_length_m"] = r3(s.wall_length_m);
-  j["direction_bin_deg"] = p.direction_bin_deg;
-  nlohmann::ordered_json dirs = nlohmann::ordered_json::array();
-  for (double v : s.direction_share) dirs.push_back(r3(v));
-  j["direction_share"] = dirs;
-  j["directions_used"] = s.directions_used;
-  nlohmann::ordered_json th = nlohmann::ordered_json::array();
-  for (const ThicknessClass& t : s.thickness_classes) {
-    th.push_back({{"thickness_m", t.thickness_m}, {"walls", t.walls}, {"length_share", r3(t.length_share)}});
-  }
-  j["thickness_classes"] = th;
-  j["doors"] = s.doors;
-  j["doors_per_10m_wall"] = r3(s.doors_per_10m_wall);
-  j["pillars"] = s.pillars;
-  j["rooms"] = s.rooms;
-  j["transitional_rooms"] = s.transitional_rooms;
-  j["room_area_m2"] = distribution_json(s.room_area_m2);
-  j["room_width_m"] = distribution_json(s.room_width_m);
-  j["repeated_width_share"] = r3(s.repeated_width_share);
-  j["corridor_width_m"] = distribution_json(s.corridor_width_m);
-  return j;
-}
-
 void register_plan_stats(CLI::App& root) {
   CLI::App& plan = group(root, "plan", "Floor plans: inspect, validate, import, generate, render");
   auto* cmd = plan.add_subcommand(
@@ -85,7 +40,9 @@ void register_plan_stats(CLI::App& root) {
       const FloorPlan p = load_floor_plan(f);
       const PlanStats s = plan_stats(p, opts->params);
       if (opts->json) {
-        all.push_back(stats_json(f, s, opts->params));
+        nlohmann::ordered_json j = {{"file", f}};
+        j.update(to_json(s));
+        all.push_back(std::move(j));
         continue;
       }
       auto dist = [](const Distribution& d) {

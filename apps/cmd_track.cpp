@@ -11,6 +11,7 @@
 
 #include "cli_common.hpp"
 #include "floorcast/scenarios/run_directory.hpp"
+#include "floorcast/scenarios/track_scoring.hpp"
 #include "floorcast/core/format.hpp"
 #include "floorcast/core/image_io.hpp"
 #include "floorcast/core/math.hpp"
@@ -67,9 +68,7 @@ void register_track(CLI::App& root) {
       throw InputError("--depth-dir applies to one scan (observe, localize); a walk's scans keep their depth maps in "
                        "their own folders");
     }
-    const FloorPlan plan = load_floor_plan(o->plan);
-    const WalkRecord walk = load_walk(o->walk);
-    if (walk.observations.empty()) throw InputError(o->walk + ": the walk has no observation to start from");
+    // Every parameter is parsed, typed and checked before any work.
     nlohmann::json tracker_overrides = nlohmann::json::object();
     for (const std::string& p : o->params) add_override(tracker_overrides, p, "--tracker-param");
     if (!o->init.empty()) tracker_overrides["init"] = o->init;
@@ -84,8 +83,14 @@ void register_track(CLI::App& root) {
     SharedParams shared;
     shared.range_m = o->range_m;
     const std::string matcher_name = !o->matcher.empty() ? o->matcher : (o->filter == "hist" ? "ray" : "kernel");
-    const std::unique_ptr<Matcher> matcher = make_matcher_config(matcher_name, matcher_overrides, shared)->build(plan);
-    const std::unique_ptr<Tracker> tracker = make_tracker(o->filter, plan, tracker_overrides);
+    const std::shared_ptr<const MatcherConfig> matcher_config = make_matcher_config(matcher_name, matcher_overrides, shared);
+    const std::shared_ptr<const TrackerConfig> tracker_config = make_tracker_config(o->filter, tracker_overrides);
+    (void)observation_params_from_cli(o->observe, nullptr);  // the observation module's, checked now
+    const FloorPlan plan = load_floor_plan(o->plan);
+    const WalkRecord walk = load_walk(o->walk);
+    if (walk.observations.empty()) throw InputError(o->walk + ": the walk has no observation to start from");
+    const std::unique_ptr<Matcher> matcher = matcher_config->build(plan);
+    const std::unique_ptr<Tracker> tracker = tracker_config->build(plan);
 
     // Observations by step: perfect observation files, or scan folders through the observation module.
     std::map<int, const WalkObservation*> by_step;
@@ -117,33 +122,22 @@ void register_track(CLI::App& root) {
     }
 
     // Errors against the truth, the estimate trajectory, metrics.
-    SequentialRecord rec;
+    const SequentialRecord rec = track_record(run, walk.walk.steps, first);
     std::vector<StampedPose> estimate;
-    double walked = 0.0;
     std::string csv = "step,t_s,distance_m,est_x_m,est_y_m,est_yaw_deg,truth_x_m,truth_y_m,truth_yaw_deg,position_error_m,"
                       "yaw_error_deg,stage,support,updated,degenerate,time_s\n";
-    double total_time = 0.0;
-    for (const TrackRunStep& s : run.steps) {
+    for (std::size_t i = 0; i < run.steps.size(); ++i) {
+      const TrackRunStep& s = run.steps[i];
       const WalkStep& truth = walk.walk.steps[static_cast<std::size_t>(s.step)];
-      if (s.step > first) walked += truth.step_length_m;
       const Pose2& e = s.estimate.pose;
-      const double err = (e.position_m() - truth.T_world_body.position_m()).norm();
-      const double yaw_err = rad_to_deg(angle_distance_rad(e.yaw_rad, truth.T_world_body.yaw_rad));
-      rec.t_s.push_back(s.t_s);
-      rec.distance_m.push_back(walked);
-      rec.position_error_m.push_back(err);
-      rec.yaw_error_deg.push_back(yaw_err);
-      rec.stage.push_back(s.estimate.stage);
       estimate.push_back({s.t_s, e});
-      total_time += s.time_s;
       char buf[512];
       std::snprintf(buf, sizeof(buf), "%d,%.6f,%.4f,%.4f,%.4f,%.3f,%.4f,%.4f,%.3f,%.4f,%.3f,%d,%.4f,%d,%d,%.6f\n", s.step, s.t_s,
-                    walked, e.x_m, e.y_m, rad_to_deg(e.yaw_rad), truth.T_world_body.x_m, truth.T_world_body.y_m,
-                    rad_to_deg(truth.T_world_body.yaw_rad), err, yaw_err, s.estimate.stage, s.estimate.support,
-                    s.updated ? 1 : 0, s.estimate.degenerate ? 1 : 0, s.time_s);
+                    rec.distance_m[i], e.x_m, e.y_m, rad_to_deg(e.yaw_rad), truth.T_world_body.x_m, truth.T_world_body.y_m,
+                    rad_to_deg(truth.T_world_body.yaw_rad), rec.position_error_m[i], rec.yaw_error_deg[i], s.estimate.stage,
+                    s.estimate.support, s.updated ? 1 : 0, s.estimate.degenerate ? 1 : 0, s.time_s);
       csv += buf;
     }
-    rec.time_per_step_s = total_time / static_cast<double>(run.steps.size());
     const SequentialScoring scoring;
     const SequentialOutcome out = score_track(rec, scoring);
     save_tum(o->out + "/estimate.tum", estimate, "floorcast track: " + tracker->name() + " estimate");

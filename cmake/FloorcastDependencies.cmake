@@ -1,37 +1,16 @@
 # Every dependency comes from a Debian 12 package (see scripts/install_deps.sh).
-find_package(Threads REQUIRED)
-find_package(Eigen3 3.3 REQUIRED NO_MODULE)
-# OpenCV core and imgproc only: imgcodecs (GDAL, GDCM, OpenEXR, ...) and ximgproc (dnn, calib3d,
-# ...) would be loaded by every floorcast process at start-up; PNG goes through libpng.
-find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc)
-find_package(PNG REQUIRED)
-find_package(ZLIB REQUIRED)
-find_package(embree 3 REQUIRED)
-find_package(TinyGLTF REQUIRED)
-find_package(nlohmann_json 3.10 REQUIRED)
-find_package(pugixml 1.13 REQUIRED)
-# Coordinate reference systems of geographic floor-plan sources (floorplans_import only).
-find_package(PROJ 9 REQUIRED CONFIG)
-find_package(yaml-cpp REQUIRED)
+include(${CMAKE_CURRENT_LIST_DIR}/FloorcastPackages.cmake)
+foreach(_floorcast_package IN ITEMS Threads Eigen3 OpenCV PNG ZLIB embree TinyGLTF nlohmann_json pugixml PROJ yaml-cpp TBB
+                                    OSMesa FFTW3F LBFGSpp)
+  floorcast_find_package(${_floorcast_package})
+endforeach()
+# The `floorcast` CLI only (never a library dependency).
 find_package(CLI11 REQUIRED)
-find_package(TBB REQUIRED)
-find_package(PkgConfig REQUIRED)
-pkg_check_modules(OSMesa REQUIRED IMPORTED_TARGET GLOBAL osmesa)
-pkg_check_modules(FFTW3F REQUIRED IMPORTED_TARGET GLOBAL fftw3f)
 
-# PCL 1.13 pulls VTK 9.1, whose imported targets reference MPI::MPI_C.
+# PCL 1.13 pulls VTK 9.1, whose imported targets reference MPI::MPI_C. PCL is linked by the
+# observation module's back-end module only (loaded on first use), never by a library.
 find_package(MPI REQUIRED COMPONENTS C)
 find_package(PCL 1.13 REQUIRED COMPONENTS common kdtree search sample_consensus segmentation features)
-
-# Header-only libraries shipped by Debian without CMake configs. The floorcast_* helper targets are
-# IMPORTED, so the installed floorcastConfig.cmake can define them again (it includes this file)
-# and the exported library targets may link them.
-find_path(LBFGSPP_INCLUDE_DIR NAMES LBFGSB.h REQUIRED)
-if(NOT TARGET floorcast_lbfgspp)
-  add_library(floorcast_lbfgspp INTERFACE IMPORTED GLOBAL)
-  target_include_directories(floorcast_lbfgspp SYSTEM INTERFACE ${LBFGSPP_INCLUDE_DIR})
-  target_link_libraries(floorcast_lbfgspp INTERFACE Eigen3::Eigen)
-endif()
 
 if(FLOORCAST_BUILD_TESTS)
   find_package(GTest REQUIRED)

@@ -7,13 +7,15 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "../apps/cli_common.hpp"
+#include "floorcast/scenarios/driver.hpp"
 #include "floorcast/core/depth_io.hpp"
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/hash.hpp"
@@ -473,8 +475,18 @@ PYBIND11_MODULE(_floorcast, m) {
   m.def("run_scenario", [](const std::string& path, const std::string& out, int jobs, bool quiet, const std::string& shard) -> py::object {
     {
       py::gil_scoped_release release;
-      const Scenario s = load_scenario(path, cli::source_dir());
-      cli::run_scenario(s, out, jobs, shard, quiet, !quiet);
+      const Scenario s = load_scenario(path, data_dir());
+      RunRequest request;
+      request.jobs = jobs;
+      request.shard = shard;
+      if (!quiet) {
+        request.on_progress = [](const RunProgress& p) {
+          if (p.finished == p.to_run || p.finished % 10 == 0)
+            std::fprintf(stderr, "progress: %zu/%zu units (%zu resumed)\n", p.finished, p.to_run, p.skipped);
+        };
+      }
+      const RunSummary summary = run_scenario(s, out, request);
+      if (summary.summary_md && !quiet) std::cout << *summary.summary_md << std::flush;
     }
     const std::string summary = (std::filesystem::path(out) / "summary.json").string();
     if (!std::filesystem::is_regular_file(summary)) return py::none();  // a shard: merge_runs reports
@@ -485,11 +497,15 @@ PYBIND11_MODULE(_floorcast, m) {
   m.def("merge_runs", [](const std::vector<std::string>& inputs, const std::string& out, bool quiet) {
     {
       py::gil_scoped_release release;
-      cli::merge_runs(inputs, out, quiet);
+      const MergeSummary m = merge_runs(inputs, out);
+      if (!quiet) {
+        std::cerr << "merged " << m.copied << " units from " << inputs.size() << " directories into " << out << "\n";
+        std::cout << m.summary_md << std::flush;
+      }
     }
     return py::module_::import("json").attr("loads")(read_text_file((std::filesystem::path(out) / "summary.json").string()));
   }, py::arg("shards"), py::arg("out"), py::arg("quiet") = true,
      "Combines shard run directories into one run at `out` (as `floorcast merge`) and returns its summary.json");
-  m.def("data_dir", &cli::source_dir, "Where floorcast's shipped data (buildings, scenarios) is");
+  m.def("data_dir", &data_dir, "Where floorcast's shipped data (buildings, scenarios) is");
   m.attr("__version__") = FLOORCAST_VERSION;
 }

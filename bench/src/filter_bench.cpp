@@ -1,5 +1,7 @@
 #include "floorcast/bench/filter_bench.hpp"
 
+#include "floorcast/core/fields.hpp"
+
 #include <chrono>
 #include <vector>
 
@@ -85,15 +87,18 @@ FilterBenchResult bench_filter(const FloorPlan& plan, const FilterBenchParams& b
 }
 
 nlohmann::ordered_json to_json(const FilterBenchResult& r) {
-  nlohmann::ordered_json j;
-  j["pf_steps_per_s"] = r.pf_steps_per_s;
-  j["pf_cpu_ms_per_step"] = r.pf_cpu_ms_per_step;
-  j["pf_state_mb"] = r.pf_state_mb;
-  j["hf_ms_per_step"] = r.hf_ms_per_step;
-  j["hf_cpu_ms_per_step"] = r.hf_cpu_ms_per_step;
-  j["hf_state_mb"] = r.hf_state_mb;
-  j["hf_grid_cells"] = r.grid_cells;
-  return j;
+  using R = FilterBenchResult;
+  constexpr double kAny = 1e300;
+  static const FieldList<R> f =
+      FieldList<R>("filter bench")
+          .number("pf_steps_per_s", &R::pf_steps_per_s, 0.0, kAny, "particle filter steps per second (median, wall)")
+          .number("pf_cpu_ms_per_step", &R::pf_cpu_ms_per_step, 0.0, kAny, "particle filter CPU ms per step (all threads)")
+          .number("pf_state_mb", &R::pf_state_mb, 0.0, kAny, "particle filter state, MB")
+          .number("hf_ms_per_step", &R::hf_ms_per_step, 0.0, kAny, "histogram filter ms per step (median, wall)")
+          .number("hf_cpu_ms_per_step", &R::hf_cpu_ms_per_step, 0.0, kAny, "histogram filter CPU ms per step")
+          .number("hf_state_mb", &R::hf_state_mb, 0.0, kAny, "histogram filter state, MB")
+          .integer("hf_grid_cells", &R::grid_cells, 0, 1 << 30, "histogram filter (x, y) cells");
+  return f.write(r);
 }
 
 }  // namespace floorcast

@@ -1,5 +1,7 @@
 #include "floorcast/bench/modes_equivalence.hpp"
 
+#include "floorcast/core/fields.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -166,24 +168,34 @@ ModesEquivalenceResult compare_modes_with_posterior(const FloorPlan& plan, const
 }
 
 nlohmann::ordered_json to_json(const ModesEquivalenceResult& r) {
-  nlohmann::ordered_json j;
-  j["observations"] = r.observations;
-  j["estimates_identical"] = r.estimates_identical;
-  j["estimates_tied"] = r.estimates_tied;
-  j["top_k_identical"] = r.top_k_identical;
-  j["top_k_tied"] = r.top_k_tied;
-  j["no_pose"] = r.no_pose;
-  j["mismatches"] = r.mismatches;
-  j["estimates_fft_order"] = r.estimates_fft_order;
-  j["fft_order_differences"] = r.fft_order_differences;
-  j["max_tie_gap"] = r.max_tie_gap;
-  j["max_fft_order_gap"] = r.max_fft_order_gap;
-  j["max_search_error"] = r.max_search_error;
-  j["max_fft_error"] = r.max_fft_error;
-  j["search_s_median"] = r.search_s.empty() ? 0.0 : median(r.search_s);
-  j["posterior_s_median"] = r.posterior_s.empty() ? 0.0 : median(r.posterior_s);
-  j["failures"] = r.failures;
-  return j;
+  using R = ModesEquivalenceResult;
+  constexpr double kAny = 1e300;
+  constexpr int kMany = 1 << 30;
+  auto median_of = [](const char* key, std::vector<double> R::*m) {
+    return [key, m](nlohmann::ordered_json& j, const R& r) { j[key] = (r.*m).empty() ? 0.0 : median(r.*m); };
+  };
+  auto derived = [](ParamReader&, R&) {};  // medians are written, not read back
+  static const FieldList<R> f =
+      FieldList<R>("modes equivalence")
+          .integer("observations", &R::observations, 0, kMany, "observations compared")
+          .integer("estimates_identical", &R::estimates_identical, 0, kMany, "same estimate cell and slice (or both no pose)")
+          .integer("estimates_tied", &R::estimates_tied, 0, kMany, "different picks of a tied exact value")
+          .integer("top_k_identical", &R::top_k_identical, 0, kMany, "whole top-K lists identical")
+          .integer("top_k_tied", &R::top_k_tied, 0, kMany, "identical up to a tie or an FFT-order difference")
+          .integer("no_pose", &R::no_pose, 0, kMany, "observations both found no pose for")
+          .integer("mismatches", &R::mismatches, 0, kMany, "real differences")
+          .integer("estimates_fft_order", &R::estimates_fft_order, 0, kMany, "picks ordered differently by FFT round-off")
+          .integer("fft_order_differences", &R::fft_order_differences, 0, kMany, "lists diverging at such a pick")
+          .number("max_tie_gap", &R::max_tie_gap, 0.0, kAny, "largest exact-value gap among ties")
+          .number("max_fft_order_gap", &R::max_fft_order_gap, 0.0, kAny, "largest gap the FFT's round-off reordered")
+          .number("max_search_error", &R::max_search_error, 0.0, kAny, "largest |search score - direct sum|")
+          .number("max_fft_error", &R::max_fft_error, 0.0, kAny, "largest |posterior value - direct sum|")
+          .custom("search_s_median", median_of("search_s_median", &R::search_s), derived, "number",
+                  "median wall s per observation, estimate + top-K by the search")
+          .custom("posterior_s_median", median_of("posterior_s_median", &R::posterior_s), derived, "number",
+                  "median wall s per observation, FFT posterior + top_k")
+          .texts("failures", &R::failures, "one line per mismatch");
+  return f.write(r);
 }
 
 }  // namespace floorcast

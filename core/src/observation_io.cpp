@@ -2,6 +2,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
+#include <functional>
+#include <tuple>
+
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/json_reader.hpp"
 #include "floorcast/core/json_text.hpp"
@@ -35,107 +40,161 @@ bool surface_label_from_name(const std::string& name, SurfaceLabel& label) {
   return false;
 }
 
-std::string observation_to_json_text(const ObservationRecord& rec) {
-  const Observation2D& o = rec.observation;
-  ordered_json j;
-  j["format"] = "floorcast-observation";
-  j["format_version"] = kObservationFormatVersion;
-  j["frame"] = "observer";
-  j["source"] = rec.source;
-  j["max_range_m"] = o.max_range_m;
-  ordered_json segs = ordered_json::array();
-  for (const Segment2& s : o.segments_m) segs.push_back({s.a_m.x(), s.a_m.y(), s.b_m.x(), s.b_m.y()});
-  j["segments_m"] = segs;
-  if (!rec.segment_labels.empty()) {
-    ordered_json labels = ordered_json::array();
-    for (SurfaceLabel l : rec.segment_labels) labels.push_back(surface_label_name(l));
-    j["segment_labels"] = labels;
-  }
-  j["ray_ranges_m"] = o.ray_ranges_m;
-  if (rec.T_world_observer) {
-    j["ground_truth"] = {{"x_m", rec.T_world_observer->x_m},
-                         {"y_m", rec.T_world_observer->y_m},
-                         {"yaw_rad", rec.T_world_observer->yaw_rad}};
-  }
-  if (!rec.metadata.empty()) {
-    ordered_json meta = ordered_json::object();
-    for (const auto& [k, v] : rec.metadata) meta[k] = v;
-    j["metadata"] = meta;
-  }
-  return j.dump(2) + "\n";
+namespace {
+
+/// A key a file must hold with exactly this value (format, version, frame).
+template <class T>
+std::pair<std::function<void(ordered_json&, const ObservationRecord&)>, std::function<void(ParamReader&, ObservationRecord&)>>
+constant(const char* key, T value, const char* expected) {
+  return {[key, value](ordered_json& j, const ObservationRecord&) { j[key] = value; },
+          [key, value, expected](ParamReader& r, ObservationRecord&) {
+            nlohmann::json v;
+            r.read(key, v);
+            if (v != nlohmann::json(value)) r.fail(key, expected);
+          }};
 }
+
+const FieldList<ObservationRecord>& observation_fields() {
+  using R = ObservationRecord;
+  const auto format = constant("format", "floorcast-observation", "expected \"floorcast-observation\"");
+  const auto version = constant("format_version", kObservationFormatVersion, "unsupported (this floorcast reads version 1)");
+  const auto frame = constant("frame", "observer", "expected \"observer\"");
+  static const FieldList<R> f =
+      FieldList<R>("observation")
+          .custom("format", format.first, format.second, "text", "\"floorcast-observation\"")
+          .custom("format_version", version.first, version.second, "integer", "1")
+          .custom("frame", frame.first, frame.second, "text", "\"observer\": coordinates in the observer's frame")
+          .text("source", &R::source, "what made the observation")
+          .optional([](const R&) { return true; })
+          .number("max_range_m", [](auto& r) -> auto& { return r.observation.max_range_m; }, 1e-6, 1e5,
+                  "range the observation covers, m")
+          .custom(
+              "segments_m",
+              [](ordered_json& j, const R& rec) {
+                ordered_json segs = ordered_json::array();
+                for (const Segment2& s : rec.observation.segments_m) segs.push_back({s.a_m.x(), s.a_m.y(), s.b_m.x(), s.b_m.y()});
+                j["segments_m"] = segs;
+              },
+              [](ParamReader& r, R& rec) {
+                nlohmann::json segs;
+                r.read("segments_m", segs);
+                if (!segs.is_array()) r.fail("segments_m", "expected an array of [ax, ay, bx, by]");
+                for (std::size_t i = 0; i < segs.size(); ++i) {
+                  const std::string key = "segments_m[" + std::to_string(i) + "]";
+                  const nlohmann::json& s = segs[i];
+                  if (!s.is_array() || s.size() != 4) r.fail(key, "expected [ax, ay, bx, by]");
+                  double v[4];
+                  for (std::size_t k = 0; k < 4; ++k) {
+                    if (!s[k].is_number() || !std::isfinite(s[k].get<double>())) r.fail(key, "expected finite numbers");
+                    v[k] = s[k].get<double>();
+                    if (std::abs(v[k]) > 1e5) r.fail(key, "coordinate absurdly large");
+                  }
+                  rec.observation.segments_m.push_back({Vec2(v[0], v[1]), Vec2(v[2], v[3])});
+                }
+              },
+              "[[ax, ay, bx, by], ...]", "observed wall segments, observer frame, m")
+          .custom(
+              "segment_labels",
+              [](ordered_json& j, const R& rec) {
+                if (rec.segment_labels.empty()) return;
+                ordered_json labels = ordered_json::array();
+                for (SurfaceLabel l : rec.segment_labels) labels.push_back(surface_label_name(l));
+                j["segment_labels"] = labels;
+              },
+              [](ParamReader& r, R& rec) {
+                if (!r.optional("segment_labels")) return;
+                nlohmann::json labels;
+                r.read("segment_labels", labels);
+                if (!labels.is_array() || labels.size() != rec.observation.segments_m.size()) {
+                  r.fail("segment_labels", "expected one label per segment");
+                }
+                for (std::size_t i = 0; i < labels.size(); ++i) {
+                  SurfaceLabel l;
+                  if (!labels[i].is_string() || !surface_label_from_name(labels[i].get<std::string>(), l)) {
+                    r.fail("segment_labels[" + std::to_string(i) + "]", "expected wall, door_closed, glass or obstacle");
+                  }
+                  rec.segment_labels.push_back(l);
+                }
+              },
+              "[label, ...]", "optional: wall, door_closed, glass or obstacle per segment")
+          .custom(
+              "ray_ranges_m", [](ordered_json& j, const R& rec) { j["ray_ranges_m"] = rec.observation.ray_ranges_m; },
+              [](ParamReader& r, R& rec) {
+                if (!r.optional("ray_ranges_m")) return;
+                nlohmann::json rays;
+                r.read("ray_ranges_m", rays);
+                if (!rays.is_array()) r.fail("ray_ranges_m", "expected an array of numbers");
+                if (rays.size() < 4) {
+                  r.fail("ray_ranges_m", "has " + std::to_string(rays.size()) +
+                                             " rays; equiangular rays come in at least 4 (leave the key out when there are none)");
+                }
+                const double max_range_m = rec.observation.max_range_m;
+                for (std::size_t i = 0; i < rays.size(); ++i) {
+                  const std::string key = "ray_ranges_m[" + std::to_string(i) + "]";
+                  if (!rays[i].is_number()) r.fail(key, "expected a number");
+                  const double v = rays[i].get<double>();
+                  if (!std::isfinite(v)) r.fail(key, "not finite");
+                  if (v < 0.0 || v > max_range_m * (1.0 + 1e-12)) r.fail(key, "must be in [0, max_range_m]");
+                  rec.observation.ray_ranges_m.push_back(v);
+                }
+              },
+              "[range, ...]", "optional: ranges along equiangular rays (ray i at 360 i / n deg), m")
+          .custom(
+              "ground_truth",
+              [](ordered_json& j, const R& rec) {
+                if (!rec.T_world_observer) return;
+                j["ground_truth"] = {{"x_m", rec.T_world_observer->x_m},
+                                     {"y_m", rec.T_world_observer->y_m},
+                                     {"yaw_rad", rec.T_world_observer->yaw_rad}};
+              },
+              [](ParamReader& r, R& rec) {
+                if (!r.optional("ground_truth")) return;
+                static const FieldList<Pose2> pose = FieldList<Pose2>("ground truth")
+                                                         .number("x_m", &Pose2::x_m, -1e5, 1e5, "world x, m")
+                                                         .number("y_m", &Pose2::y_m, -1e5, 1e5, "world y, m")
+                                                         .number("yaw_rad", &Pose2::yaw_rad, -100.0, 100.0, "heading, rad");
+                Pose2 p;
+                r.section("ground_truth", [&](ParamReader& g) { pose.read_into(g, p); });
+                rec.T_world_observer = p;
+              },
+              "{x_m, y_m, yaw_rad}", "optional: the true pose of the observer")
+          .custom(
+              "metadata",
+              [](ordered_json& j, const R& rec) {
+                if (rec.metadata.empty()) return;
+                ordered_json meta = ordered_json::object();
+                for (const auto& [k, v] : rec.metadata) meta[k] = v;
+                j["metadata"] = meta;
+              },
+              [](ParamReader& r, R& rec) {
+                if (!r.optional("metadata")) return;
+                nlohmann::json m;
+                r.read("metadata", m);
+                if (!m.is_object()) r.fail("metadata", "expected an object of strings");
+                for (auto it = m.begin(); it != m.end(); ++it) {
+                  if (!it.value().is_string()) r.fail("metadata." + it.key(), "expected a string");
+                  rec.metadata[it.key()] = it.value().get<std::string>();
+                }
+              },
+              "{key: text}", "optional: notes of the tool that made it");
+  return f;
+}
+
+}  // namespace
+
+std::string observation_to_json_text(const ObservationRecord& rec) { return observation_fields().write(rec).dump(2) + "\n"; }
 
 ObservationRecord parse_observation_json(const std::string& text, const std::string& source_name) {
   const nlohmann::json j = parse_json_text(text, source_name);
-  const JsonReader r(j, source_name, "");
-  r.only({"format", "format_version", "frame", "source", "max_range_m", "segments_m", "segment_labels", "ray_ranges_m",
-          "ground_truth", "metadata"});
-  if (r.string("format") != "floorcast-observation") r.fail_key("format", "expected \"floorcast-observation\"");
-  if (r.integer("format_version", 0, 1000000) != kObservationFormatVersion) {
-    r.fail_key("format_version", "unsupported (this floorcast reads version 1)");
+  // The sizes are checked against the limits before any element is read.
+  for (const auto& [key, limit, unit] : {std::tuple{"segments_m", "max_segments", "segments"},
+                                         std::tuple{"ray_ranges_m", "max_rays", "rays"}}) {
+    if (j.is_object() && j.contains(key) && j.at(key).is_array()) {
+      check_limit(limit, static_cast<double>(j.at(key).size()), source_name + ": " + key, unit);
+    }
   }
-  if (r.string("frame") != "observer") r.fail_key("frame", "expected \"observer\"");
   ObservationRecord rec;
-  rec.source = r.has("source") ? r.string("source") : std::string();
-  Observation2D& o = rec.observation;
-  o.max_range_m = r.number("max_range_m", 1e-6, 1e5);
-  const nlohmann::json& segs = r.raw("segments_m");
-  if (!segs.is_array()) r.fail_key("segments_m", "expected an array of [ax, ay, bx, by]");
-  check_limit("max_segments", static_cast<double>(segs.size()), source_name + ": segments_m", "segments");
-  for (std::size_t i = 0; i < segs.size(); ++i) {
-    const std::string key = "segments_m[" + std::to_string(i) + "]";
-    const nlohmann::json& s = segs[i];
-    if (!s.is_array() || s.size() != 4) r.fail_key(key, "expected [ax, ay, bx, by]");
-    double v[4];
-    for (std::size_t k = 0; k < 4; ++k) {
-      if (!s[k].is_number() || !std::isfinite(s[k].get<double>())) r.fail_key(key, "expected finite numbers");
-      v[k] = s[k].get<double>();
-      if (std::abs(v[k]) > 1e5) r.fail_key(key, "coordinate absurdly large");
-    }
-    o.segments_m.push_back({Vec2(v[0], v[1]), Vec2(v[2], v[3])});
-  }
-  if (r.has("segment_labels")) {
-    const nlohmann::json& labels = r.raw("segment_labels");
-    if (!labels.is_array() || labels.size() != o.segments_m.size()) {
-      r.fail_key("segment_labels", "expected one label per segment");
-    }
-    for (std::size_t i = 0; i < labels.size(); ++i) {
-      SurfaceLabel l;
-      if (!labels[i].is_string() || !surface_label_from_name(labels[i].get<std::string>(), l)) {
-        r.fail_key("segment_labels[" + std::to_string(i) + "]", "expected wall, door_closed, glass or obstacle");
-      }
-      rec.segment_labels.push_back(l);
-    }
-  }
-  if (r.has("ray_ranges_m")) {
-    const nlohmann::json& rays = r.raw("ray_ranges_m");
-    if (rays.is_array()) {
-      check_limit("max_rays", static_cast<double>(rays.size()), source_name + ": ray_ranges_m", "rays");
-      if (rays.size() < 4) {
-        r.fail_key("ray_ranges_m", "has " + std::to_string(rays.size()) +
-                                       " rays; equiangular rays come in at least 4 (leave the key out when there are none)");
-      }
-    }
-    o.ray_ranges_m = r.numbers("ray_ranges_m", -1);
-    for (std::size_t i = 0; i < o.ray_ranges_m.size(); ++i) {
-      if (o.ray_ranges_m[i] < 0.0 || o.ray_ranges_m[i] > o.max_range_m * (1.0 + 1e-12)) {
-        r.fail_key("ray_ranges_m[" + std::to_string(i) + "]", "must be in [0, max_range_m]");
-      }
-    }
-  }
-  if (r.has("ground_truth")) {
-    const JsonReader g = r.object("ground_truth");
-    g.only({"x_m", "y_m", "yaw_rad"});
-    rec.T_world_observer = Pose2{g.number("x_m", -1e5, 1e5), g.number("y_m", -1e5, 1e5), g.number("yaw_rad", -100.0, 100.0)};
-  }
-  if (r.has("metadata")) {
-    const nlohmann::json& m = r.raw("metadata");
-    if (!m.is_object()) r.fail_key("metadata", "expected an object of strings");
-    for (auto it = m.begin(); it != m.end(); ++it) {
-      if (!it.value().is_string()) r.fail_key("metadata." + it.key(), "expected a string");
-      rec.metadata[it.key()] = it.value().get<std::string>();
-    }
-  }
+  observation_fields().read_record(rec, j, source_name);
   return rec;
 }
 

@@ -23,33 +23,26 @@ const std::vector<std::pair<const char*, BiasGrowth>>& bias_growth_names() {
   return n;
 }
 
-nlohmann::ordered_json OdometryUncertainty::to_json() const {
-  nlohmann::ordered_json j;
-  j["translation_per_m"] = translation_per_m;
-  j["translation_m_per_s"] = translation_m_per_s;
-  j["translation_m_per_step"] = translation_m_per_step;
-  j["rotation_per_rad"] = rotation_per_rad;
-  j["rotation_rad_per_s"] = rotation_rad_per_s;
-  j["rotation_rad_per_sqrt_s"] = rotation_rad_per_sqrt_s;
-  j["rotation_rad_per_step"] = rotation_rad_per_step;
-  return j;
+const FieldList<OdometryUncertainty>& OdometryUncertainty::fields() {
+  using U = OdometryUncertainty;
+  static const FieldList<U> f =
+      FieldList<U>("odometry uncertainty")
+          .number("translation_per_m", &U::translation_per_m, 0.0, 10.0, "bias: relative error of the distance travelled")
+          .number("translation_m_per_s", &U::translation_m_per_s, 0.0, 100.0,
+                  "white: error per axis of an increment, m per second of it")
+          .number("translation_m_per_step", &U::translation_m_per_step, 0.0, 100.0,
+                  "white: along-track error of each reported step, m")
+          .number("rotation_per_rad", &U::rotation_per_rad, 0.0, 10.0, "bias: relative error of measured turns")
+          .number("rotation_rad_per_s", &U::rotation_rad_per_s, 0.0, 10.0, "bias: heading error per second (yaw-rate bias), rad/s")
+          .number("rotation_rad_per_sqrt_s", &U::rotation_rad_per_sqrt_s, 0.0, 10.0,
+                  "white: heading random walk, rad per sqrt(second)")
+          .number("rotation_rad_per_step", &U::rotation_rad_per_step, 0.0, 10.0, "white: heading error of each reported step, rad");
+  return f;
 }
 
-void OdometryUncertainty::apply_overrides(const nlohmann::json& overrides) {
-  ParamReader r(overrides, "odometry uncertainty");
-  read(r);
-  r.finish();
-}
+nlohmann::ordered_json OdometryUncertainty::to_json() const { return fields().write(*this); }
 
-void OdometryUncertainty::read(ParamReader& r) {
-  r.read("translation_per_m", translation_per_m, 0.0, 10.0);
-  r.read("translation_m_per_s", translation_m_per_s, 0.0, 100.0);
-  r.read("translation_m_per_step", translation_m_per_step, 0.0, 100.0);
-  r.read("rotation_per_rad", rotation_per_rad, 0.0, 10.0);
-  r.read("rotation_rad_per_s", rotation_rad_per_s, 0.0, 10.0);
-  r.read("rotation_rad_per_sqrt_s", rotation_rad_per_sqrt_s, 0.0, 10.0);
-  r.read("rotation_rad_per_step", rotation_rad_per_step, 0.0, 10.0);
-}
+void OdometryUncertainty::apply_overrides(const nlohmann::json& overrides) { fields().read(*this, overrides); }
 
 IncrementNoise increment_noise(const OdometryUncertainty& u, const OdometryStep& step, double dt_s, BiasGrowth growth,
                                OdometryElapsed& elapsed) {

@@ -1,4 +1,5 @@
 #include "floorcast/scenarios/runner.hpp"
+#include "floorcast/scenarios/track_scoring.hpp"
 
 #include "floorcast/core/depth_io.hpp"
 #include "floorcast/core/format.hpp"
@@ -398,9 +399,9 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
   };
   for (std::size_t ti = 0; ti < q.trackers.size(); ++ti) {
     const TrackerSpec& t = q.trackers[ti];
-    nlohmann::json params = t.parameters;
-    if (params.contains("seed")) params["seed"] = mix64(params["seed"].get<std::uint64_t>() ^ mix64(key ^ (0x7a0ULL + ti)));
-    const std::unique_ptr<Tracker> tracker = make_tracker(t.tracker, plan, params);
+    std::shared_ptr<const TrackerConfig> config = t.config;
+    if (const std::optional<std::uint64_t> seed = config->seed()) config = config->with_seed(mix64(*seed ^ mix64(key ^ (0x7a0ULL + ti))));
+    const std::unique_ptr<Tracker> tracker = config->build(plan);
     TrackOutcome o;
     o.label = t.label;
     int used = 0;
@@ -412,20 +413,12 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
     o.started = run.started;
     o.failure = run.failure;
     o.observations_used = used;
-    o.record.failed = !run.started;
-    double walked = 0.0, total = 0.0;
+    o.record = track_record(run, walk.steps, 0);
+    double total = 0.0;
     for (const TrackRunStep& s : run.steps) {
-      const WalkStep& truth = walk.steps[static_cast<std::size_t>(s.step)];
-      if (s.step > 0) walked += truth.step_length_m;
-      o.record.t_s.push_back(s.t_s);
-      o.record.distance_m.push_back(walked);
-      o.record.position_error_m.push_back((s.estimate.pose.position_m() - truth.T_world_body.position_m()).norm());
-      o.record.yaw_error_deg.push_back(rad_to_deg(angle_distance_rad(s.estimate.pose.yaw_rad, truth.T_world_body.yaw_rad)));
-      o.record.stage.push_back(s.estimate.stage);
       o.estimate_xy_m.emplace_back(std::round(s.estimate.pose.x_m * 1e3) / 1e3, std::round(s.estimate.pose.y_m * 1e3) / 1e3);
       total += s.time_s;
     }
-    o.record.time_per_step_s = run.steps.empty() ? 0.0 : total / static_cast<double>(run.steps.size());
     r.timings_s["track"] += total;
     r.tracks.push_back(std::move(o));
   }

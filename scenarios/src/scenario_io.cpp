@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/hash.hpp"
 #include "floorcast/core/json_text.hpp"
 #include "floorcast/core/limits.hpp"
@@ -353,9 +354,6 @@ std::vector<BuildingSpec> parse_buildings(const OJson& root, const Checker& chk,
   return out;
 }
 
-const std::vector<std::string> kObservationKeys = {"source", "max_range_m", "doors_closed", "rays", "sensor",
-                                                   "sensor_params", "setting", "path", "scale_alignment",
-                                                   "extractor", "mask_glass", "observe_params", "seed"};
 
 /// Runs `fn`; a ParameterError (a stage refusing one of its parameters) becomes a failure at the
 /// scenario key `prefix + e.key()`, with the file, line and column where it was written.
@@ -370,62 +368,93 @@ void at_key(const Checker& chk, const std::string& prefix, F&& fn) {
   }
 }
 
+/// Choices among names (the enum is the name itself).
+std::vector<std::pair<const char*, std::string>> name_choices(const std::vector<std::string>& names) {
+  std::vector<std::pair<const char*, std::string>> out;
+  for (const std::string& n : names) out.emplace_back(n.c_str(), n);
+  return out;
+}
+
+/// An observation mapping as the scenario writes it (observation.*, scenarios/README.md), every
+/// default filled in: what the resolved configuration records and merges re-parse.
+struct ObservationUser {
+  std::string source = "perfect";
+  double max_range_m = 10.0;  ///< default: the shared range
+  bool doors_closed = true;   ///< default: the shared blocking
+  int rays = PerfectObservationParams{}.num_rays;
+  std::string sensor = "mono";
+  OJson sensor_params = OJson::object();
+  std::string setting = "full";
+  std::string path = "mono";
+  std::string scale_alignment = "full";
+  std::string extractor = to_string(LidarPathParams{}.extractor);
+  bool mask_glass = false;
+  OJson observe_params = OJson::object();
+  std::uint64_t seed = 1;
+};
+
+const FieldList<ObservationUser>& observation_user_fields() {
+  using O = ObservationUser;
+  static const std::vector<std::string> kSources = {"perfect", "scan"}, kSettings = {"full", "partial", "single"},
+                                        kPaths = {"mono", "lidar"}, kScales = {"full", "ground", "none"},
+                                        kExtractors = {"pcl", "voxelplane"};
+  static const FieldList<O> f =
+      FieldList<O>("observation")
+          .choice("source", &O::source, name_choices(kSources),
+                  "perfect: exact visible walls from the plan (PALMS+ sec. 4.4 proxy); scan: simulate a scan, then "
+                  "the observation module")
+          .number("max_range_m", &O::max_range_m, 0.5, 1000.0, "perfect: visible geometry within this range, m")
+          .flag("doors_closed", &O::doors_closed, "perfect: open doors occlude as if closed")
+          .integer("rays", &O::rays, 4, 3600, "perfect: equiangular rays (F3Loc: 36)")
+          .choice("sensor", &O::sensor, name_choices(scan_preset_names()), "scan: the sensor preset")
+          .json("sensor_params", &O::sensor_params, "scan: sensor parameter overrides")
+          .choice("setting", &O::setting, name_choices(kSettings), "scan: views used (PALMS+ settings)")
+          .choice("path", &O::path, name_choices(kPaths), "observation module path")
+          .choice("scale_alignment", &O::scale_alignment, name_choices(kScales), "mono scale alignment (PALMS+ Table 4)")
+          .choice("extractor", &O::extractor, name_choices(kExtractors), "LiDAR plane extractor")
+          .flag("mask_glass", &O::mask_glass, "drop glass-affected pixels (PALMS+*)")
+          .json("observe_params", &O::observe_params, "observation-module parameter overrides")
+          .unsigned_integer("seed", &O::seed, "simulator seed (combined with building and point index)")
+          .check([](const O& o, const ParamReader& r) {
+            if (!o.sensor_params.is_object()) r.fail("sensor_params", "must be a mapping");
+            if (!o.observe_params.is_object()) r.fail("observe_params", "must be a mapping");
+            if (o.seed > (1ULL << 53)) r.fail("seed", "must be in [0, 9007199254740992]");
+          });
+  return f;
+}
+
 /// Parses an observation mapping (user form) into typed stage parameters. `resolved` receives the
 /// user form with every default filled in (written next to results; re-parsed by merges).
 ObservationSpec parse_observation(const OJson& obj, const Checker& chk, const std::string& path,
                                   const SharedParams& shared, OJson* resolved) {
-  chk.only_keys(obj, path, kObservationKeys);
   ObservationSpec o;
-  const std::string source = chk.string_in(obj, path, "source", "perfect", {"perfect", "scan"});
-  o.source = source == "scan" ? ObservationSource::kScan : ObservationSource::kPerfect;
   // Perfect observer: shared range and blocking, then the explicit keys.
   o.perfect.apply_shared(shared);
-  o.perfect.max_range_m = chk.number_in(obj, path, "max_range_m", o.perfect.max_range_m, 0.5, 1000.0);
-  o.perfect.blocking.open_doors_block = chk.bool_in(obj, path, "doors_closed", o.perfect.blocking.open_doors_block);
-  o.perfect.num_rays = static_cast<int>(chk.integer_in(obj, path, "rays", o.perfect.num_rays, 4, 3600));
+  ObservationUser user;
+  user.max_range_m = o.perfect.max_range_m;
+  user.doors_closed = o.perfect.blocking.open_doors_block;
+  user.rays = o.perfect.num_rays;
+  at_key(chk, path, [&] { observation_user_fields().read(user, Json(obj)); });
+  o.source = user.source == "scan" ? ObservationSource::kScan : ObservationSource::kPerfect;
+  o.perfect.max_range_m = user.max_range_m;
+  o.perfect.blocking.open_doors_block = user.doors_closed;
+  o.perfect.num_rays = user.rays;
   // Scan: sensor preset, its overrides, the setting.
-  const std::string sensor = chk.string_in(obj, path, "sensor", "mono", scan_preset_names());
-  const OJson sensor_params = obj.contains("sensor_params") ? obj.at("sensor_params") : OJson::object();
-  if (!sensor_params.is_object()) chk.fail(Checker::join(path, "sensor_params"), "must be a mapping");
-  const std::string setting = chk.string_in(obj, path, "setting", "full", {"full", "partial", "single"});
   at_key(chk, Checker::join(path, "sensor_params"), [&] {
-    o.scan = scan_preset(sensor);
-    apply_scan_overrides(o.scan, sensor_params, "sensor_params");
-    parse_scan_setting(setting, o.scan.setting);
+    o.scan = scan_preset(user.sensor);
+    apply_scan_overrides(o.scan, user.sensor_params, "sensor_params");
+    parse_scan_setting(user.setting, o.scan.setting);
     validate_scan_params(o.scan);
   });
   // Observation module: path, scale alignment, extractor, glass masking, then its overrides.
-  const std::string obs_path = chk.string_in(obj, path, "path", "mono", {"mono", "lidar"});
-  const std::string scale = chk.string_in(obj, path, "scale_alignment", "full", {"full", "ground", "none"});
-  const std::string extractor =
-      chk.string_in(obj, path, "extractor", to_string(LidarPathParams{}.extractor), {"pcl", "voxelplane"});
-  const bool mask_glass = chk.bool_in(obj, path, "mask_glass", false);
-  const OJson observe_params = obj.contains("observe_params") ? obj.at("observe_params") : OJson::object();
-  if (!observe_params.is_object()) chk.fail(Checker::join(path, "observe_params"), "must be a mapping");
-  o.observe.path = parse_observation_path(obs_path);
-  o.observe.scale.mode = parse_scale_alignment(scale);
-  o.observe.back_projection.mask_glass = mask_glass;
-  o.observe.lidar.back_projection.mask_glass = mask_glass;
-  o.observe.lidar.extractor = parse_plane_extractor(extractor);
-  at_key(chk, Checker::join(path, "observe_params"), [&] { apply_overrides(o.observe, observe_params); });
-  o.seed = static_cast<std::uint64_t>(chk.integer_in(obj, path, "seed", static_cast<long long>(o.seed), 0, (1LL << 53)));
-  if (resolved) {
-    OJson& j = *resolved;
-    j = OJson::object();
-    j["source"] = source;
-    j["max_range_m"] = o.perfect.max_range_m;
-    j["doors_closed"] = o.perfect.blocking.open_doors_block;
-    j["rays"] = o.perfect.num_rays;
-    j["sensor"] = sensor;
-    j["sensor_params"] = sensor_params;
-    j["setting"] = setting;
-    j["path"] = obs_path;
-    j["scale_alignment"] = scale;
-    j["extractor"] = extractor;
-    j["mask_glass"] = mask_glass;
-    j["observe_params"] = observe_params;
-    j["seed"] = o.seed;
-  }
+  o.observe.path = parse_observation_path(user.path);
+  o.observe.scale.mode = parse_scale_alignment(user.scale_alignment);
+  o.observe.back_projection.mask_glass = user.mask_glass;
+  o.observe.lidar.back_projection.mask_glass = user.mask_glass;
+  o.observe.lidar.extractor = parse_plane_extractor(user.extractor);
+  at_key(chk, Checker::join(path, "observe_params"), [&] { apply_overrides(o.observe, user.observe_params); });
+  o.seed = user.seed;
+  if (resolved) *resolved = observation_user_fields().write(user);
   return o;
 }
 
@@ -478,13 +507,7 @@ std::optional<SequentialSpec> parse_sequential(const OJson& tree, const Checker&
   SequentialSpec q;
   if (tree.contains("walk")) at_key(chk, "walk", [&] { q.walk.apply_overrides(tree.at("walk")); });
   if (tree.contains("odometry")) at_key(chk, "odometry", [&] { q.odometry.apply_overrides(tree.at("odometry")); });
-  if (tree.contains("schedule")) {
-    const OJson& s = tree.at("schedule");
-    chk.only_keys(s, "schedule", {"initial", "every_steps", "every_m"});
-    q.schedule.initial = chk.bool_in(s, "schedule", "initial", q.schedule.initial);
-    q.schedule.every_steps = static_cast<int>(chk.integer_in(s, "schedule", "every_steps", q.schedule.every_steps, 0, 1000000));
-    q.schedule.every_m = chk.number_in(s, "schedule", "every_m", q.schedule.every_m, 0.0, 1e6);
-  }
+  if (tree.contains("schedule")) at_key(chk, "schedule", [&] { schedule_fields().read(q.schedule, Json(tree.at("schedule"))); });
   if (!q.schedule.initial) chk.fail("schedule.initial", "sequential scenarios start from an initial observation (PALMS: scan, then walk)");
   if (!tree.contains("trackers")) chk.fail("trackers", "a sequential scenario needs trackers: label -> {tracker: pf|hist, matcher: LABEL, ...}");
   const OJson& ts = tree.at("trackers");
@@ -496,7 +519,7 @@ std::optional<SequentialSpec> parse_sequential(const OJson& tree, const Checker&
     TrackerSpec t;
     t.label = it.key();
     if (!it.value().contains("tracker")) chk.fail(path, "missing required key \"tracker\"");
-    t.tracker = chk.string_in(it.value(), path, "tracker", "");
+    const std::string name = chk.string_in(it.value(), path, "tracker", "");
     t.matcher = chk.string_in(it.value(), path, "matcher", matchers.empty() ? "" : matchers.front().label);
     bool known = false;
     for (const MatcherSpec& m : matchers) known = known || m.label == t.matcher;
@@ -508,7 +531,7 @@ std::optional<SequentialSpec> parse_sequential(const OJson& tree, const Checker&
     // odometry): the cell's odometry model's, with the tracker's own `odometry` keys on top.
     overrides = with_odometry(overrides, odometry_uncertainty(q.odometry));
     try {
-      t.parameters = resolve_tracker_parameters(t.tracker, overrides);
+      t.config = make_tracker_config(name, overrides);
     } catch (const ParameterError& e) {
       chk.fail(Checker::join(path, e.key()), e.what());
     } catch (const InputError& e) {
@@ -523,13 +546,14 @@ OJson sequential_to_json(const SequentialSpec& q) {
   OJson j;
   j["walk"] = q.walk.to_json();
   j["odometry"] = q.odometry.to_json();
-  j["schedule"] = {{"initial", q.schedule.initial}, {"every_steps", q.schedule.every_steps}, {"every_m", q.schedule.every_m}};
+  j["schedule"] = schedule_fields().write(q.schedule);
   OJson ts = OJson::object();
   for (const TrackerSpec& t : q.trackers) {
     OJson one;
-    one["tracker"] = t.tracker;
+    one["tracker"] = t.config->name();
     one["matcher"] = t.matcher;
-    for (auto it = t.parameters.begin(); it != t.parameters.end(); ++it) one[it.key()] = it.value();
+    const OJson params = t.config->parameters();
+    for (auto it = params.begin(); it != params.end(); ++it) one[it.key()] = it.value();
     ts[t.label] = one;
   }
   j["trackers"] = ts;
@@ -568,7 +592,9 @@ std::vector<Axis> parse_sweep(const OJson& sweep, const Checker& chk, const OJso
   auto check_key = [&](const std::string& key, const std::string& path) {
     if (key.rfind("observation.", 0) == 0) {
       const std::string sub = key.substr(12);
-      if (std::find(kObservationKeys.begin(), kObservationKeys.end(), sub) == kObservationKeys.end() &&
+      bool known = false;
+      for (const FieldInfo& f : observation_user_fields().describe()) known = known || f.key == sub;
+      if (!known &&
           sub.rfind("sensor_params.", 0) != 0 && sub.rfind("observe_params.", 0) != 0)
         chk.fail(path, "cannot sweep \"" + key + "\": unknown observation key");
       return;
@@ -625,7 +651,114 @@ std::vector<Axis> parse_sweep(const OJson& sweep, const Checker& chk, const OJso
   return axes;
 }
 
+constexpr std::uint64_t kMaxSeed = 1ULL << 53;  // seeds stay exact in JSON numbers
+
+const FieldList<SamplingSpec>& sampling_fields() {
+  using S = SamplingSpec;
+  static const std::vector<std::string> kRegions = {"transitional", "transitional_or_uniform", "uniform", "kinds"};
+  static const FieldList<S> f =
+      FieldList<S>("sampling")
+          .integer("count", &S::count, 1, 1000000, "observation points per building")
+          .unsigned_integer("seed", &S::seed, "sampling seed")
+          .number("clearance_m", &S::clearance_m, 0.0, 10.0, "minimum distance of a point from any wall or obstacle, m")
+          .flag("random_yaw", &S::random_yaw, "random true heading per point (else 0)")
+          .choice("region", &S::region, name_choices(kRegions),
+                  "where points go: transitional rooms (PALMS+ sec. 4.4), the whole free space, or rooms of region_kinds")
+          .texts("region_kinds", &S::region_kinds, "room kinds for region kinds (\"transitional\" expands)")
+          .optional([](const S& s) { return !s.region_kinds.empty(); })
+          .check([](const S& s, const ParamReader& r) {
+            if (s.seed > kMaxSeed) r.fail("seed", "must be in [0, 9007199254740992]");
+            for (std::size_t i = 0; i < s.region_kinds.size(); ++i) {
+              if (s.region_kinds[i].empty()) r.fail("region_kinds[" + std::to_string(i) + "]", "must be a room kind (a string)");
+            }
+          });
+  return f;
+}
+
+const FieldList<ScoringParams>& scoring_fields() {
+  using S = ScoringParams;
+  static const FieldList<S> f =
+      FieldList<S>("scoring")
+          .numbers("recall_thresholds_m", &S::recall_thresholds_m, 0.0, 1e3, "position thresholds for recall, m (PALMS+ Table 1)")
+          .number("combined_threshold_m", &S::combined_threshold_m, 1e-3, 1e3, "combined recall: position threshold, m")
+          .number("combined_threshold_deg", &S::combined_threshold_deg, 0.0, 180.0, "combined recall: heading threshold, deg")
+          .integer("top_k", &S::top_k, 1, 100, "top-K recall at the combined position threshold")
+          .integer("bootstrap_resamples", &S::bootstrap_resamples, 0, 100000, "bootstrap resamples for 95% intervals (0: none)")
+          .unsigned_integer("bootstrap_seed", &S::bootstrap_seed, "bootstrap seed")
+          .check([](const S& s, const ParamReader& r) {
+            for (std::size_t i = 0; i < s.recall_thresholds_m.size(); ++i) {
+              if (!(s.recall_thresholds_m[i] > 0.0)) {
+                r.fail("recall_thresholds_m[" + std::to_string(i) + "]", "must be a number in (0, 1000] metres");
+              }
+            }
+            if (s.bootstrap_seed > kMaxSeed) r.fail("bootstrap_seed", "must be in [0, 9007199254740992]");
+          });
+  return f;
+}
+
+const FieldList<OutputSpec>& output_fields() {
+  static const FieldList<OutputSpec> f =
+      FieldList<OutputSpec>("output").integer("heatmaps", &OutputSpec::heatmaps, 0, 1000,
+                                              "posterior overlays drawn for the first N points of each building");
+  return f;
+}
+
+/// A building as the resolved configuration records it.
+const FieldList<BuildingSpec>& resolved_building_fields() {
+  using B = BuildingSpec;
+  auto from_file = [](const B& b) { return !b.file.empty(); };
+  auto generated = [](const B& b) { return b.file.empty(); };
+  auto with_rooms = [](const B& b) { return !b.rooms_file.empty(); };
+  static const FieldList<B> f =
+      FieldList<B>("building")
+          .text("label", &B::label, "name in unit ids and tables")
+          .text("file", &B::file, "plan file (absolute path)")
+          .optional(from_file)
+          .text("generate", &B::archetype, "generator archetype")
+          .optional(generated)
+          .unsigned_integer("seed", &B::seed, "generator seed")
+          .optional(generated)
+          .text("rooms", &B::rooms_file, "rooms file (absolute path)")
+          .optional(with_rooms)
+          .text("sampling_region", &B::sampling_region, "how its points are placed (resolved at load)")
+          .optional([](const B&) { return true; });
+  return f;
+}
+
+const FieldList<PaperReference>& paper_fields() {
+  using P = PaperReference;
+  static const FieldList<P> f =
+      FieldList<P>("paper")
+          .text("label", &P::label, "row label, e.g. \"PALMS+ paper, kernel\"")
+          .text("source", &P::source, "where the numbers are from")
+          .text("cell", &P::cell, "the cell id it compares with; empty = every cell")
+          .custom(
+              "values", [](OJson& j, const P& p) { j["values"] = p.values; },
+              [](ParamReader& r, P& p) {
+                Json values;
+                r.read("values", values);
+                if (!values.is_object()) r.fail("values", "needs a mapping metric -> number");
+                p.values.clear();
+                for (auto it = values.begin(); it != values.end(); ++it) {
+                  if (!it.value().is_number()) r.fail("values." + it.key(), "must be a number");
+                  p.values[it.key()] = it.value().get<double>();
+                }
+              },
+              "{metric: number}", "published values (recalls as fractions)");
+  return f;
+}
+
 }  // namespace
+
+std::vector<std::pair<std::string, std::vector<FieldInfo>>> scenario_block_fields() {
+  ObservationUser observation;
+  observation.max_range_m = SharedParams{}.range_m;
+  observation.doors_closed = SharedParams{}.blocking.open_doors_block;
+  return {{"sampling", sampling_fields().describe()},
+          {"observation", observation_user_fields().describe(observation)},
+          {"scoring", scoring_fields().describe()},
+          {"output", output_fields().describe()}};
+}
 
 Scenario parse_scenario(const std::string& yaml_text, const std::string& source, const std::string& base_dir,
                         const std::string& source_root) {
@@ -658,23 +791,11 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
 
   if (root.contains("sampling")) {
     const OJson& o = root.at("sampling");
-    chk.only_keys(o, "sampling", {"count", "seed", "clearance_m", "random_yaw", "region", "region_kinds"});
-    s.sampling.count = static_cast<int>(chk.integer_in(o, "sampling", "count", s.sampling.count, 1, 1000000));
-    s.sampling.seed = static_cast<std::uint64_t>(chk.integer_in(o, "sampling", "seed", 1, 0, (1LL << 53)));
-    s.sampling.clearance_m = chk.number_in(o, "sampling", "clearance_m", s.sampling.clearance_m, 0.0, 10.0);
-    s.sampling.random_yaw = chk.bool_in(o, "sampling", "random_yaw", s.sampling.random_yaw);
-    if (o.contains("region_kinds")) {
-      const OJson& k = o.at("region_kinds");
-      if (!k.is_array() || k.empty()) chk.fail("sampling.region_kinds", "must be a non-empty list of room kinds");
-      for (std::size_t i = 0; i < k.size(); ++i) {
-        if (!k[i].is_string() || k[i].get<std::string>().empty()) {
-          chk.fail("sampling.region_kinds[" + std::to_string(i) + "]", "must be a room kind (a string)");
-        }
-        s.sampling.region_kinds.push_back(k[i].get<std::string>());
-      }
+    at_key(chk, "sampling", [&] { sampling_fields().read(s.sampling, Json(o)); });
+    if (o.contains("region_kinds") && s.sampling.region_kinds.empty()) {
+      chk.fail("sampling.region_kinds", "must be a non-empty list of room kinds");
     }
-    s.sampling.region = chk.string_in(o, "sampling", "region", s.sampling.region_kinds.empty() ? "transitional" : "kinds",
-                                      {"transitional", "transitional_or_uniform", "uniform", "kinds"});
+    if (!o.contains("region") && !s.sampling.region_kinds.empty()) s.sampling.region = "kinds";
     if (s.sampling.region == "kinds" && s.sampling.region_kinds.empty()) {
       chk.fail("sampling.region", "\"kinds\" needs sampling.region_kinds");
     }
@@ -686,49 +807,22 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
     if (s.sampling.region != "transitional" && s.sampling.region != "transitional_or_uniform") b.sampling_region = s.sampling.region;
     else b.sampling_region = has_room_labels(b) ? s.sampling.region : "uniform_unlabelled";
   }
-  if (root.contains("scoring")) {
-    const OJson& o = root.at("scoring");
-    chk.only_keys(o, "scoring", {"recall_thresholds_m", "combined_threshold_m", "combined_threshold_deg", "top_k",
-                                 "bootstrap_resamples", "bootstrap_seed"});
-    if (o.contains("recall_thresholds_m")) {
-      const OJson& t = o.at("recall_thresholds_m");
-      if (!t.is_array() || t.empty()) chk.fail("scoring.recall_thresholds_m", "must be a non-empty list of metres");
-      s.scoring.recall_thresholds_m.clear();
-      for (std::size_t i = 0; i < t.size(); ++i) {
-        if (!t[i].is_number() || !(t[i].get<double>() > 0.0 && t[i].get<double>() <= 1e3))
-          chk.fail("scoring.recall_thresholds_m[" + std::to_string(i) + "]", "must be a number in (0, 1000] metres");
-        s.scoring.recall_thresholds_m.push_back(t[i].get<double>());
-      }
-    }
-    s.scoring.combined_threshold_m = chk.number_in(o, "scoring", "combined_threshold_m", s.scoring.combined_threshold_m, 1e-3, 1e3);
-    s.scoring.combined_threshold_deg = chk.number_in(o, "scoring", "combined_threshold_deg", s.scoring.combined_threshold_deg, 0.0, 180.0);
-    s.scoring.top_k = static_cast<int>(chk.integer_in(o, "scoring", "top_k", s.scoring.top_k, 1, 100));
-    s.scoring.bootstrap_resamples = static_cast<int>(chk.integer_in(o, "scoring", "bootstrap_resamples", s.scoring.bootstrap_resamples, 0, 100000));
-    s.scoring.bootstrap_seed = static_cast<std::uint64_t>(chk.integer_in(o, "scoring", "bootstrap_seed", static_cast<long long>(s.scoring.bootstrap_seed), 0, (1LL << 53)));
-  }
-  if (root.contains("output")) {
-    const OJson& o = root.at("output");
-    chk.only_keys(o, "output", {"heatmaps"});
-    s.output.heatmaps = static_cast<int>(chk.integer_in(o, "output", "heatmaps", s.output.heatmaps, 0, 1000));
-  }
-
+  if (root.contains("scoring")) at_key(chk, "scoring", [&] { scoring_fields().read(s.scoring, Json(root.at("scoring"))); });
+  if (root.contains("output")) at_key(chk, "output", [&] { output_fields().read(s.output, Json(root.at("output"))); });
   if (root.contains("paper")) {
     const OJson& list = root.at("paper");
     if (!list.is_array()) chk.fail("paper", "must be a list of {label, source, cell, values}");
     for (std::size_t i = 0; i < list.size(); ++i) {
       const std::string path = "paper[" + std::to_string(i) + "]";
-      chk.only_keys(list[i], path, {"label", "source", "cell", "values"});
       PaperReference ref;
-      ref.label = chk.string_in(list[i], path, "label", "");
+      at_key(chk, path, [&] {
+        const Json item(list[i]);
+        ParamReader r(item, "paper", "");
+        paper_fields().read_into(r, ref);
+        if (!r.has("values")) r.fail("values", "needs \"values\": a mapping metric -> number");
+        r.finish();
+      });
       if (ref.label.empty()) chk.fail(path, "missing required key \"label\"");
-      ref.source = chk.string_in(list[i], path, "source", "");
-      ref.cell = chk.string_in(list[i], path, "cell", "");
-      if (!list[i].contains("values") || !list[i].at("values").is_object())
-        chk.fail(path, "needs \"values\": a mapping metric -> number");
-      for (auto it = list[i].at("values").begin(); it != list[i].at("values").end(); ++it) {
-        if (!it.value().is_number()) chk.fail(path + ".values." + it.key(), "must be a number");
-        ref.values[it.key()] = it.value().get<double>();
-      }
       s.paper.push_back(std::move(ref));
     }
   }
@@ -804,39 +898,14 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
   r["name"] = s.name;
   r["description"] = s.description;
   r["buildings"] = OJson::array();
-  for (const auto& b : s.buildings) {
-    OJson j;
-    j["label"] = b.label;
-    if (!b.file.empty()) j["file"] = b.file;
-    else {
-      j["generate"] = b.archetype;
-      j["seed"] = b.seed;
-    }
-    if (!b.rooms_file.empty()) j["rooms"] = b.rooms_file;
-    j["sampling_region"] = b.sampling_region;
-    r["buildings"].push_back(j);
-  }
-  r["sampling"] = {{"count", s.sampling.count}, {"seed", s.sampling.seed}, {"clearance_m", s.sampling.clearance_m},
-                   {"random_yaw", s.sampling.random_yaw}, {"region", s.sampling.region}};
-  if (!s.sampling.region_kinds.empty()) r["sampling"]["region_kinds"] = s.sampling.region_kinds;
-  r["scoring"] = {{"recall_thresholds_m", s.scoring.recall_thresholds_m},
-                  {"combined_threshold_m", s.scoring.combined_threshold_m},
-                  {"combined_threshold_deg", s.scoring.combined_threshold_deg},
-                  {"top_k", s.scoring.top_k},
-                  {"bootstrap_resamples", s.scoring.bootstrap_resamples},
-                  {"bootstrap_seed", s.scoring.bootstrap_seed}};
-  r["output"] = {{"heatmaps", s.output.heatmaps}};
+  for (const auto& b : s.buildings) r["buildings"].push_back(resolved_building_fields().write(b));
+  r["sampling"] = sampling_fields().write(s.sampling);
+  r["scoring"] = scoring_fields().write(s.scoring);
+  r["output"] = output_fields().write(s.output);
   r["shared"] = to_json(s.shared);
   if (!s.paper.empty()) {
     r["paper"] = OJson::array();
-    for (const auto& p : s.paper) {
-      OJson j;
-      j["label"] = p.label;
-      j["source"] = p.source;
-      j["cell"] = p.cell;
-      j["values"] = p.values;
-      r["paper"].push_back(j);
-    }
+    for (const auto& p : s.paper) r["paper"].push_back(paper_fields().write(p));
   }
   r["sweep_keys"] = s.sweep_keys;
   r["sweep_axes"] = s.sweep_axes;
@@ -877,39 +946,20 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
     s.description = resolved.at("description").get<std::string>();
     for (const Json& b : resolved.at("buildings")) {
       BuildingSpec spec;
-      spec.label = b.at("label").get<std::string>();
-      if (b.contains("file")) spec.file = b.at("file").get<std::string>();
-      else {
-        spec.archetype = b.at("generate").get<std::string>();
-        spec.seed = b.at("seed").get<std::uint64_t>();
-      }
-      if (b.contains("rooms")) spec.rooms_file = b.at("rooms").get<std::string>();
-      spec.sampling_region = b.value("sampling_region", std::string("uniform"));
+      spec.sampling_region = "uniform";  // runs written before it was recorded
+      resolved_building_fields().read_record(spec, b, source + ": buildings");
       s.buildings.push_back(spec);
     }
     const Json& sm = resolved.at("sampling");
-    s.sampling.count = sm.at("count").get<int>();
-    s.sampling.seed = sm.at("seed").get<std::uint64_t>();
-    s.sampling.clearance_m = sm.at("clearance_m").get<double>();
-    s.sampling.random_yaw = sm.at("random_yaw").get<bool>();
-    if (sm.contains("region_kinds")) s.sampling.region_kinds = sm.at("region_kinds").get<std::vector<std::string>>();
-    s.sampling.region = sm.value("region", std::string(s.sampling.region_kinds.empty() ? "uniform" : "kinds"));
-    const Json& sc = resolved.at("scoring");
-    s.scoring.recall_thresholds_m = sc.at("recall_thresholds_m").get<std::vector<double>>();
-    s.scoring.combined_threshold_m = sc.at("combined_threshold_m").get<double>();
-    s.scoring.combined_threshold_deg = sc.at("combined_threshold_deg").get<double>();
-    s.scoring.top_k = sc.at("top_k").get<int>();
-    s.scoring.bootstrap_resamples = sc.at("bootstrap_resamples").get<int>();
-    s.scoring.bootstrap_seed = sc.at("bootstrap_seed").get<std::uint64_t>();
-    s.output.heatmaps = resolved.at("output").at("heatmaps").get<int>();
+    sampling_fields().read(s.sampling, sm);
+    if (!sm.contains("region")) s.sampling.region = s.sampling.region_kinds.empty() ? "uniform" : "kinds";
+    scoring_fields().read_record(s.scoring, resolved.at("scoring"), source + ": scoring");
+    output_fields().read_record(s.output, resolved.at("output"), source + ": output");
     if (resolved.contains("shared")) apply_overrides(s.shared, resolved.at("shared"), source + ": shared");
     if (resolved.contains("paper")) {
       for (const Json& p : resolved.at("paper")) {
         PaperReference ref;
-        ref.label = p.at("label").get<std::string>();
-        ref.source = p.at("source").get<std::string>();
-        ref.cell = p.at("cell").get<std::string>();
-        ref.values = p.at("values").get<std::map<std::string, double>>();
+        paper_fields().read_record(ref, p, source + ": paper");
         s.paper.push_back(ref);
       }
     }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/json_text.hpp"
 
 namespace floorcast {
@@ -58,84 +59,95 @@ namespace {
 using OJson = nlohmann::ordered_json;
 using Json = nlohmann::json;
 
-OJson pose_to_json(const PoseEstimate& p) {
-  OJson j;
-  j["x_m"] = p.x_m;
-  j["y_m"] = p.y_m;
-  j["yaw_rad"] = p.yaw_rad;
-  j["score"] = p.score;
-  j["position_error_m"] = p.position_error_m;
-  j["yaw_error_deg"] = p.yaw_error_deg;
-  return j;
+constexpr double kAny = 1e300;  // numbers in unit files: any finite value
+
+const FieldList<PoseEstimate>& pose_estimate_fields() {
+  using P = PoseEstimate;
+  static const FieldList<P> f = FieldList<P>("pose estimate")
+                                    .number("x_m", &P::x_m, -kAny, kAny, "world x, m")
+                                    .number("y_m", &P::y_m, -kAny, kAny, "world y, m")
+                                    .number("yaw_rad", &P::yaw_rad, -kAny, kAny, "world heading, rad")
+                                    .number("score", &P::score, -kAny, kAny, "the matcher's score")
+                                    .number("position_error_m", &P::position_error_m, -kAny, kAny, "distance to the truth, m")
+                                    .number("yaw_error_deg", &P::yaw_error_deg, -kAny, kAny, "heading error, deg");
+  return f;
 }
 
-double number(const Json& j, const char* key, const std::string& source) {
-  if (!j.contains(key) || !j.at(key).is_number()) throw InputError(source + ": missing or non-numeric \"" + key + "\"");
-  return j.at(key).get<double>();
+const FieldList<Pose2>& truth_fields() {
+  static const FieldList<Pose2> f = FieldList<Pose2>("truth")
+                                        .number("x_m", &Pose2::x_m, -kAny, kAny, "world x, m")
+                                        .number("y_m", &Pose2::y_m, -kAny, kAny, "world y, m")
+                                        .number("yaw_rad", &Pose2::yaw_rad, -kAny, kAny, "world heading, rad");
+  return f;
 }
 
-PoseEstimate pose_from_json(const Json& j, const std::string& source) {
-  PoseEstimate p;
-  p.x_m = number(j, "x_m", source);
-  p.y_m = number(j, "y_m", source);
-  p.yaw_rad = number(j, "yaw_rad", source);
-  p.score = number(j, "score", source);
-  p.position_error_m = number(j, "position_error_m", source);
-  p.yaw_error_deg = number(j, "yaw_error_deg", source);
-  return p;
+const FieldList<WorkUnit>& work_unit_fields() {
+  static const FieldList<WorkUnit> f =
+      FieldList<WorkUnit>("work unit")
+          .text("id", &WorkUnit::id, "<cell id>/<building label>/<point, 4 digits>")
+          .integer("cell", &WorkUnit::cell, 0, 1 << 30, "sweep cell index")
+          .integer("building", &WorkUnit::building, 0, 1 << 30, "building index")
+          .integer("point", &WorkUnit::point, 0, 1 << 30, "observation point index");
+  return f;
 }
 
-}  // namespace
+const FieldList<MatcherOutcome>& matcher_outcome_fields() {
+  using M = MatcherOutcome;
+  static const FieldList<M> f =
+      FieldList<M>("matcher outcome")
+          .text("label", &M::label, "the matcher's label in the scenario")
+          .flag("ok", &M::ok, "false: no estimate (reason in failure)")
+          .text("failure", &M::failure, "why there is no estimate")
+          .optional([](const M& m) { return !m.ok; })
+          .section("estimate", &M::estimate, pose_estimate_fields())
+          .optional([](const M& m) { return m.ok; })
+          .list("top_k", &M::top_k, pose_estimate_fields())
+          .optional([](const M& m) { return m.ok; });
+  return f;
+}
 
-OJson unit_to_json(const UnitResult& r) {
-  OJson j;
-  j["id"] = r.unit.id;
-  j["cell"] = r.unit.cell;
-  j["building"] = r.unit.building;
-  j["point"] = r.unit.point;
-  j["truth"] = {{"x_m", r.truth.x_m}, {"y_m", r.truth.y_m}, {"yaw_rad", r.truth.yaw_rad}};
-  j["observation_ok"] = r.observation_ok;
-  if (!r.observation_ok) j["observation_failure"] = r.observation_failure;
-  j["observation"] = r.observation;
-  OJson outcomes = OJson::array();
-  for (const MatcherOutcome& o : r.outcomes) {
-    OJson m;
-    m["label"] = o.label;
-    m["ok"] = o.ok;
-    if (!o.ok) {
-      m["failure"] = o.failure;
-    } else {
-      m["estimate"] = pose_to_json(o.estimate);
-      OJson top = OJson::array();
-      for (const PoseEstimate& p : o.top_k) top.push_back(pose_to_json(p));
-      m["top_k"] = top;
-    }
-    outcomes.push_back(m);
-  }
-  j["outcomes"] = outcomes;
-  if (!r.tracks.empty() || !r.walk.empty()) {
-    j["walk"] = r.walk;
-    OJson tracks = OJson::array();
-    for (const TrackOutcome& t : r.tracks) {
-      OJson tj;
-      tj["label"] = t.label;
-      tj["started"] = t.started;
-      if (!t.started) tj["failure"] = t.failure;
-      tj["observations_used"] = t.observations_used;
-      tj["t_s"] = t.record.t_s;
-      tj["distance_m"] = t.record.distance_m;
-      tj["position_error_m"] = t.record.position_error_m;
-      tj["yaw_error_deg"] = t.record.yaw_error_deg;
-      tj["stage"] = t.record.stage;
-      if (!t.estimate_xy_m.empty()) {
-        OJson xy = OJson::array();
-        for (const Vec2& p : t.estimate_xy_m) xy.push_back({p.x(), p.y()});
-        tj["estimate_xy"] = xy;
-      }
-      tracks.push_back(tj);
-    }
-    j["tracks"] = tracks;
-  }
+const FieldList<TrackOutcome>& track_outcome_fields() {
+  using T = TrackOutcome;
+  static const FieldList<T> f =
+      FieldList<T>("track outcome")
+          .text("label", &T::label, "the tracker's label in the scenario")
+          .flag("started", &T::started, "false: no track (reason in failure)")
+          .text("failure", &T::failure, "why there is no track")
+          .optional([](const T& t) { return !t.started; })
+          .integer("observations_used", &T::observations_used, 0, 1 << 30, "observations whose posteriors were applied")
+          .series("t_s", [](auto& t) -> auto& { return t.record.t_s; }, "time per step, s")
+          .series("distance_m", [](auto& t) -> auto& { return t.record.distance_m; }, "distance walked since the start, m")
+          .series("position_error_m", [](auto& t) -> auto& { return t.record.position_error_m; }, "position error per step, m")
+          .series("yaw_error_deg", [](auto& t) -> auto& { return t.record.yaw_error_deg; }, "heading error per step, deg")
+          .integers("stage", [](auto& t) -> auto& { return t.record.stage; }, "convergence stage per step")
+          .custom(
+              "estimate_xy",
+              [](OJson& j, const T& t) {
+                if (t.estimate_xy_m.empty()) return;
+                OJson xy = OJson::array();
+                for (const Vec2& p : t.estimate_xy_m) xy.push_back({p.x(), p.y()});
+                j["estimate_xy"] = xy;
+              },
+              [](ParamReader& r, T& t) {
+                if (!r.optional("estimate_xy")) return;
+                Json xy;
+                r.read("estimate_xy", xy);
+                if (!xy.is_array()) r.fail("estimate_xy", "expected an array of [x, y]");
+                for (std::size_t i = 0; i < xy.size(); ++i) {
+                  const Json& p = xy[i];
+                  if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
+                    r.fail("estimate_xy[" + std::to_string(i) + "]", "expected [x, y]");
+                  }
+                  t.estimate_xy_m.emplace_back(p[0].get<double>(), p[1].get<double>());
+                }
+              },
+              "[[x, y], ...]", "estimated position per step, m (rounded to 1 mm; absent in older runs)");
+  return f;
+}
+
+/// Timings live under "timings" only (strip_timings removes them): the unit's stage times, each
+/// matcher's match time and each tracker's time per step.
+void write_timings(OJson& j, const UnitResult& r) {
   OJson timings = OJson::object();
   for (const auto& [k, v] : r.timings_s) timings[k] = v;
   OJson per_matcher = OJson::object();
@@ -147,64 +159,52 @@ OJson unit_to_json(const UnitResult& r) {
     timings["step_by_tracker"] = per_tracker;
   }
   j["timings"] = timings;
-  return j;
 }
+
+void read_timings(ParamReader& r, UnitResult& u) {
+  Json timings;
+  r.read("timings", timings);
+  if (!timings.is_object()) r.fail("timings", "expected an object");
+  for (auto it = timings.begin(); it != timings.end(); ++it)
+    if (it.value().is_number()) u.timings_s[it.key()] = it.value().get<double>();
+  const Json per = timings.value("match_by_matcher", Json::object());
+  for (MatcherOutcome& o : u.outcomes)
+    if (per.contains(o.label) && per.at(o.label).is_number()) o.match_s = per.at(o.label).get<double>();
+  const Json steps = timings.value("step_by_tracker", Json::object());
+  for (TrackOutcome& t : u.tracks)
+    if (steps.contains(t.label) && steps.at(t.label).is_number()) t.record.time_per_step_s = steps.at(t.label).get<double>();
+}
+
+bool sequential(const UnitResult& r) { return !r.tracks.empty() || !r.walk.empty(); }
+
+const FieldList<UnitResult>& unit_fields() {
+  using U = UnitResult;
+  static const FieldList<U> f =
+      FieldList<U>("unit result")
+          .flatten(&U::unit, work_unit_fields())
+          .section("truth", &U::truth, truth_fields())
+          .flag("observation_ok", &U::observation_ok, "false: the observation failed (reason in observation_failure)")
+          .text("observation_failure", &U::observation_failure, "why the observation failed")
+          .optional([](const U& u) { return !u.observation_ok; })
+          .json("observation", &U::observation, "observation summary and the observation module's diagnostics")
+          .list("outcomes", &U::outcomes, matcher_outcome_fields())
+          .json("walk", &U::walk, "sequential scenarios: the walk's summary")
+          .optional(sequential)
+          .list("tracks", &U::tracks, track_outcome_fields())
+          .optional(sequential)
+          .custom("timings", write_timings, read_timings, "object",
+                  "seconds per stage, match_by_matcher, step_by_tracker (excluded from comparisons)");
+  return f;
+}
+
+}  // namespace
+
+OJson unit_to_json(const UnitResult& r) { return unit_fields().write(r); }
 
 UnitResult unit_from_json(const Json& j, const std::string& source) {
   UnitResult r;
-  try {
-    r.unit.id = j.at("id").get<std::string>();
-    r.unit.cell = j.at("cell").get<int>();
-    r.unit.building = j.at("building").get<int>();
-    r.unit.point = j.at("point").get<int>();
-    r.truth.x_m = number(j.at("truth"), "x_m", source);
-    r.truth.y_m = number(j.at("truth"), "y_m", source);
-    r.truth.yaw_rad = number(j.at("truth"), "yaw_rad", source);
-    r.observation_ok = j.at("observation_ok").get<bool>();
-    if (!r.observation_ok) r.observation_failure = j.at("observation_failure").get<std::string>();
-    r.observation = j.at("observation");
-    const Json& timings = j.at("timings");
-    for (auto it = timings.begin(); it != timings.end(); ++it)
-      if (it.value().is_number()) r.timings_s[it.key()] = it.value().get<double>();
-    for (const Json& m : j.at("outcomes")) {
-      MatcherOutcome o;
-      o.label = m.at("label").get<std::string>();
-      o.ok = m.at("ok").get<bool>();
-      if (!o.ok) {
-        o.failure = m.at("failure").get<std::string>();
-      } else {
-        o.estimate = pose_from_json(m.at("estimate"), source);
-        for (const Json& p : m.at("top_k")) o.top_k.push_back(pose_from_json(p, source));
-      }
-      const Json& per = timings.at("match_by_matcher");
-      if (per.contains(o.label)) o.match_s = per.at(o.label).get<double>();
-      r.outcomes.push_back(std::move(o));
-    }
-    if (j.contains("walk")) r.walk = j.at("walk");
-    if (j.contains("tracks")) {
-      for (const Json& t : j.at("tracks")) {
-        TrackOutcome o;
-        o.label = t.at("label").get<std::string>();
-        o.started = t.at("started").get<bool>();
-        if (!o.started) o.failure = t.at("failure").get<std::string>();
-        o.observations_used = t.at("observations_used").get<int>();
-        o.record.t_s = t.at("t_s").get<std::vector<double>>();
-        o.record.distance_m = t.at("distance_m").get<std::vector<double>>();
-        o.record.position_error_m = t.at("position_error_m").get<std::vector<double>>();
-        o.record.yaw_error_deg = t.at("yaw_error_deg").get<std::vector<double>>();
-        o.record.stage = t.at("stage").get<std::vector<int>>();
-        o.record.failed = !o.started;
-        if (t.contains("estimate_xy"))
-          for (const Json& p : t.at("estimate_xy")) o.estimate_xy_m.emplace_back(p.at(0).get<double>(), p.at(1).get<double>());
-        if (timings.contains("step_by_tracker") && timings.at("step_by_tracker").contains(o.label)) {
-          o.record.time_per_step_s = timings.at("step_by_tracker").at(o.label).get<double>();
-        }
-        r.tracks.push_back(std::move(o));
-      }
-    }
-  } catch (const Json::exception& e) {
-    throw InputError(source + ": not a valid unit result: " + e.what());
-  }
+  unit_fields().read_record(r, j, source);
+  for (TrackOutcome& t : r.tracks) t.record.failed = !t.started;
   return r;
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "floorcast/core/math.hpp"
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/params.hpp"
 #include "floorcast/core/random.hpp"
 
@@ -110,47 +111,50 @@ const std::vector<std::pair<const char*, OdometryModel>>& odometry_model_names()
   return names;
 }
 
-nlohmann::ordered_json OdometryParams::to_json() const {
-  nlohmann::ordered_json j;
-  j["model"] = enum_name(model, odometry_model_names());
-  j["vio"] = {{"scale_sigma", vio.scale_sigma},
-              {"scale_random_walk_per_sqrt_s", vio.scale_random_walk_per_sqrt_s},
-              {"yaw_bias_sigma_dps", vio.yaw_bias_sigma_dps},
-              {"yaw_random_walk_deg_per_sqrt_s", vio.yaw_random_walk_deg_per_sqrt_s},
-              {"rotation_scale_sigma", vio.rotation_scale_sigma},
-              {"translation_noise_mps", vio.translation_noise_mps}};
-  j["pdr"] = {{"miss_probability", pdr.miss_probability},
-              {"false_step_probability", pdr.false_step_probability},
-              {"step_length_bias_sigma", pdr.step_length_bias_sigma},
-              {"step_length_sigma_m", pdr.step_length_sigma_m},
-              {"heading_bias_sigma_deg", pdr.heading_bias_sigma_deg},
-              {"heading_random_walk_deg_per_sqrt_step", pdr.heading_random_walk_deg_per_sqrt_step}};
-  j["seed"] = seed;
-  return j;
+namespace {
+
+const FieldList<VioNoise>& vio_fields() {
+  using P = VioNoise;
+  static const FieldList<P> f =
+      FieldList<P>("odometry vio")
+          .number("scale_sigma", &P::scale_sigma, 0.0, 1.0, "scale error drawn per walk (relative sigma)")
+          .number("scale_random_walk_per_sqrt_s", &P::scale_random_walk_per_sqrt_s, 0.0, 1.0, "scale random walk, 1/sqrt(s)")
+          .number("yaw_bias_sigma_dps", &P::yaw_bias_sigma_dps, 0.0, 90.0, "yaw drift rate drawn per walk, deg/s")
+          .number("yaw_random_walk_deg_per_sqrt_s", &P::yaw_random_walk_deg_per_sqrt_s, 0.0, 90.0, "yaw random walk, deg/sqrt(s)")
+          .number("rotation_scale_sigma", &P::rotation_scale_sigma, 0.0, 1.0, "rotation scale error (relative sigma)")
+          .number("translation_noise_mps", &P::translation_noise_mps, 0.0, 10.0, "translation noise, m/s");
+  return f;
 }
 
-void OdometryParams::apply_overrides(const nlohmann::json& overrides) {
-  ParamReader r(overrides, "odometry");
-  r.read_enum("model", model, odometry_model_names());
-  r.section("vio", [&](ParamReader& v) {
-    v.read("scale_sigma", vio.scale_sigma, 0.0, 1.0);
-    v.read("scale_random_walk_per_sqrt_s", vio.scale_random_walk_per_sqrt_s, 0.0, 1.0);
-    v.read("yaw_bias_sigma_dps", vio.yaw_bias_sigma_dps, 0.0, 90.0);
-    v.read("yaw_random_walk_deg_per_sqrt_s", vio.yaw_random_walk_deg_per_sqrt_s, 0.0, 90.0);
-    v.read("rotation_scale_sigma", vio.rotation_scale_sigma, 0.0, 1.0);
-    v.read("translation_noise_mps", vio.translation_noise_mps, 0.0, 10.0);
-  });
-  r.section("pdr", [&](ParamReader& d) {
-    d.read("miss_probability", pdr.miss_probability, 0.0, 1.0);
-    d.read("false_step_probability", pdr.false_step_probability, 0.0, 1.0);
-    d.read("step_length_bias_sigma", pdr.step_length_bias_sigma, 0.0, 1.0);
-    d.read("step_length_sigma_m", pdr.step_length_sigma_m, 0.0, 2.0);
-    d.read("heading_bias_sigma_deg", pdr.heading_bias_sigma_deg, 0.0, 180.0);
-    d.read("heading_random_walk_deg_per_sqrt_step", pdr.heading_random_walk_deg_per_sqrt_step, 0.0, 90.0);
-  });
-  r.read("seed", seed);
-  r.finish();
+const FieldList<PdrNoise>& pdr_fields() {
+  using P = PdrNoise;
+  static const FieldList<P> f =
+      FieldList<P>("odometry pdr")
+          .number("miss_probability", &P::miss_probability, 0.0, 1.0, "probability that a step is missed")
+          .number("false_step_probability", &P::false_step_probability, 0.0, 1.0, "probability of a false step")
+          .number("step_length_bias_sigma", &P::step_length_bias_sigma, 0.0, 1.0, "step length bias drawn per walk (relative)")
+          .number("step_length_sigma_m", &P::step_length_sigma_m, 0.0, 2.0, "step length noise per step, m")
+          .number("heading_bias_sigma_deg", &P::heading_bias_sigma_deg, 0.0, 180.0, "heading bias drawn per walk, deg")
+          .number("heading_random_walk_deg_per_sqrt_step", &P::heading_random_walk_deg_per_sqrt_step, 0.0, 90.0,
+                  "heading random walk, deg/sqrt(step)");
+  return f;
 }
+
+}  // namespace
+
+const FieldList<OdometryParams>& OdometryParams::fields() {
+  using P = OdometryParams;
+  static const FieldList<P> f = FieldList<P>("odometry")
+                                    .choice("model", &P::model, odometry_model_names(), "odometry model: exact, vio or pdr")
+                                    .section("vio", &P::vio, vio_fields())
+                                    .section("pdr", &P::pdr, pdr_fields())
+                                    .unsigned_integer("seed", &P::seed, "random seed");
+  return f;
+}
+
+nlohmann::ordered_json OdometryParams::to_json() const { return fields().write(*this); }
+
+void OdometryParams::apply_overrides(const nlohmann::json& overrides) { fields().read(*this, overrides); }
 
 OdometryUncertainty odometry_uncertainty(const OdometryParams& p) {
   OdometryUncertainty u;

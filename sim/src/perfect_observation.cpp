@@ -154,21 +154,19 @@ Observation2D PerfectObserver::observe(const Pose2& T_world_observer) const {
   return obs;
 }
 
-nlohmann::ordered_json PerfectObservationParams::to_json() const {
-  nlohmann::ordered_json j;
-  j["max_range_m"] = max_range_m;
-  write_blocking(j, blocking);
-  j["num_rays"] = num_rays;
-  return j;
+const FieldList<PerfectObservationParams>& PerfectObservationParams::fields() {
+  using P = PerfectObservationParams;
+  static const FieldList<P> f =
+      FieldList<P>("perfect observer")
+          .number("max_range_m", &P::max_range_m, 0.1, 1000.0, "visible geometry within this range, m (PALMS+ sec. 4.4: 10)")
+          .flatten(&P::blocking, blocking_fields())
+          .integer("num_rays", &P::num_rays, 0, 3600, "equiangular rays (F3Loc: 36); 0 = none");
+  return f;
 }
 
-void PerfectObservationParams::apply_overrides(const nlohmann::json& overrides) {
-  ParamReader r(overrides, "perfect observer");
-  r.read("max_range_m", max_range_m, 0.1, 1000.0);
-  read_blocking(r, blocking);
-  r.read("num_rays", num_rays, 0, 3600);
-  r.finish();
-}
+nlohmann::ordered_json PerfectObservationParams::to_json() const { return fields().write(*this); }
+
+void PerfectObservationParams::apply_overrides(const nlohmann::json& overrides) { fields().read(*this, overrides); }
 
 void PerfectObservationParams::apply_shared(const SharedParams& shared) {
   max_range_m = shared.range_m;

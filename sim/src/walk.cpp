@@ -9,6 +9,7 @@
 
 #include "floorcast/core/format.hpp"
 #include "floorcast/core/math.hpp"
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/params.hpp"
 #include "floorcast/core/random.hpp"
 #include "floorcast/floorplans/raster.hpp"
@@ -201,54 +202,50 @@ int cell_index(const NavGrid& nav, const Vec2& p) {
 
 }  // namespace
 
-nlohmann::ordered_json WalkParams::to_json() const {
-  nlohmann::ordered_json j;
-  j["steps"] = steps;
-  j["clearance_m"] = clearance_m;
-  j["speed_min_mps"] = speed_min_mps;
-  j["speed_max_mps"] = speed_max_mps;
-  j["cadence_min_hz"] = cadence_min_hz;
-  j["cadence_max_hz"] = cadence_max_hz;
-  j["step_variation_rel"] = step_variation_rel;
-  j["max_turn_rate_dps"] = max_turn_rate_dps;
-  j["pause_probability"] = pause_probability;
-  j["pause_min_s"] = pause_min_s;
-  j["pause_max_s"] = pause_max_s;
-  j["min_goal_distance_m"] = min_goal_distance_m;
-  j["transitional_clearance_m"] = transitional_clearance_m;
-  j["transitional_goal_share"] = transitional_goal_share;
-  j["centre_weight"] = centre_weight;
-  j["resolution_m"] = resolution_m;
-  j["corner_radius_m"] = corner_radius_m;
-  j["seed"] = seed;
-  return j;
+const FieldList<WalkParams>& WalkParams::fields() {
+  using P = WalkParams;
+  static const FieldList<P> f =
+      FieldList<P>("walk")
+          .integer("steps", &P::steps, 2, 1000000, "step samples of the walk, pauses included (PALMS walks: 100-200)")
+          .number("clearance_m", &P::clearance_m, 0.0, 5.0, "minimum distance of the path from walls, doors, glass, furniture, m")
+          .number("speed_min_mps", &P::speed_min_mps, 0.1, 5.0, "walking speed, drawn once per walk: lowest, m/s")
+          .number("speed_max_mps", &P::speed_max_mps, 0.1, 5.0, "walking speed: highest, m/s")
+          .number("cadence_min_hz", &P::cadence_min_hz, 0.2, 5.0, "step frequency, drawn once per walk: lowest, Hz")
+          .number("cadence_max_hz", &P::cadence_max_hz, 0.2, 5.0, "step frequency: highest, Hz")
+          .number("step_variation_rel", &P::step_variation_rel, 0.0, 0.5, "per-step variation of length and duration (relative sigma)")
+          .number("max_turn_rate_dps", &P::max_turn_rate_dps, 1.0, 3600.0, "largest heading change rate, deg/s")
+          .number("pause_probability", &P::pause_probability, 0.0, 1.0, "probability of a pause after a step")
+          .number("pause_min_s", &P::pause_min_s, 0.0, 600.0, "shortest pause, s")
+          .number("pause_max_s", &P::pause_max_s, 0.0, 600.0, "longest pause, s")
+          .number("min_goal_distance_m", &P::min_goal_distance_m, 0.0, 1e4, "goals at least this far along the free space, m")
+          .number("transitional_clearance_m", &P::transitional_clearance_m, 0.0, 20.0,
+                  "cells with this much clearance are transitional space (corridors, lobbies), m")
+          .number("transitional_goal_share", &P::transitional_goal_share, 0.0, 1.0, "share of goals in transitional space")
+          .number("centre_weight", &P::centre_weight, 0.0, 100.0, "walkers keep to the middle of corridors by this weight")
+          .number("resolution_m", &P::resolution_m, 0.02, 1.0, "navigation grid resolution, m")
+          .number("corner_radius_m", &P::corner_radius_m, 0.0, 10.0, "radius of the arcs replacing route corners, m")
+          .unsigned_integer("seed", &P::seed, "random seed")
+          .check([](const P& p, const ParamReader& r) {
+            if (p.speed_min_mps > p.speed_max_mps) r.fail("speed_min_mps", "larger than speed_max_mps");
+            if (p.cadence_min_hz > p.cadence_max_hz) r.fail("cadence_min_hz", "larger than cadence_max_hz");
+            if (p.pause_min_s > p.pause_max_s) r.fail("pause_min_s", "larger than pause_max_s");
+          });
+  return f;
 }
 
-void WalkParams::apply_overrides(const nlohmann::json& overrides) {
-  ParamReader r(overrides, "walk");
-  r.read("steps", steps, 2, 1000000);
-  r.read("clearance_m", clearance_m, 0.0, 5.0);
-  r.read("speed_min_mps", speed_min_mps, 0.1, 5.0);
-  r.read("speed_max_mps", speed_max_mps, 0.1, 5.0);
-  r.read("cadence_min_hz", cadence_min_hz, 0.2, 5.0);
-  r.read("cadence_max_hz", cadence_max_hz, 0.2, 5.0);
-  r.read("step_variation_rel", step_variation_rel, 0.0, 0.5);
-  r.read("max_turn_rate_dps", max_turn_rate_dps, 1.0, 3600.0);
-  r.read("pause_probability", pause_probability, 0.0, 1.0);
-  r.read("pause_min_s", pause_min_s, 0.0, 600.0);
-  r.read("pause_max_s", pause_max_s, 0.0, 600.0);
-  r.read("min_goal_distance_m", min_goal_distance_m, 0.0, 1e4);
-  r.read("transitional_clearance_m", transitional_clearance_m, 0.0, 20.0);
-  r.read("transitional_goal_share", transitional_goal_share, 0.0, 1.0);
-  r.read("centre_weight", centre_weight, 0.0, 100.0);
-  r.read("resolution_m", resolution_m, 0.02, 1.0);
-  r.read("corner_radius_m", corner_radius_m, 0.0, 10.0);
-  r.read("seed", seed);
-  if (speed_min_mps > speed_max_mps) r.fail("speed_min_mps", "larger than speed_max_mps");
-  if (cadence_min_hz > cadence_max_hz) r.fail("cadence_min_hz", "larger than cadence_max_hz");
-  if (pause_min_s > pause_max_s) r.fail("pause_min_s", "larger than pause_max_s");
-  r.finish();
+nlohmann::ordered_json WalkParams::to_json() const { return fields().write(*this); }
+
+const FieldList<ObservationSchedule>& schedule_fields() {
+  using S = ObservationSchedule;
+  static const FieldList<S> f =
+      FieldList<S>("schedule")
+          .flag("initial", &S::initial, "an observation at the start (PALMS: scan, then walk)")
+          .integer("every_steps", &S::every_steps, 0, 1000000, "then one every N steps (0 = never)")
+          .number("every_m", &S::every_m, 0.0, 1e6, "then one every N metres walked (0 = never)");
+  return f;
 }
+
+void WalkParams::apply_overrides(const nlohmann::json& overrides) { fields().read(*this, overrides); }
 
 BlockingOptions walker_blocking() {
   BlockingOptions b;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/json_reader.hpp"
 #include "floorcast/core/json_text.hpp"
@@ -20,34 +21,129 @@ const char* const kCsvHeader =
     "step,t_s,moving,x_m,y_m,yaw_rad,step_length_m,odom_moving,odom_dx_m,odom_dy_m,odom_dyaw_rad,odom_x_m,odom_y_m,"
     "odom_yaw_rad,observation";
 
-OJson summary_json(const WalkSummary& s) {
-  OJson j;
-  j["length_m"] = s.length_m;
-  j["duration_s"] = s.duration_s;
-  j["speed_mps"] = s.speed_mps;
-  j["cadence_hz"] = s.cadence_hz;
-  j["pauses"] = s.pauses;
-  j["total_turn_deg"] = s.total_turn_deg;
-  j["transitional_share"] = s.transitional_share;
-  j["goals"] = s.goals;
-  j["longest_straight_m"] = s.longest_straight_m;
-  return j;
+const FieldList<WalkSummary>& summary_fields() {
+  using S = WalkSummary;
+  static const FieldList<S> f =
+      FieldList<S>("walk summary")
+          .number("length_m", &S::length_m, 0.0, 1e9, "length walked, m")
+          .number("duration_s", &S::duration_s, 0.0, 1e9, "duration, s")
+          .number("speed_mps", &S::speed_mps, 0.0, 100.0, "walking speed, m/s")
+          .number("cadence_hz", &S::cadence_hz, 0.0, 100.0, "step frequency, Hz")
+          .integer("pauses", &S::pauses, 0, 100000000, "pauses")
+          .number("total_turn_deg", &S::total_turn_deg, 0.0, 1e12, "sum of absolute heading changes, deg")
+          .number("transitional_share", &S::transitional_share, 0.0, 1.0, "share of samples in transitional space")
+          .integer("goals", &S::goals, 0, 100000000, "goals walked to")
+          .number("longest_straight_m", &S::longest_straight_m, 0.0, 1e9, "longest stretch without turning 20 deg, m");
+  return f;
 }
 
-WalkSummary summary_from(const JsonReader& r) {
-  r.only({"length_m", "duration_s", "speed_mps", "cadence_hz", "pauses", "total_turn_deg", "transitional_share",
-          "goals", "longest_straight_m"});
-  WalkSummary s;
-  s.length_m = r.number("length_m", 0.0, 1e9);
-  s.duration_s = r.number("duration_s", 0.0, 1e9);
-  s.speed_mps = r.number("speed_mps", 0.0, 100.0);
-  s.cadence_hz = r.number("cadence_hz", 0.0, 100.0);
-  s.pauses = static_cast<int>(r.integer("pauses", 0, 100000000));
-  s.total_turn_deg = r.number("total_turn_deg", 0.0, 1e12);
-  s.transitional_share = r.number("transitional_share", 0.0, 1.0);
-  s.goals = static_cast<int>(r.integer("goals", 0, 100000000));
-  s.longest_straight_m = r.number("longest_straight_m", 0.0, 1e9);
-  return s;
+const FieldList<WalkObservation>& observation_fields() {
+  using O = WalkObservation;
+  static const FieldList<O> f =
+      FieldList<O>("walk observation")
+          .integer("step", &O::step, 0, 100000000, "the step the observation is made at")
+          .text("kind", &O::kind, "perfect (observation.json) or scan (a scan folder)")
+          .text("path", &O::path, "relative to the walk folder")
+          .check([](const O& o, const ParamReader& r) {
+            if (o.kind != "perfect" && o.kind != "scan") r.fail("kind", "expected perfect or scan");
+            if (o.path.empty() || o.path.front() == '/' || o.path.find("..") != std::string::npos) {
+              r.fail("path", "must be a relative path inside the walk folder");
+            }
+          });
+  return f;
+}
+
+/// walk.json (the steps themselves are in steps.csv, the trajectories in the .tum files).
+const FieldList<WalkRecord>& walk_json_fields() {
+  using R = WalkRecord;
+  static const FieldList<R> plan = FieldList<R>("plan")
+                                       .text("name", &R::plan_name, "the plan's name")
+                                       .text("hash", &R::plan_hash, "hex FNV-1a of the plan's canonical JSON");
+  auto params = [](const char* key, auto get) {
+    return std::make_pair(
+        [key, get](OJson& j, const R& r) { j[key] = get(r).to_json(); },
+        [key, get](ParamReader& reader, R& r) {
+          nlohmann::json overrides;
+          reader.read(key, overrides);
+          try {
+            get(r).apply_overrides(overrides);
+          } catch (const ParameterError& e) {
+            reader.fail(std::string(key) + "." + e.key(), e.what());
+          }
+        });
+  };
+  const auto walk_params = params("walk_params", [](auto& r) -> auto& { return r.walk.params; });
+  const auto odometry_params = params("odometry_params", [](auto& r) -> auto& { return r.odometry_params; });
+  static const FieldList<R> f =
+      FieldList<R>("walk")
+          .custom(
+              "format", [](OJson& j, const R&) { j["format"] = "floorcast-walk"; },
+              [](ParamReader& r, R&) {
+                std::string format;
+                r.read("format", format);
+                if (format != "floorcast-walk") r.fail("format", "expected \"floorcast-walk\"");
+              },
+              "text", "\"floorcast-walk\"")
+          .custom(
+              "format_version", [](OJson& j, const R&) { j["format_version"] = kWalkFormatVersion; },
+              [](ParamReader& r, R&) {
+                int version = 0;
+                r.read("format_version", version, 0, 1000000);
+                if (version != kWalkFormatVersion) r.fail("format_version", "unsupported");
+              },
+              "integer", "format version (1)")
+          .custom(
+              "frames",
+              [](OJson& j, const R&) {
+                j["frames"] = "world: plan metres, yaw CCW from +x; increments T_prev_curr in the previous body frame";
+              },
+              [](ParamReader& r, R&) {
+                std::string frames;
+                r.read("frames", frames);
+              },
+              "text", "the frames, in words")
+          .section("plan", [](auto& r) -> auto& { return r; }, plan)
+          .custom("walk_params", walk_params.first, walk_params.second, "object", "the walk's parameters")
+          .custom("odometry_params", odometry_params.first, odometry_params.second, "object", "the odometry's parameters")
+          .custom(
+              "odometry_uncertainty",
+              [](OJson& j, const R& r) { j["odometry_uncertainty"] = r.odometry_uncertainty.to_json(); },
+              [](ParamReader& reader, R& r) {
+                r.odometry_uncertainty = odometry_uncertainty(r.odometry_params);
+                if (!reader.optional("odometry_uncertainty")) return;  // older walks: derived from the model
+                nlohmann::json overrides;
+                reader.read("odometry_uncertainty", overrides);
+                try {
+                  r.odometry_uncertainty.apply_overrides(overrides);
+                } catch (const ParameterError& e) {
+                  reader.fail("odometry_uncertainty." + e.key(), e.what());
+                }
+              },
+              "object", "the odometry's error as trackers should assume it (absent: derived from odometry_params)")
+          .section("schedule", &R::schedule, schedule_fields())
+          .json("observation_settings", &R::observation_settings, "sensor preset, perfect-observer parameters, ...")
+          .section("summary", [](auto& r) -> auto& { return r.walk.summary; }, summary_fields())
+          .list("observations", &R::observations, observation_fields())
+          .custom(
+              "route_m",
+              [](OJson& j, const R& r) {
+                OJson route = OJson::array();
+                for (const Vec2& p : r.walk.route_m) route.push_back({p.x(), p.y()});
+                j["route_m"] = route;
+              },
+              [](ParamReader& reader, R& r) {
+                nlohmann::json route;
+                reader.read("route_m", route);
+                if (!route.is_array()) reader.fail("route_m", "expected an array of [x, y]");
+                for (std::size_t i = 0; i < route.size(); ++i) {
+                  if (!route[i].is_array() || route[i].size() != 2 || !route[i][0].is_number() || !route[i][1].is_number()) {
+                    reader.fail("route_m[" + std::to_string(i) + "]", "expected [x, y]");
+                  }
+                  r.walk.route_m.emplace_back(route[i][0].get<double>(), route[i][1].get<double>());
+                }
+              },
+              "[[x, y], ...]", "the planned path the walker followed, m");
+  return f;
 }
 
 }  // namespace
@@ -56,24 +152,7 @@ void save_walk(const std::string& dir, const WalkRecord& rec) {
   create_directories_or_throw(dir);
   const Walk& w = rec.walk;
   if (rec.odometry.steps.size() != w.steps.size()) throw InputError(dir + ": odometry and walk have different lengths");
-  OJson j;
-  j["format"] = "floorcast-walk";
-  j["format_version"] = kWalkFormatVersion;
-  j["frames"] = "world: plan metres, yaw CCW from +x; increments T_prev_curr in the previous body frame";
-  j["plan"] = {{"name", rec.plan_name}, {"hash", rec.plan_hash}};
-  j["walk_params"] = w.params.to_json();
-  j["odometry_params"] = rec.odometry_params.to_json();
-  j["odometry_uncertainty"] = rec.odometry_uncertainty.to_json();
-  j["schedule"] = {{"initial", rec.schedule.initial}, {"every_steps", rec.schedule.every_steps}, {"every_m", rec.schedule.every_m}};
-  j["observation_settings"] = rec.observation_settings;
-  j["summary"] = summary_json(w.summary);
-  OJson obs = OJson::array();
-  for (const WalkObservation& o : rec.observations) obs.push_back({{"step", o.step}, {"kind", o.kind}, {"path", o.path}});
-  j["observations"] = obs;
-  OJson route = OJson::array();
-  for (const Vec2& p : w.route_m) route.push_back({p.x(), p.y()});
-  j["route_m"] = route;
-  write_text_file_atomic(dir + "/walk.json", j.dump(2) + "\n");
+  write_text_file_atomic(dir + "/walk.json", walk_json_fields().write(rec).dump(2) + "\n");
 
   // truth.tum in the world (plan) frame; odometry.tum in the odometry's own frame, which starts
   // at the identity (T_odom_body = T_world_start^-1 T_world_odometry): what a real odometry
@@ -115,43 +194,8 @@ WalkRecord load_walk(const std::string& dir) {
   if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": not a walk folder (no such directory)");
   if (!std::filesystem::is_regular_file(json_path)) throw InputError(json_path + ": missing (not a walk folder?)");
   const nlohmann::json j = read_json_file(json_path);
-  const JsonReader r(j, json_path, "");
-  r.only({"format", "format_version", "frames", "plan", "walk_params", "odometry_params", "odometry_uncertainty",
-          "schedule", "observation_settings", "summary", "observations", "route_m"});
-  if (r.string("format") != "floorcast-walk") r.fail_key("format", "expected \"floorcast-walk\"");
-  if (r.integer("format_version", 0, 1000000) != kWalkFormatVersion) r.fail_key("format_version", "unsupported");
   WalkRecord rec;
-  {
-    const JsonReader p = r.object("plan");
-    p.only({"name", "hash"});
-    rec.plan_name = p.string("name");
-    rec.plan_hash = p.string("hash");
-  }
-  try {
-    rec.walk.params.apply_overrides(r.raw("walk_params"));
-    rec.odometry_params.apply_overrides(r.raw("odometry_params"));
-    rec.odometry_uncertainty = odometry_uncertainty(rec.odometry_params);
-    if (j.contains("odometry_uncertainty")) rec.odometry_uncertainty.apply_overrides(r.raw("odometry_uncertainty"));
-  } catch (const InputError& e) {
-    throw InputError(json_path + ": " + e.what());
-  }
-  {
-    const JsonReader s = r.object("schedule");
-    s.only({"initial", "every_steps", "every_m"});
-    rec.schedule.initial = s.boolean("initial");
-    rec.schedule.every_steps = static_cast<int>(s.integer("every_steps", 0, 100000000));
-    rec.schedule.every_m = s.number("every_m", 0.0, 1e9);
-  }
-  rec.observation_settings = r.raw("observation_settings");
-  rec.walk.summary = summary_from(r.object("summary"));
-  const nlohmann::json& route = r.raw("route_m");
-  if (!route.is_array()) r.fail_key("route_m", "expected an array of [x, y]");
-  for (std::size_t i = 0; i < route.size(); ++i) {
-    if (!route[i].is_array() || route[i].size() != 2 || !route[i][0].is_number() || !route[i][1].is_number()) {
-      r.fail_key("route_m[" + std::to_string(i) + "]", "expected [x, y]");
-    }
-    rec.walk.route_m.emplace_back(route[i][0].get<double>(), route[i][1].get<double>());
-  }
+  walk_json_fields().read_record(rec, j, json_path);
 
   // steps.csv: truth and odometry, one row per sample.
   const std::string csv_path = dir + "/steps.csv";
@@ -192,20 +236,13 @@ WalkRecord load_walk(const std::string& dir) {
   }
   if (rec.walk.steps.empty()) throw InputError(csv_path + ": no steps");
 
-  const nlohmann::json& obs = r.raw("observations");
-  if (!obs.is_array()) r.fail_key("observations", "expected an array");
-  for (std::size_t i = 0; i < obs.size(); ++i) {
-    const JsonReader o(obs[i], json_path, "observations[" + std::to_string(i) + "]");
-    o.only({"step", "kind", "path"});
-    WalkObservation w;
-    w.step = static_cast<int>(o.integer("step", 0, static_cast<long long>(rec.walk.steps.size()) - 1));
-    w.kind = o.string("kind");
-    if (w.kind != "perfect" && w.kind != "scan") o.fail_key("kind", "expected perfect or scan");
-    w.path = o.string("path");
-    if (w.path.empty() || w.path.front() == '/' || w.path.find("..") != std::string::npos) {
-      o.fail_key("path", "must be a relative path inside the walk folder");
+  for (std::size_t i = 0; i < rec.observations.size(); ++i) {
+    if (static_cast<std::size_t>(rec.observations[i].step) >= rec.walk.steps.size()) {
+      throw ParameterError(json_path + ": observations[" + std::to_string(i) + "].step: value " +
+                               std::to_string(rec.observations[i].step) + " outside [0, " +
+                               std::to_string(rec.walk.steps.size() - 1) + "]",
+                           "observations[" + std::to_string(i) + "].step");
     }
-    rec.observations.push_back(w);
   }
   return rec;
 }

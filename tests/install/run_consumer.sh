@@ -1,15 +1,21 @@
 #!/usr/bin/env bash
 # Installs this build into a temporary prefix, builds tests/install/consumer against it with
-# find_package(floorcast), runs it, and checks that the program carries no simulator back-end
-# (Embree, OSMesa, tinygltf) and no path of the source tree.
+# find_package(floorcast COMPONENTS observe match) (the consumer's CMakeLists refuses any package
+# those components do not need), runs it, and checks that the program carries no simulator
+# back-end (Embree, OSMesa, tinygltf) and no path of the source tree.
 set -euo pipefail
 build_dir=$1
 source_dir=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build_dir" --prefix "$work/prefix" >/dev/null
-cmake -S "$source_dir/tests/install/consumer" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
-  -DCMAKE_BUILD_TYPE=Release >/dev/null
+if ! cmake -S "$source_dir/tests/install/consumer" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
+  -DCMAKE_BUILD_TYPE=Release >"$work/configure.log" 2>&1; then
+  cat "$work/configure.log" >&2
+  echo "FAILED: the consumer of floorcast::observe and floorcast::match does not configure" >&2
+  exit 1
+fi
+grep "consumer:" "$work/configure.log"
 cmake --build "$work/build" -j2 >/dev/null
 "$work/build/consumer"
 if ldd "$work/build/consumer" | grep -Ei 'embree|osmesa|tinygltf|libLLVM'; then

@@ -9,7 +9,6 @@
 #include <unistd.h>
 
 #include "floorcast/floorplans/io.hpp"
-#include "floorcast/match/distance_volume_io.hpp"
 #include "floorcast/match/plan_raster.hpp"
 #include "floorcast/match/ray_matcher.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
@@ -216,54 +215,26 @@ TEST(RayMatcher, IdenticalAcrossThreadCounts) {
   }
 }
 
-TEST(RayMatcher, DiskCacheRoundTrip) {
+TEST(RayMatcher, RefusesAVolumeOfOtherParameters) {
   const FloorPlan plan = test::asymmetric_floor();
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / ("floorcast_test_ray_cache_" + std::to_string(::getpid()))).string();
-  std::filesystem::remove_all(dir);
   RayMatcherParams p;
-  bool cached = true;
-  const std::unique_ptr<RayMatcher> first = make_cached_ray_matcher(dir, plan, p, &cached);
-  EXPECT_FALSE(cached);
-  const std::unique_ptr<RayMatcher> second = make_cached_ray_matcher(dir, plan, p, &cached);
-  EXPECT_TRUE(cached);
-  EXPECT_EQ(first->volume().mm, second->volume().mm);
-  EXPECT_EQ(first->volume().cells, second->volume().cells);
-  EXPECT_EQ(first->volume().cell_index, second->volume().cell_index);
-  EXPECT_TRUE(first->volume().grid == second->volume().grid);
-  // The cached matcher scores exactly like a freshly computed one.
+  RayMatcherParams p8 = p;
+  p8.volume_bits = 8;
+  const RayMatcher third(plan, p8);
+  EXPECT_EQ(third.volume().step_mm, 40);
+  EXPECT_THROW(RayMatcher(plan, p, RayMatcher::compute_volume(plan, p8)), InputError);
+  EXPECT_THROW(RayMatcher(third, p), InputError);  // sharing needs the same volume parameters
+  // A volume for another plan grid or direction count is refused by the matcher.
+  RayMatcherParams p2 = p;
+  p2.num_directions = 18;
+  EXPECT_THROW(RayMatcher(plan, p2, RayMatcher::compute_volume(plan, p)), InputError);
+  // A volume computed earlier and handed in scores exactly like the matcher's own.
   const Observation2D obs = PerfectObserver(plan).observe({3.1, 2.2, 0.4});
-  const MatchResult a = second->match(obs), b = RayMatcher(plan, p).match(obs);
+  const MatchResult a = RayMatcher(plan, p, RayMatcher::compute_volume(plan, p)).match(obs);
+  const MatchResult b = RayMatcher(plan, p).match(obs);
   for (int s = 0; s < a.posterior.num_slices(); ++s) {
     EXPECT_EQ(cv::countNonZero(a.posterior.scores[s] != b.posterior.scores[s]), 0) << "slice " << s;
   }
-  // 8-bit volumes round-trip too, under their own key.
-  RayMatcherParams p8 = p;
-  p8.volume_bits = 8;
-  (void)make_cached_ray_matcher(dir, plan, p8, &cached);
-  EXPECT_FALSE(cached);
-  const std::unique_ptr<RayMatcher> third = make_cached_ray_matcher(dir, plan, p8, &cached);
-  EXPECT_TRUE(cached);
-  EXPECT_EQ(third->volume().q8, RayMatcher::compute_volume(plan, p8).q8);
-  EXPECT_EQ(third->volume().step_mm, 40);
-  EXPECT_THROW(RayMatcher(plan, p, RayMatcher::compute_volume(plan, p8)), InputError);
-  EXPECT_THROW(RayMatcher(*third, p), InputError);  // sharing needs the same volume parameters
-  // Other parameters or another plan: another cache entry.
-  RayMatcherParams p2 = p;
-  p2.num_directions = 18;
-  (void)make_cached_ray_matcher(dir, plan, p2, &cached);
-  EXPECT_FALSE(cached);
-  (void)make_cached_ray_matcher(dir, test::transformed(plan, 0.0, 1.0, 0.0), p, &cached);
-  EXPECT_FALSE(cached);
-  // A volume for another plan grid or direction count is refused by the matcher.
-  EXPECT_THROW(RayMatcher(plan, p2, RayMatcher::compute_volume(plan, p)), InputError);
-  // A wrong key is "not in the cache"; a truncated file is an error naming it.
-  std::string path;
-  for (const auto& e : std::filesystem::directory_iterator(dir)) path = e.path().string();
-  EXPECT_FALSE(load_distance_volume(path, "another key").has_value());
-  std::filesystem::resize_file(path, 100);
-  EXPECT_THROW(load_distance_volume(path, "{}"), InputError);
-  std::filesystem::remove_all(dir);
 }
 
 TEST(RayMatcher, ParametersAndObservationRays) {

@@ -8,6 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/raster.hpp"
@@ -15,13 +16,6 @@
 
 namespace floorcast {
 namespace {
-
-double quantile_sorted(const std::vector<double>& s, double q) {
-  const double pos = q * static_cast<double>(s.size() - 1);
-  const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
-  const std::size_t hi = std::min(lo + 1, s.size() - 1);
-  return s[lo] + (pos - static_cast<double>(lo)) * (s[hi] - s[lo]);
-}
 
 /// Smallest distance between two closed polygons' outlines (0 if they cross or touch).
 double outline_distance_m(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
@@ -87,9 +81,9 @@ Distribution describe(std::vector<double> values) {
   d.count = static_cast<int>(values.size());
   d.min = values.front();
   d.max = values.back();
-  d.q1 = quantile_sorted(values, 0.25);
-  d.median = quantile_sorted(values, 0.5);
-  d.q3 = quantile_sorted(values, 0.75);
+  d.q1 = quantile(values, 0.25);
+  d.median = quantile(values, 0.5);
+  d.q3 = quantile(values, 0.75);
   double sum = 0.0;
   for (double v : values) sum += v;
   d.mean = sum / static_cast<double>(values.size());
@@ -116,6 +110,7 @@ std::pair<double, double> min_area_rect_sides_m(const std::vector<Vec2>& points)
 PlanStats plan_stats(const FloorPlan& plan, const PlanStatsParams& params) {
   PlanStats s;
   s.name = plan.name;
+  s.direction_bin_deg = params.direction_bin_deg;
   s.free_area_m2 = free_floor_area_m2(plan);
 
   // Walls: length, directions, thickness classes.
@@ -244,6 +239,77 @@ PlanStats plan_stats(const FloorPlan& plan, const PlanStatsParams& params) {
     s.corridor_width_m = describe(corridor);
   }
   return s;
+}
+
+namespace {
+
+double r3(double x) { return std::round(x * 1000.0) / 1000.0; }
+
+Distribution rounded(Distribution d) {
+  for (double* v : {&d.min, &d.q1, &d.median, &d.q3, &d.max, &d.mean, &d.cv}) *v = r3(*v);
+  return d;
+}
+
+const FieldList<Distribution>& distribution_fields() {
+  constexpr double kAny = 1e300;
+  static const FieldList<Distribution> f = FieldList<Distribution>("distribution")
+                                               .integer("count", &Distribution::count, 0, 1 << 30, "samples")
+                                               .number("min", &Distribution::min, -kAny, kAny, "smallest")
+                                               .number("q1", &Distribution::q1, -kAny, kAny, "first quartile")
+                                               .number("median", &Distribution::median, -kAny, kAny, "median")
+                                               .number("q3", &Distribution::q3, -kAny, kAny, "third quartile")
+                                               .number("max", &Distribution::max, -kAny, kAny, "largest")
+                                               .number("mean", &Distribution::mean, -kAny, kAny, "mean")
+                                               .number("cv", &Distribution::cv, -kAny, kAny, "standard deviation / mean");
+  return f;
+}
+
+const FieldList<PlanStats>& plan_stats_fields() {
+  using S = PlanStats;
+  using T = ThicknessClass;
+  constexpr double kAny = 1e300;
+  constexpr int kMany = 1 << 30;
+  static const FieldList<T> thickness = FieldList<T>("thickness class")
+                                            .number("thickness_m", &T::thickness_m, 0.0, kAny, "wall thickness (1 cm), m")
+                                            .integer("walls", &T::walls, 0, kMany, "walls of that thickness")
+                                            .number("length_share", &T::length_share, 0.0, 1.0, "share of the wall length");
+  static const FieldList<S> f =
+      FieldList<S>("plan stats")
+          .text("name", &S::name, "the plan's name")
+          .number("free_area_m2", &S::free_area_m2, 0.0, kAny, "free floor area (doors open), m^2")
+          .integer("walls", &S::walls, 0, kMany, "walls")
+          .integer("glass_walls", &S::glass_walls, 0, kMany, "glass walls among them")
+          .number("wall_length_m", &S::wall_length_m, 0.0, kAny, "sum of wall centreline lengths, m")
+          .number("direction_bin_deg", &S::direction_bin_deg, 0.0, 180.0, "width of the direction bins, deg")
+          .series("direction_share", &S::direction_share, "share of the wall length per direction bin")
+          .integer("directions_used", &S::directions_used, 0, kMany, "bins holding at least direction_min_share")
+          .list("thickness_classes", &S::thickness_classes, thickness)
+          .integer("doors", &S::doors, 0, kMany, "doors")
+          .number("doors_per_10m_wall", &S::doors_per_10m_wall, 0.0, kAny, "doors per 10 m of wall")
+          .integer("pillars", &S::pillars, 0, kMany, "obstacles of kind pillar")
+          .integer("rooms", &S::rooms, 0, kMany, "labelled rooms")
+          .integer("transitional_rooms", &S::transitional_rooms, 0, kMany, "transitional rooms among them")
+          .section("room_area_m2", &S::room_area_m2, distribution_fields())
+          .section("room_width_m", &S::room_width_m, distribution_fields())
+          .number("repeated_width_share", &S::repeated_width_share, 0.0, 1.0, "rooms whose width repeats a neighbour's")
+          .section("corridor_width_m", &S::corridor_width_m, distribution_fields());
+  return f;
+}
+
+}  // namespace
+
+nlohmann::ordered_json to_json(const PlanStats& stats) {
+  PlanStats s = stats;  // measures rounded to 0.001 (counts and the bin width as they are)
+  s.free_area_m2 = r3(s.free_area_m2);
+  s.wall_length_m = r3(s.wall_length_m);
+  for (double& v : s.direction_share) v = r3(v);
+  for (ThicknessClass& t : s.thickness_classes) t.length_share = r3(t.length_share);
+  s.doors_per_10m_wall = r3(s.doors_per_10m_wall);
+  s.room_area_m2 = rounded(s.room_area_m2);
+  s.room_width_m = rounded(s.room_width_m);
+  s.repeated_width_share = r3(s.repeated_width_share);
+  s.corridor_width_m = rounded(s.corridor_width_m);
+  return plan_stats_fields().write(s);
 }
 
 }  // namespace floorcast

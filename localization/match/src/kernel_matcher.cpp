@@ -48,78 +48,54 @@ bool search_needs_posterior(const KernelMatcherParams& p) {
 
 }  // namespace
 
-nlohmann::ordered_json KernelMatcherParams::to_json() const {
-  nlohmann::ordered_json j;
-  j["resolution_m"] = resolution_m;
-  j["grid_margin_m"] = grid_margin_m;
-  j["max_range_m"] = max_range_m;
-  j["blur_size_px"] = blur_size_px;
-  j["blur_sigma_px"] = blur_sigma_px;
-  j["distance_sigma_m"] = distance_sigma_m;
-  j["alpha"] = alpha;
-  j["ces_shrink"] = ces_shrink;
-  j["ces_window_m"] = ces_window_m;
-  j["ces_erode_px"] = ces_erode_px;
-  j["orientations"] = orientation_mode_name(orientation.mode);
-  j["num_orientations"] = orientation.num_orientations;
-  j["histogram_bins"] = orientation.histogram_bins;
-  j["nms_radius_bins"] = orientation.nms_radius_bins;
-  j["dense_step_deg"] = orientation.dense_step_deg;
-  j["refine_orientations"] = orientation.refine;
-  j["scales"] = scales;
-  write_blocking(j, blocking);
-  j["zero_below"] = zero_below;
-  j["plan_raster"] = enum_name(plan_raster, kPlanRasterNames);
-  j["line_rule"] = enum_name(line_rule, kLineRuleNamesAll);
-  j["ces_through_doorways"] = ces_through_doorways;
-  j["modes_search"] = enum_name(modes_search, kModesSearchNames);
-  j["search_levels"] = search_levels;
-  j["kernel_construction"] = enum_name(kernel_construction, kConstructionNames);
-  j["map_border"] = enum_name(map_border, kBorderNames);
-  j["map_tilt"] = map_tilt;
-  j["valid_area"] = enum_name(valid_area, kValidAreaNames);
-  j["alpha_shape_alpha"] = alpha_shape_alpha;
-  j["report_point"] = enum_name(report_point, kReportPointNames);
-  j["ces_erode_shape"] = enum_name(ces_erode_shape, kErodeShapeNames);
-  return j;
+const FieldList<KernelMatcherParams>& KernelMatcherParams::fields() {
+  using P = KernelMatcherParams;
+  static const FieldList<P> f =
+      FieldList<P>("matcher kernel")
+          .number("resolution_m", &P::resolution_m, 0.01, 1.0, "grid resolution, m (PALMS+ configs resolution: 0.1)")
+          .number("grid_margin_m", &P::grid_margin_m, 0.0, 100.0, "free margin of the grid around the plan, m")
+          .number("max_range_m", &P::max_range_m, 0.5, 100.0,
+                  "observation extent the kernels cover, m (default: the shared range; PALMS+ max_dist: 10)")
+          .integer("blur_size_px", &P::blur_size_px, 0, 101,
+                   "RW Gaussian blur kernel size, px, odd or 0 = none (PALMS+ gaussian_kernel_config: [15, 3])")
+          .number("blur_sigma_px", &P::blur_sigma_px, 0.0, 50.0, "RW Gaussian blur sigma, px")
+          .number("distance_sigma_m", &P::distance_sigma_m, 0.0, 1e6,
+                  "sigma of the RW distance weight around the observer, m, 0 = none (PALMS code: 10)")
+          .number("alpha", &P::alpha, 0.0, 1e6, "weight of the CES kernel (PALMS+ sec. 3.3: 10)")
+          .number("ces_shrink", &P::ces_shrink, 0.0, 1.0, "CES triangles shrunk about the observer (PALMS code: 0.7)")
+          .number("ces_window_m", &P::ces_window_m, 0.0, 100.0, "half-size of the CES square window, m (PALMS code: 10)")
+          .integer("ces_erode_px", &P::ces_erode_px, 0, 20, "CES erosion, px (square element; PALMS code: 1)")
+          .flatten(&P::orientation, orientation_fields())
+          .numbers("scales", &P::scales, 0.1, 10.0, "scale candidates, max-marginalised (PALMS+ sec. 3.3: 0.9, 1, 1.1)")
+          .flatten(&P::blocking, blocking_fields())
+          .number("zero_below", &P::zero_below, 0.0, 1.0, "FFT round-off guard: heatmap values below it set to 0")
+          .choice("plan_raster", &P::plan_raster, kPlanRasterNames,
+                  "what the plan raster draws: wall surfaces, wall axes or wall bodies")
+          .choice("line_rule", &P::line_rule, kLineRuleNamesAll,
+                  "line rasterisation of plan and RW: closed, half_open, bresenham (PALMS; plan_raster.hpp)")
+          .flag("ces_through_doorways", &P::ces_through_doorways,
+                "the CES is correlated with a plan raster without door leaves (false: PALMS as published)")
+          .choice("modes_search", &P::modes_search, kModesSearchNames,
+                  "estimate and top-K by the exact branch and bound or from the full posterior")
+          .integer("search_levels", &P::search_levels, 1, 10,
+                   "levels of the branch and bound's bound maps (changes the time, never the modes)")
+          .choice("kernel_construction", &P::kernel_construction, kConstructionNames,
+                  "floorcast's kernels or palms_code (the authors' CES.py arithmetic; searched through the posterior)")
+          .choice("map_border", &P::map_border, kBorderNames, "margin, or reflect (PALMS: no margin, reflected border)")
+          .flag("map_tilt", &P::map_tilt, "PALMS: rotate the plan onto its landscape principal orientation first")
+          .choice("valid_area", &P::valid_area, kValidAreaNames, "free space, or alpha_shape (PALMS)")
+          .number("alpha_shape_alpha", &P::alpha_shape_alpha, 1e-4, 100.0, "PALMS alpha_shape(alpha)")
+          .choice("report_point", &P::report_point, kReportPointNames, "cell centre, or corner (PALMS)")
+          .choice("ces_erode_shape", &P::ces_erode_shape, kErodeShapeNames, "CES erosion element: square, or ellipse (PALMS)")
+          .check([](const P& p, const ParamReader& r) {
+            if (p.blur_size_px > 0 && p.blur_size_px % 2 == 0) r.fail("blur_size_px", "must be odd (or 0 for no blur)");
+          });
+  return f;
 }
 
-void KernelMatcherParams::apply_overrides(const nlohmann::json& overrides) {
-  ParamReader r(overrides, "matcher kernel");
-  r.read("resolution_m", resolution_m, 0.01, 1.0);
-  r.read("grid_margin_m", grid_margin_m, 0.0, 100.0);
-  r.read("max_range_m", max_range_m, 0.5, 100.0);
-  r.read("blur_size_px", blur_size_px, 0, 101);
-  if (blur_size_px > 0 && blur_size_px % 2 == 0) r.fail("blur_size_px", "must be odd (or 0 for no blur)");
-  r.read("blur_sigma_px", blur_sigma_px, 0.0, 50.0);
-  r.read("distance_sigma_m", distance_sigma_m, 0.0, 1e6);
-  r.read("alpha", alpha, 0.0, 1e6);
-  r.read("ces_shrink", ces_shrink, 0.0, 1.0);
-  r.read("ces_window_m", ces_window_m, 0.0, 100.0);
-  r.read("ces_erode_px", ces_erode_px, 0, 20);
-  r.read_enum("orientations", orientation.mode, orientation_mode_names());
-  r.read("num_orientations", orientation.num_orientations, 2, 720);
-  r.read("histogram_bins", orientation.histogram_bins, 4, 3600);
-  r.read("nms_radius_bins", orientation.nms_radius_bins, 0, 1800);
-  r.read("dense_step_deg", orientation.dense_step_deg, 0.1, 180.0);
-  r.read("refine_orientations", orientation.refine);
-  r.read("scales", scales, 0.1, 10.0);
-  read_blocking(r, blocking);
-  r.read("zero_below", zero_below, 0.0, 1.0);
-  r.read_enum("plan_raster", plan_raster, kPlanRasterNames);
-  r.read_enum("line_rule", line_rule, kLineRuleNamesAll);
-  r.read("ces_through_doorways", ces_through_doorways);
-  r.read_enum("modes_search", modes_search, kModesSearchNames);
-  r.read("search_levels", search_levels, 1, 10);
-  r.read_enum("kernel_construction", kernel_construction, kConstructionNames);
-  r.read_enum("map_border", map_border, kBorderNames);
-  r.read("map_tilt", map_tilt);
-  r.read_enum("valid_area", valid_area, kValidAreaNames);
-  r.read("alpha_shape_alpha", alpha_shape_alpha, 1e-4, 100.0);
-  r.read_enum("report_point", report_point, kReportPointNames);
-  r.read_enum("ces_erode_shape", ces_erode_shape, kErodeShapeNames);
-  r.finish();
-}
+nlohmann::ordered_json KernelMatcherParams::to_json() const { return fields().write(*this); }
+
+void KernelMatcherParams::apply_overrides(const nlohmann::json& overrides) { fields().read(*this, overrides); }
 
 void KernelMatcherParams::apply_shared(const SharedParams& shared) {
   max_range_m = shared.range_m;

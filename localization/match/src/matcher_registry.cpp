@@ -1,7 +1,9 @@
 // The built-in matcher table. An explicit table, not static self-registration: registrars in a
 // static library's object files are dropped by the linker when nothing references them. A new
-// matcher is one entry here; the contract test (tests/match/test_matcher_contract.cpp) then runs
-// it over the same known-answer cases as every other matcher.
+// matcher is one entry here (its parameter struct P declares its fields once, P::fields() in
+// core/fields.hpp, and takes the shared quantities in apply_shared); the contract test
+// (tests/match/test_matcher_contract.cpp) then runs it over the same known-answer cases as every
+// other matcher.
 #include <algorithm>
 
 #include "floorcast/match/kernel_matcher.hpp"
@@ -33,29 +35,46 @@ std::shared_ptr<const MatcherConfig> parse(const char* name, const nlohmann::jso
   return std::make_shared<Config<P, M>>(name, std::move(p));
 }
 
+/// Every field with its default (the shared quantities applied to the defaults, as a scenario
+/// without a `shared` block has them).
+template <class P>
+std::vector<FieldInfo> describe() {
+  P p;
+  p.apply_shared(SharedParams{});
+  return P::fields().describe(p);
+}
+
 using Parser = std::shared_ptr<const MatcherConfig> (*)(const char*, const nlohmann::json&, const SharedParams&);
 
 struct Entry {
   const char* name;
   Parser parse;
+  std::vector<FieldInfo> (*describe)();
 };
 
 constexpr Entry kMatchers[] = {
-    {"kernel", &parse<KernelMatcherParams, KernelMatcher>},
-    {"ray", &parse<RayMatcherParams, RayMatcher>},
+    {"kernel", &parse<KernelMatcherParams, KernelMatcher>, &describe<KernelMatcherParams>},
+    {"ray", &parse<RayMatcherParams, RayMatcher>, &describe<RayMatcherParams>},
 };
 
-}  // namespace
-
-std::shared_ptr<const MatcherConfig> make_matcher_config(const std::string& name, const nlohmann::json& overrides,
-                                                         const SharedParams& shared) {
+const Entry& find(const std::string& name) {
   for (const Entry& e : kMatchers) {
-    if (name == e.name) return e.parse(e.name, overrides, shared);
+    if (name == e.name) return e;
   }
   std::string known;
   for (const std::string& n : matcher_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("unknown matcher \"" + name + "\" (known: " + known + ")");
 }
+
+}  // namespace
+
+std::shared_ptr<const MatcherConfig> make_matcher_config(const std::string& name, const nlohmann::json& overrides,
+                                                         const SharedParams& shared) {
+  const Entry& e = find(name);
+  return e.parse(e.name, overrides, shared);
+}
+
+std::vector<FieldInfo> matcher_parameter_fields(const std::string& name) { return find(name).describe(); }
 
 std::unique_ptr<Matcher> make_matcher(const std::string& name, const FloorPlan& plan, const nlohmann::json& overrides) {
   return make_matcher_config(name, overrides)->build(plan);

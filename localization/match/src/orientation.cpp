@@ -33,6 +33,21 @@ const std::vector<std::pair<const char*, OrientationMode>>& orientation_mode_nam
 
 std::string orientation_mode_name(OrientationMode mode) { return enum_name(mode, orientation_mode_names()); }
 
+const FieldList<OrientationParams>& orientation_fields() {
+  using P = OrientationParams;
+  static const FieldList<P> f =
+      FieldList<P>("orientation")
+          .choice("orientations", &P::mode, orientation_mode_names(),
+                  "orientation candidates: PALMS principal orientation, PALMS+ histogram correlation, or dense")
+          .integer("num_orientations", &P::num_orientations, 2, 720,
+                   "PALMS+ O: candidates (O/2 histogram peaks + complements; PALMS+ sec. 3.3: 10)")
+          .integer("histogram_bins", &P::histogram_bins, 4, 3600, "direction histogram bins over [0, 180) deg (PALMS+ code: 360)")
+          .integer("nms_radius_bins", &P::nms_radius_bins, 0, 1800, "NMS radius on the circular correlation, bins (PALMS+ code: 10)")
+          .number("dense_step_deg", &P::dense_step_deg, 0.1, 180.0, "dense mode step, deg (F3Loc: 10)")
+          .flag("refine_orientations", &P::refine, "refine each candidate to the best-aligning yaw within one bin");
+  return f;
+}
+
 std::vector<double> direction_histogram(const std::vector<Segment2>& segments, int bins) {
   std::vector<double> h(static_cast<std::size_t>(std::max(bins, 1)), 0.0);
   const double bin_rad = kPi / bins;

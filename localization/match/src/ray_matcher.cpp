@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <map>
 
-#include "floorcast/core/hash.hpp"
 #include "floorcast/match/plan_raster.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/core/timing.hpp"
@@ -248,51 +247,44 @@ void score_all_cells(const DistanceVolume& volume, const std::vector<std::int64_
 
 }  // namespace
 
-nlohmann::ordered_json RayMatcherParams::to_json() const {
-  nlohmann::ordered_json j;
-  j["resolution_m"] = resolution_m;
-  j["grid_margin_m"] = grid_margin_m;
-  j["num_directions"] = num_directions;
-  j["max_range_m"] = max_range_m;
-  j["lambda_m"] = lambda_m;
-  j["ray_source"] = enum_name(ray_source, kRaySourceNames);
-  j["search"] = enum_name(search, kRaySearchNames);
-  j["volume_bits"] = volume_bits;
-  write_blocking(j, blocking);
-  j["cast_point"] = enum_name(cast_point, kCastPointNames);
-  j["distances"] = enum_name(distances, kDistancesNames);
-  j["raster_resolution_m"] = raster_resolution_m;
-  j["ray_convention"] = enum_name(ray_convention, kConventionNames);
-  j["fov_deg"] = fov_deg;
-  j["clip_observation"] = clip_observation;
-  j["cells"] = enum_name(cells, kCellsNames);
-  return j;
+const FieldList<RayMatcherParams>& RayMatcherParams::fields() {
+  using P = RayMatcherParams;
+  static const FieldList<P> f =
+      FieldList<P>("matcher ray")
+          .number("resolution_m", &P::resolution_m, 0.01, 1.0, "grid resolution of the distance volume, m (F3Loc: 0.1)")
+          .number("grid_margin_m", &P::grid_margin_m, 0.0, 100.0, "free margin of the grid around the plan, m")
+          .integer("num_directions", &P::num_directions, 4, 3600,
+                   "directions of the volume = rays of the observation (F3Loc: 36; PALMS+ sec. 4.4 also 180)")
+          .number("max_range_m", &P::max_range_m, 0.1, 65.0, "clipping range, m (default: the shared range; F3Loc: 10)")
+          .number("lambda_m", &P::lambda_m, 1e-6, 1e9, "likelihood temperature, m of summed range error (F3Loc: lambd = 40)")
+          .choice("ray_source", &P::ray_source, kRaySourceNames,
+                  "observation rays from its ranges, cast against its segments, or auto (ranges when there are "
+                  "num_directions of them)")
+          .choice("search", &P::search, kRaySearchNames, "modes by the exact bounded search or exhaustively")
+          .integer("volume_bits", &P::volume_bits, 8, 16, "bits per stored distance: 16 (mm) or 8 (40 mm steps)")
+          .flatten(&P::blocking, blocking_fields())
+          .choice("cast_point", &P::cast_point, kCastPointNames, "where each cell's distances are cast from: centre, or corner (F3Loc)")
+          .choice("distances", &P::distances, kDistancesNames,
+                  "exact distances to the wall surfaces, or raster (F3Loc: a march through a fine occupancy image)")
+          .number("raster_resolution_m", &P::raster_resolution_m, 0.001, 1.0,
+                  "occupancy resolution of the raster distances, m (F3Loc: 0.01; must divide resolution_m)")
+          .choice("ray_convention", &P::ray_convention, kConventionNames, "how ray i maps to a world direction (F3Loc variants)")
+          .number("fov_deg", &P::fov_deg, 1.0, 360.0, "rays within +-fov/2 of the heading are compared (F3Loc: 100)")
+          .flag("clip_observation", &P::clip_observation, "observation ranges clipped at max_range_m")
+          .choice("cells", &P::cells, kCellsNames, "cells scored: valid (free space) or all (F3Loc)")
+          .check([](const P& p, const ParamReader& r) {
+            if (p.volume_bits != 8 && p.volume_bits != 16) r.fail("volume_bits", "must be 8 or 16");
+            if (p.distances == RayDistances::kRaster && raster_ratio(p) < 1) {
+              r.fail("raster_resolution_m",
+                     "must divide resolution_m (" + std::to_string(p.resolution_m) + " m) a whole number of times");
+            }
+          });
+  return f;
 }
 
-void RayMatcherParams::apply_overrides(const nlohmann::json& overrides) {
-  ParamReader r(overrides, "matcher ray");
-  r.read("resolution_m", resolution_m, 0.01, 1.0);
-  r.read("grid_margin_m", grid_margin_m, 0.0, 100.0);
-  r.read("num_directions", num_directions, 4, 3600);
-  r.read("max_range_m", max_range_m, 0.1, 65.0);
-  r.read("lambda_m", lambda_m, 1e-6, 1e9);
-  r.read_enum("ray_source", ray_source, kRaySourceNames);
-  r.read_enum("search", search, kRaySearchNames);
-  r.read("volume_bits", volume_bits, 8, 16);
-  if (volume_bits != 8 && volume_bits != 16) throw InputError("matcher ray: volume_bits must be 8 or 16");
-  read_blocking(r, blocking);
-  r.read_enum("cast_point", cast_point, kCastPointNames);
-  r.read_enum("distances", distances, kDistancesNames);
-  r.read("raster_resolution_m", raster_resolution_m, 0.001, 1.0);
-  r.read_enum("ray_convention", ray_convention, kConventionNames);
-  r.read("fov_deg", fov_deg, 1.0, 360.0);
-  r.read("clip_observation", clip_observation);
-  r.read_enum("cells", cells, kCellsNames);
-  if (distances == RayDistances::kRaster && raster_ratio(*this) < 1) {
-    r.fail("raster_resolution_m", "must divide resolution_m (" + std::to_string(resolution_m) + " m) a whole number of times");
-  }
-  r.finish();
-}
+nlohmann::ordered_json RayMatcherParams::to_json() const { return fields().write(*this); }
+
+void RayMatcherParams::apply_overrides(const nlohmann::json& overrides) { fields().read(*this, overrides); }
 
 void RayMatcherParams::apply_shared(const SharedParams& shared) {
   max_range_m = shared.range_m;
@@ -344,13 +336,6 @@ DistanceVolume RayMatcher::compute_volume(const FloorPlan& plan, const RayMatche
     }
   }
   return v;
-}
-
-std::string RayMatcher::volume_key(const FloorPlan& plan, const RayMatcherParams& params) {
-  nlohmann::ordered_json k = volume_parameters(params);
-  k["plan_hash"] = hex64(plan_hash(plan));
-  k["algorithm"] = "zbuffer-parallelogram-v1";
-  return k.dump();
 }
 
 RayMatcher::RayMatcher(const FloorPlan& plan, const RayMatcherParams& params) : params_(params) {

@@ -1,228 +1,202 @@
 // Parameters of the observation module as JSON (written next to results) and JSON overrides.
 #include <cmath>
-#include <functional>
-#include <variant>
 
 #include "floorcast/core/json_text.hpp"
 #include "floorcast/core/limits.hpp"
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/params.hpp"
 #include "floorcast/observe/observation_module.hpp"
 
 namespace floorcast {
 namespace {
 
-/// A string-valued (enum) parameter.
-struct EnumField {
-  std::function<std::string()> get;
-  std::function<void(const std::string&)> set;
-};
-using FieldRef = std::variant<bool*, int*, double*, std::uint64_t*, std::vector<double>*, EnumField>;
+const std::vector<std::pair<const char*, ObservationPath>> kPathNames = {{"mono", ObservationPath::kMono},
+                                                                         {"lidar", ObservationPath::kLidar}};
+const std::vector<std::pair<const char*, ScaleAlignment>> kScaleNames = {
+    {"full", ScaleAlignment::kFull}, {"ground", ScaleAlignment::kGround}, {"none", ScaleAlignment::kNone}};
+const std::vector<std::pair<const char*, PlaneExtractorKind>> kExtractorNames = {
+    {"pcl", PlaneExtractorKind::kPclRegionGrowing}, {"voxelplane", PlaneExtractorKind::kVoxelPlane}};
 
-struct Field {
-  const char* section;  ///< nullptr = top level
-  const char* key;
-  FieldRef ref;
-  /// Allowed range of a numeric field (of every element of a list), inclusive.
-  double lo = 0.0;
-  double hi = 0.0;
-};
-
-std::vector<Field> fields(ObservationParams& p) {
-  auto& b = p.back_projection;
-  auto& s = p.scale;
-  auto& g = p.ground;
-  auto& sl = p.slice;
-  auto& se = p.segments;
-  auto& l = p.lidar;
-  auto& vp = p.lidar.voxel_plane;
-  auto& rg = p.lidar.pcl;
-  return {
-      {nullptr, "path",
-       EnumField{[&p] { return to_string(p.path); }, [&p](const std::string& v) { p.path = parse_observation_path(v); }}},
-      {"back_projection", "remove_depth_edges", &b.remove_depth_edges},
-      {"back_projection", "canny_low", &b.canny_low, 0, 1000},
-      {"back_projection", "canny_high", &b.canny_high, 0, 1000},
-      {"back_projection", "edge_dilation_px", &b.edge_dilation_px, 0, 50},
-      {"back_projection", "mask_glass", &b.mask_glass},
-      {"back_projection", "max_view_depth_m", &b.max_view_depth_m, 0.01, 1000},
-      {"back_projection", "min_confidence", &b.min_confidence, 0, 2},
-      {"back_projection", "pixel_stride", &b.pixel_stride, 1, 64},
-      {"scale", "mode",
-       EnumField{[&s] { return to_string(s.mode); }, [&s](const std::string& v) { s.mode = parse_scale_alignment(v); }}},
-      {"scale", "max_points_per_cloud", &s.max_points_per_cloud, 10, 10000000},
-      {"scale", "min_overlap_points", &s.min_overlap_points, 1, 10000000},
-      {"scale", "min_overlap_fraction", &s.min_overlap_fraction, 0, 1},
-      {"scale", "max_neighbours_per_view", &s.max_neighbours_per_view, 0, 360},
-      {"scale", "min_scale", &s.min_scale, 0.01, 1},
-      {"scale", "max_scale", &s.max_scale, 1, 100},
-      {"scale", "reference_view", &s.reference_view, 0, 359},
-      {"scale", "max_rounds", &s.max_rounds, 1, 1000},
-      {"scale", "round_tolerance", &s.round_tolerance, 0, 10},
-      {"scale", "round_trust_region", &s.round_trust_region, 1e-6, 10},
-      {"scale", "ray_ratio_init", &s.ray_ratio_init},
-      {"scale", "max_iterations", &s.max_iterations, 1, 10000},
-      {"scale", "gradient_epsilon", &s.gradient_epsilon, 0, 1},
-      {"scale", "relative_epsilon", &s.relative_epsilon, 0, 1},
-      {"scale", "camera_height_m", &s.camera_height_m, 0.05, 50},
-      {"scale", "seed", &s.seed},
-      {"ground", "point_stride", &g.point_stride, 1, 1000},
-      {"ground", "voxel_m", &g.voxel_m, 0.001, 10},
-      {"ground", "lowest_fraction", &g.lowest_fraction, 0.001, 1},
-      {"ground", "normal_k", &g.normal_k, 3, 1000},
-      {"ground", "max_normal_tilt_deg", &g.max_normal_tilt_deg, 0, 90},
-      {"ground", "ransac_distance_m", &g.ransac_distance_m, 0.0001, 10},
-      {"ground", "ransac_iterations", &g.ransac_iterations, 1, 10000000},
-      {"ground", "min_inlier_fraction", &g.min_inlier_fraction, 0, 1},
-      {"ground", "height_bin_m", &g.height_bin_m, 0.0001, 10},
-      {"ground", "refine_height", &g.refine_height},
-      {"slice", "merge_voxel_m", &sl.merge_voxel_m, 0, 10},
-      {"slice", "subsample_voxel_m", &sl.subsample_voxel_m, 0, 10},
-      {"slice", "band_half_heights_m", &sl.band_half_heights_m, 0.001, 50},
-      {"slice", "max_range_m", &sl.max_range_m, 0.1, 1000},
-      {"segments", "resolution_m_per_px", &se.resolution_m_per_px, 0.005, 10},
-      {"segments", "canny_before_hough", &se.canny_before_hough},
-      {"segments", "hough_rho_px", &se.hough_rho_px, 0.1, 100},
-      {"segments", "hough_theta_deg", &se.hough_theta_deg, 0.01, 90},
-      {"segments", "hough_threshold", &se.hough_threshold, 1, 1000000},
-      {"segments", "hough_min_length_px", &se.hough_min_length_px, 0, 1000000.0},
-      {"segments", "hough_max_gap_px", &se.hough_max_gap_px, 0, 1000000.0},
-      {"segments", "refine_segments", &se.refine_segments},
-      {"segments", "refine_band_m", &se.refine_band_m, 0, 10},
-      {"segments", "merge_collinear", &se.merge_collinear},
-      {"segments", "merge_tolerance_m", &se.merge_tolerance_m, 0, 10},
-      {"segments", "merge_tolerance_deg", &se.merge_tolerance_deg, 0, 90},
-      {"segments", "num_rays", &se.num_rays, 0, 3600},
-      {"segments", "ray_tolerance_deg", &se.ray_tolerance_deg, 0, 180},
-      {"lidar_back_projection", "remove_depth_edges", &l.back_projection.remove_depth_edges},
-      {"lidar_back_projection", "canny_low", &l.back_projection.canny_low, 0, 1000},
-      {"lidar_back_projection", "canny_high", &l.back_projection.canny_high, 0, 1000},
-      {"lidar_back_projection", "edge_dilation_px", &l.back_projection.edge_dilation_px, 0, 50},
-      {"lidar_back_projection", "mask_glass", &l.back_projection.mask_glass},
-      {"lidar_back_projection", "max_view_depth_m", &l.back_projection.max_view_depth_m, 0.01, 1000},
-      {"lidar_back_projection", "min_confidence", &l.back_projection.min_confidence, 0, 2},
-      {"lidar_back_projection", "pixel_stride", &l.back_projection.pixel_stride, 1, 64},
-      {"lidar", "voxel_m", &l.voxel_m, 0.001, 10},
-      {"lidar", "extractor",
-       EnumField{[&l] { return to_string(l.extractor); },
-                 [&l](const std::string& v) { l.extractor = parse_plane_extractor(v); }}},
-      {"lidar", "max_wall_tilt_deg", &l.max_wall_tilt_deg, 0, 90},
-      {"lidar", "min_wall_width_m", &l.min_wall_width_m, 0, 1000},
-      {"lidar", "min_wall_height_m", &l.min_wall_height_m, 0, 1000},
-      {"lidar", "require_camera_height", &l.require_camera_height},
-      {"lidar", "wall_band_half_height_m", &l.wall_band_half_height_m, 0, 50},
-      {"lidar", "max_range_m", &l.max_range_m, 0.1, 1000},
-      {"lidar_pcl", "normal_k", &rg.normal_k, 3, 1000},
-      {"lidar_pcl", "neighbours_k", &rg.neighbours_k, 1, 1000},
-      {"lidar_pcl", "smoothness_deg", &rg.smoothness_deg, 0, 180},
-      {"lidar_pcl", "curvature_threshold", &rg.curvature_threshold, 0, 1000},
-      {"lidar_pcl", "min_cluster_points", &rg.min_cluster_points, 1, 100000000},
-      {"lidar_voxelplane", "voxel_size_m", &vp.voxel_size_m, 0.01, 100},
-      {"lidar_voxelplane", "min_points_per_voxel", &vp.min_points_per_voxel, 3, 1000000},
-      {"lidar_voxelplane", "max_subdivisions", &vp.max_subdivisions, 0, 8},
-      {"lidar_voxelplane", "max_thickness_m", &vp.max_thickness_m, 0, 10},
-      {"lidar_voxelplane", "max_eigen_ratio", &vp.max_eigen_ratio, 0, 1},
-      {"lidar_voxelplane", "adaptive_weights", &vp.adaptive_weights},
-      {"lidar_voxelplane", "weight_alpha", &vp.weight_alpha, 0, 1000000.0},
-      {"lidar_voxelplane", "weight_beta", &vp.weight_beta, 0, 1000000.0},
-      {"lidar_voxelplane", "growth_max_normal_deg", &vp.growth_max_normal_deg, 0, 180},
-      {"lidar_voxelplane", "growth_max_offset_m", &vp.growth_max_offset_m, 0, 100},
-      {"lidar_voxelplane", "merge_undergrown", &vp.merge_undergrown},
-      {"lidar_voxelplane", "merge_max_normal_deg", &vp.merge_max_normal_deg, 0, 180},
-      {"lidar_voxelplane", "merge_depth_tol_deg", &vp.merge_depth_tol_deg, 0, 180},
-      {"lidar_voxelplane", "merge_radius_factor", &vp.merge_radius_factor, 0, 100},
-      {"lidar_voxelplane", "min_plane_points", &vp.min_plane_points, 3, 1000000000},
-  };
-}
-
-nlohmann::ordered_json field_value(const FieldRef& ref) {
-  return std::visit(
-      [](const auto& r) -> nlohmann::ordered_json {
-        using T = std::decay_t<decltype(r)>;
-        if constexpr (std::is_same_v<T, EnumField>) {
-          return r.get();
-        } else {
-          return *r;
-        }
-      },
-      ref);
-}
-
-std::string range_text(double lo, double hi) {
-  return "[" + nlohmann::json(lo).dump() + ", " + nlohmann::json(hi).dump() + "]";
-}
-
-void set_field(const Field& field, const nlohmann::json& v, const std::string& name) {
-  auto bad = [&](const std::string& expected) {
-    throw ParameterError("observation parameters: \"" + name + "\": expected " + expected + ", got " + json_excerpt(v),
-                         name);
-  };
-  auto in_range = [&](double x) { return std::isfinite(x) && x >= field.lo && x <= field.hi; };
-  std::visit(
-      [&](const auto& r) {
-        using T = std::decay_t<decltype(r)>;
-        if constexpr (std::is_same_v<T, EnumField>) {
-          if (!v.is_string()) bad("a string");
-          try {
-            r.set(v.get<std::string>());
-          } catch (const InputError& e) {
-            throw ParameterError("observation parameters: \"" + name + "\": " + e.what(), name);
-          }
-        } else if constexpr (std::is_same_v<T, bool*>) {
-          if (!v.is_boolean()) bad("true or false");
-          *r = v.get<bool>();
-        } else if constexpr (std::is_same_v<T, int*>) {
-          if (!v.is_number_integer()) bad("an integer in " + range_text(field.lo, field.hi));
-          const double x = v.is_number_unsigned() ? static_cast<double>(v.get<std::uint64_t>())
-                                                  : static_cast<double>(v.get<long long>());
-          if (!in_range(x)) bad("an integer in " + range_text(field.lo, field.hi));
-          *r = static_cast<int>(x);
-        } else if constexpr (std::is_same_v<T, std::uint64_t*>) {
-          if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<long long>() >= 0)) bad("a non-negative integer");
-          *r = v.get<std::uint64_t>();
-        } else if constexpr (std::is_same_v<T, double*>) {
-          if (!v.is_number() || !in_range(v.get<double>())) bad("a number in " + range_text(field.lo, field.hi));
-          *r = v.get<double>();
-        } else {
-          if (!v.is_array() || v.empty()) bad("a non-empty array of numbers in " + range_text(field.lo, field.hi));
-          std::vector<double> out;
-          for (const auto& e : v) {
-            if (!e.is_number() || !in_range(e.get<double>())) {
-              bad("a non-empty array of numbers in " + range_text(field.lo, field.hi));
+const FieldList<BackProjectionParams>& back_projection_fields() {
+  using P = BackProjectionParams;
+  static const FieldList<P> f =
+      FieldList<P>("back projection")
+          .flag("remove_depth_edges", &P::remove_depth_edges,
+                "remove flying pixels at depth discontinuities (PALMS+ code: Canny on the 8-bit depth, dilated)")
+          .number("canny_low", &P::canny_low, 0, 1000, "Canny low threshold (PALMS+ code: 10)")
+          .number("canny_high", &P::canny_high, 0, 1000, "Canny high threshold (PALMS+ code: 20)")
+          .integer("edge_dilation_px", &P::edge_dilation_px, 0, 50, "edge dilation radius, px (0 = none)")
+          .flag("mask_glass", &P::mask_glass, "drop pixels the view's glass mask marks (PALMS+*)")
+          .number("max_view_depth_m", &P::max_view_depth_m, 0.01, 1000,
+                  "a view whose largest kept depth reaches this is dropped, m (sky through a window)")
+          .integer("min_confidence", &P::min_confidence, 0, 2, "pixels of lower confidence are dropped")
+          .integer("pixel_stride", &P::pixel_stride, 1, 64, "use every n-th pixel in both directions")
+          .check([](const P& p, const ParamReader& r) {
+            if (p.canny_low > p.canny_high) {
+              r.fail("canny_low", "must not exceed canny_high (" + nlohmann::json(p.canny_high).dump() + ")");
             }
-            out.push_back(e.get<double>());
-          }
-          *r = out;
-        }
-      },
-      field.ref);
+          });
+  return f;
 }
 
-/// The range check of one field's current value (for structs filled in code, not from JSON).
-void check_field(const Field& field) {
-  const std::string name = field.section ? std::string(field.section) + "." + field.key : std::string(field.key);
-  const nlohmann::json value = field_value(field.ref);
-  if (value.is_number() || value.is_array()) set_field(field, value, name);
+const FieldList<ScaleAlignmentParams>& scale_fields() {
+  using P = ScaleAlignmentParams;
+  static const FieldList<P> f =
+      FieldList<P>("scale alignment")
+          .choice("mode", &P::mode, kScaleNames, "PALMS+ Table 4: full (overlap + ground), ground, none")
+          .integer("max_points_per_cloud", &P::max_points_per_cloud, 10, 10000000,
+                   "each view's cloud subsampled to at most this many points (PALMS+: 5000)")
+          .integer("min_overlap_points", &P::min_overlap_points, 1, 10000000,
+                   "neighbour views: points of each inside the other's frustum")
+          .number("min_overlap_fraction", &P::min_overlap_fraction, 0, 1, "neighbour views: fraction of each inside the other's frustum")
+          .integer("max_neighbours_per_view", &P::max_neighbours_per_view, 0, 360,
+                   "only each view's largest overlaps are candidates (0 = every pair that overlaps enough)")
+          .number("min_scale", &P::min_scale, 0.01, 1, "L-BFGS-B lower bound on relative scales (PALMS+: 0.5)")
+          .number("max_scale", &P::max_scale, 1, 100, "L-BFGS-B upper bound on relative scales (PALMS+: 1.5)")
+          .integer("reference_view", &P::reference_view, 0, 359, "index among the kept views whose scale is fixed to 1")
+          .integer("max_rounds", &P::max_rounds, 1, 1000, "re-association rounds (ICP style)")
+          .number("round_tolerance", &P::round_tolerance, 0, 10, "stop when no scale moves more than this in a round")
+          .number("round_trust_region", &P::round_trust_region, 1e-6, 10, "largest change of a scale within one round")
+          .flag("ray_ratio_init", &P::ray_ratio_init,
+                "start from the median depth ratios along shared rays (ours; false = start at 1 as PALMS+)")
+          .integer("max_iterations", &P::max_iterations, 1, 10000, "L-BFGS-B iterations per round")
+          .number("gradient_epsilon", &P::gradient_epsilon, 0, 1, "L-BFGS-B projected-gradient tolerance")
+          .number("relative_epsilon", &P::relative_epsilon, 0, 1, "L-BFGS-B relative objective decrease over 3 iterations")
+          .number("camera_height_m", &P::camera_height_m, 0.05, 50,
+                  "camera height above the ground the global scale enforces, m (PALMS+: 1.5)")
+          .unsigned_integer("seed", &P::seed, "per-view subsampling seed")
+          .check([](const P& p, const ParamReader& r) {
+            if (!(p.min_scale < p.max_scale)) {
+              r.fail("min_scale", "must be below scale.max_scale (" + nlohmann::json(p.max_scale).dump() + ")");
+            }
+          });
+  return f;
+}
+
+const FieldList<GroundPlaneParams>& ground_fields() {
+  using P = GroundPlaneParams;
+  static const FieldList<P> f =
+      FieldList<P>("ground plane")
+          .integer("point_stride", &P::point_stride, 1, 1000, "every n-th back-projected point of each view is searched")
+          .number("voxel_m", &P::voxel_m, 0.001, 10, "the search runs on the cloud subsampled with this voxel, m")
+          .number("lowest_fraction", &P::lowest_fraction, 0.001, 1, "candidates: this lowest fraction of points by height")
+          .integer("normal_k", &P::normal_k, 3, 1000, "normals from k nearest neighbours")
+          .number("max_normal_tilt_deg", &P::max_normal_tilt_deg, 0, 90, "candidate normals within this of vertical, deg")
+          .number("ransac_distance_m", &P::ransac_distance_m, 0.0001, 10, "RANSAC inlier distance, m")
+          .integer("ransac_iterations", &P::ransac_iterations, 1, 10000000, "RANSAC iterations")
+          .number("min_inlier_fraction", &P::min_inlier_fraction, 0, 1, "rejected when inliers are fewer than this of all points")
+          .number("height_bin_m", &P::height_bin_m, 0.0001, 10, "ground height = mode of inlier heights in bins of this, m")
+          .flag("refine_height", &P::refine_height, "mean of the inlier heights around the mode bin (ours; false = bin centre)");
+  return f;
+}
+
+const FieldList<SliceParams>& slice_fields() {
+  using P = SliceParams;
+  static const FieldList<P> f =
+      FieldList<P>("slice")
+          .number("merge_voxel_m", &P::merge_voxel_m, 0, 10, "merged cloud voxel, m (PALMS+: 0.01; 0 = off)")
+          .number("subsample_voxel_m", &P::subsample_voxel_m, 0, 10, "then subsampled with this voxel, m (PALMS+: 0.1; 0 = off)")
+          .numbers("band_half_heights_m", &P::band_half_heights_m, 0.001, 50,
+                   "half heights of the band around camera height, tried in order (PALMS+ code: 0.2, 0.5, 2.0), m")
+          .number("max_range_m", &P::max_range_m, 0.1, 1000, "points farther horizontally are ignored, m");
+  return f;
+}
+
+const FieldList<SegmentExtractionParams>& segment_fields() {
+  using P = SegmentExtractionParams;
+  static const FieldList<P> f =
+      FieldList<P>("segments")
+          .number("resolution_m_per_px", &P::resolution_m_per_px, 0.005, 10, "2D raster resolution, m/px")
+          .flag("canny_before_hough", &P::canny_before_hough, "Canny on the raster before the Hough transform (PALMS+ paper)")
+          .number("hough_rho_px", &P::hough_rho_px, 0.1, 100, "Hough distance resolution, px")
+          .number("hough_theta_deg", &P::hough_theta_deg, 0.01, 90, "Hough angle resolution, deg")
+          .integer("hough_threshold", &P::hough_threshold, 1, 1000000, "Hough accumulator threshold")
+          .number("hough_min_length_px", &P::hough_min_length_px, 0, 1000000.0, "shortest Hough segment, px")
+          .number("hough_max_gap_px", &P::hough_max_gap_px, 0, 1000000.0, "largest gap bridged by Hough, px")
+          .flag("refine_segments", &P::refine_segments, "re-fit each segment to its supporting points (ours)")
+          .number("refine_band_m", &P::refine_band_m, 0, 10, "points within this of a segment support it, m")
+          .flag("merge_collinear", &P::merge_collinear, "merge segments lying on longer ones (ours)")
+          .number("merge_tolerance_m", &P::merge_tolerance_m, 0, 10, "collinear merge distance, m")
+          .number("merge_tolerance_deg", &P::merge_tolerance_deg, 0, 90, "collinear merge angle, deg")
+          .integer("num_rays", &P::num_rays, 0, 3600, "F3Loc-style ranges on this many equiangular rays (0 = none)")
+          .number("ray_tolerance_deg", &P::ray_tolerance_deg, 0, 180, "a ray takes the nearest point within this of its direction, deg")
+          .check([](const P& p, const ParamReader&) {
+            check_limit("max_rays", p.num_rays, "observation parameters: segments.num_rays", "rays");
+          });
+  return f;
+}
+
+const FieldList<LidarPathParams>& lidar_fields() {
+  using P = LidarPathParams;
+  static const FieldList<P> f =
+      FieldList<P>("lidar")
+          .number("voxel_m", &P::voxel_m, 0.001, 10, "the merged LiDAR cloud is subsampled with this voxel, m")
+          .choice("extractor", &P::extractor, kExtractorNames,
+                  "vertical planes by PCL region growing or the VoxelPlane-Reloc extractor")
+          .number("max_wall_tilt_deg", &P::max_wall_tilt_deg, 0, 90, "a wall's normal is within this of horizontal, deg")
+          .number("min_wall_width_m", &P::min_wall_width_m, 0, 1000, "horizontal extent of a kept wall plane, m")
+          .number("min_wall_height_m", &P::min_wall_height_m, 0, 1000, "vertical extent of a kept wall plane, m")
+          .flag("require_camera_height", &P::require_camera_height,
+                "a kept wall must reach the band around camera height (false = every vertical plane)")
+          .number("wall_band_half_height_m", &P::wall_band_half_height_m, 0, 50, "half height of that band, m")
+          .number("max_range_m", &P::max_range_m, 0.1, 1000, "points farther horizontally are ignored, m");
+  return f;
+}
+
+const FieldList<PclRegionGrowingParams>& pcl_fields() {
+  using P = PclRegionGrowingParams;
+  static const FieldList<P> f =
+      FieldList<P>("lidar pcl")
+          .integer("normal_k", &P::normal_k, 3, 1000, "neighbours for the normals")
+          .integer("neighbours_k", &P::neighbours_k, 1, 1000, "neighbours for growing")
+          .number("smoothness_deg", &P::smoothness_deg, 0, 180, "largest normal difference between neighbours, deg")
+          .number("curvature_threshold", &P::curvature_threshold, 0, 1000, "region growing curvature threshold")
+          .integer("min_cluster_points", &P::min_cluster_points, 1, 100000000, "smallest region, points");
+  return f;
+}
+
+const FieldList<VoxelPlaneParams>& voxel_plane_fields() {
+  using P = VoxelPlaneParams;
+  static const FieldList<P> f =
+      FieldList<P>("lidar voxelplane")
+          .number("voxel_size_m", &P::voxel_size_m, 0.01, 100, "voxel edge, m")
+          .integer("min_points_per_voxel", &P::min_points_per_voxel, 3, 1000000, "points a voxel needs")
+          .integer("max_subdivisions", &P::max_subdivisions, 0, 8, "octree splits of non-planar voxels (0 = uniform grid)")
+          .number("max_thickness_m", &P::max_thickness_m, 0, 10, "planar voxel: spread along the normal at most this, m")
+          .number("max_eigen_ratio", &P::max_eigen_ratio, 0, 1, "planar voxel: smallest/middle eigenvalue at most this")
+          .flag("adaptive_weights", &P::adaptive_weights, "the adaptive weights of VoxelPlane-Reloc eq. 2")
+          .number("weight_alpha", &P::weight_alpha, 0, 1000000.0, "eq. 2 alpha")
+          .number("weight_beta", &P::weight_beta, 0, 1000000.0, "eq. 2 beta")
+          .number("growth_max_normal_deg", &P::growth_max_normal_deg, 0, 180, "voxel growth: normal difference, deg")
+          .number("growth_max_offset_m", &P::growth_max_offset_m, 0, 100, "voxel growth: centre distance to the plane, m")
+          .flag("merge_undergrown", &P::merge_undergrown, "merge under-grown planes into larger ones")
+          .number("merge_max_normal_deg", &P::merge_max_normal_deg, 0, 180, "merge: normal difference, deg")
+          .number("merge_depth_tol_deg", &P::merge_depth_tol_deg, 0, 180, "merge: centroid line off the plane, deg")
+          .number("merge_radius_factor", &P::merge_radius_factor, 0, 100, "merge: centroid distance in plane radii")
+          .integer("min_plane_points", &P::min_plane_points, 3, 1000000000, "planes with fewer points are not reported");
+  return f;
 }
 
 }  // namespace
 
-void validate(const ObservationParams& params) {
-  ObservationParams copy = params;
-  for (const Field& f : fields(copy)) check_field(f);
-  auto fail = [](const std::string& key, const std::string& why) {
-    throw ParameterError("observation parameters: \"" + key + "\": " + why, key);
-  };
-  for (const auto& [section, bp] : {std::pair<const char*, const BackProjectionParams*>{"back_projection", &params.back_projection},
-                                    {"lidar_back_projection", &params.lidar.back_projection}}) {
-    if (bp->canny_low > bp->canny_high) {
-      fail(std::string(section) + ".canny_low", "must not exceed canny_high (" + nlohmann::json(bp->canny_high).dump() + ")");
-    }
-  }
-  check_limit("max_rays", params.segments.num_rays, "observation parameters: segments.num_rays", "rays");
-  if (!(params.scale.min_scale < params.scale.max_scale)) {
-    fail("scale.min_scale", "must be below scale.max_scale (" + nlohmann::json(params.scale.max_scale).dump() + ")");
-  }
+const FieldList<ObservationParams>& observation_fields() {
+  using P = ObservationParams;
+  static const FieldList<P> f =
+      FieldList<P>("observation parameters")
+          .choice("path", &P::path, kPathNames, "mono (PALMS+ depth -> Hough) or lidar (PALMS vertical planes)")
+          .section("back_projection", &P::back_projection, back_projection_fields())
+          .section("scale", &P::scale, scale_fields())
+          .section("ground", &P::ground, ground_fields())
+          .section("slice", &P::slice, slice_fields())
+          .section("segments", &P::segments, segment_fields())
+          .section("lidar_back_projection", [](auto& p) -> auto& { return p.lidar.back_projection; }, back_projection_fields())
+          .section("lidar", &P::lidar, lidar_fields())
+          .section("lidar_pcl", [](auto& p) -> auto& { return p.lidar.pcl; }, pcl_fields())
+          .section("lidar_voxelplane", [](auto& p) -> auto& { return p.lidar.voxel_plane; }, voxel_plane_fields());
+  return f;
 }
+
+void validate(const ObservationParams& params) { observation_fields().validate(params); }
 
 std::string to_string(ObservationPath path) { return path == ObservationPath::kLidar ? "lidar" : "mono"; }
 
@@ -248,93 +222,106 @@ ScaleAlignment parse_scale_alignment(const std::string& s) {
   throw InputError("scale alignment \"" + s + "\": expected full, ground or none");
 }
 
-nlohmann::ordered_json to_json(const ObservationParams& params) {
-  ObservationParams copy = params;
-  nlohmann::ordered_json j = nlohmann::ordered_json::object();
-  for (const Field& f : fields(copy)) {
-    if (f.section) {
-      j[f.section][f.key] = field_value(f.ref);
-    } else {
-      j[f.key] = field_value(f.ref);
-    }
-  }
-  return j;
-}
+nlohmann::ordered_json to_json(const ObservationParams& params) { return observation_fields().write(params); }
 
 void apply_overrides(ObservationParams& params, const nlohmann::json& overrides) {
-  if (!overrides.is_object()) throw InputError("observation parameters: overrides must be a JSON object");
-  const std::vector<Field> fs = fields(params);
-  for (const auto& [key, value] : overrides.items()) {
-    bool is_section = false;
-    for (const Field& f : fs) {
-      if (f.section && key == f.section) is_section = true;
-    }
-    if (is_section) {
-      if (!value.is_object()) throw ParameterError("observation parameters: \"" + key + "\" must be an object", key);
-      for (const auto& [sub, v] : value.items()) {
-        const Field* hit = nullptr;
-        for (const Field& f : fs) {
-          if (f.section && key == f.section && sub == f.key) hit = &f;
-        }
-        if (!hit) throw ParameterError("observation parameters: unknown key \"" + key + "." + sub + "\"", key + "." + sub);
-        set_field(*hit, v, key + "." + sub);
-      }
-      continue;
-    }
-    const Field* hit = nullptr;
-    for (const Field& f : fs) {
-      if (!f.section && key == f.key) hit = &f;
-    }
-    if (!hit) throw ParameterError("observation parameters: unknown key \"" + key + "\"", key);
-    set_field(*hit, value, key);
-  }
-  validate(params);
+  observation_fields().read(params, overrides);
+  validate(params);  // the rules of sections the overrides did not touch (limits may have changed)
 }
 
-nlohmann::ordered_json to_json(const ObservationDiagnostics& d) {
-  nlohmann::ordered_json j;
-  j["path"] = d.path;
-  j["scale_alignment"] = d.scale_alignment;
-  j["views_total"] = d.views_total;
-  j["views_used"] = d.views_used;
-  j["views_dropped_far"] = d.views_dropped_far;
-  j["views_dropped_no_ground"] = d.views_dropped_no_ground;
-  j["view_scales"] = d.view_scales;
-  j["relative_scales"] = d.relative_scales;
-  j["global_scale"] = d.global_scale;
-  nlohmann::ordered_json rel;
-  rel["pairs"] = nlohmann::ordered_json::array();
-  for (const auto& [a, b] : d.relative.pairs) rel["pairs"].push_back({a, b});
-  rel["initial_scales"] = d.relative.initial_scales;
-  rel["objective_initial"] = d.relative.objective_initial;
-  rel["objective_final"] = d.relative.objective_final;
-  rel["rounds"] = d.relative.rounds;
-  rel["round_steps"] = d.relative.round_steps;
-  rel["iterations"] = d.relative.iterations;
-  rel["evaluations"] = d.relative.evaluations;
-  rel["status"] = d.relative.status;
-  j["relative_alignment"] = rel;
-  nlohmann::ordered_json g;
-  g["found"] = d.ground.found;
-  if (!d.ground.reason.empty()) g["reason"] = d.ground.reason;
-  g["height_m"] = d.ground.height_m;
-  g["height_after_scaling_m"] = d.ground_height_after_m;
-  g["plane"] = {d.ground.plane[0], d.ground.plane[1], d.ground.plane[2], d.ground.plane[3]};
-  g["points"] = d.ground.points;
-  g["candidates"] = d.ground.candidates;
-  g["inliers"] = d.ground.inliers;
-  j["ground"] = g;
-  j["points_back_projected"] = d.points_back_projected;
-  j["pixels_edge_removed"] = d.pixels_edge_removed;
-  j["pixels_glass_removed"] = d.pixels_glass_removed;
-  j["points_merged"] = d.points_merged;
-  j["points_subsampled"] = d.points_subsampled;
-  j["points_in_slice"] = d.points_in_slice;
-  j["band_half_height_m"] = d.band_half_height_m;
-  j["planes_total"] = d.planes_total;
-  j["wall_planes"] = d.wall_planes;
-  j["warnings"] = d.warnings;
-  return j;
+namespace {
+
+constexpr double kAny = 1e300;  // diagnostics: any finite value
+
+const FieldList<RelativeScaleResult>& relative_alignment_fields() {
+  using R = RelativeScaleResult;
+  static const FieldList<R> f =
+      FieldList<R>("relative alignment")
+          .custom(
+              "pairs",
+              [](nlohmann::ordered_json& j, const R& r) {
+                j["pairs"] = nlohmann::ordered_json::array();
+                for (const auto& [a, b] : r.pairs) j["pairs"].push_back({a, b});
+              },
+              [](ParamReader& r, R& v) {
+                nlohmann::json pairs;
+                r.read("pairs", pairs);
+                v.pairs.clear();
+                for (const auto& p : pairs) v.pairs.emplace_back(p.at(0).get<int>(), p.at(1).get<int>());
+              },
+              "[[view, view], ...]", "neighbouring view pairs used (indices into the kept views)")
+          .series("initial_scales", &R::initial_scales, "starting point (ray depth ratios or 1)")
+          .number("objective_initial", &R::objective_initial, -kAny, kAny, "eq. 3 objective at the start")
+          .number("objective_final", &R::objective_final, -kAny, kAny, "eq. 3 objective at the end")
+          .integer("rounds", &R::rounds, 0, 1 << 30, "association rounds")
+          .series("round_steps", &R::round_steps, "largest scale change of each round's inner solve")
+          .integer("iterations", &R::iterations, 0, 1 << 30, "L-BFGS-B iterations, all rounds")
+          .integer("evaluations", &R::evaluations, 0, 1 << 30, "objective evaluations, all rounds")
+          .text("status", &R::status, "solver outcome in words");
+  return f;
 }
+
+/// The ground plane with the height after all scaling (ObservationDiagnostics::ground_height_after_m)
+/// after its height.
+const FieldList<ObservationDiagnostics>& ground_result_fields() {
+  using D = ObservationDiagnostics;
+  static const FieldList<D> f =
+      FieldList<D>("ground")
+          .flag("found", [](auto& d) -> auto& { return d.ground.found; }, "a ground plane was found")
+          .text("reason", [](auto& d) -> auto& { return d.ground.reason; }, "why not")
+          .optional([](const D& d) { return !d.ground.reason.empty(); })
+          .number("height_m", [](auto& d) -> auto& { return d.ground.height_m; }, -kAny, kAny,
+                  "ground z in the relatively aligned, unscaled cloud, m")
+          .number("height_after_scaling_m", &D::ground_height_after_m, -kAny, kAny, "ground z after all scaling, m")
+          .custom(
+              "plane",
+              [](nlohmann::ordered_json& j, const D& d) {
+                j["plane"] = {d.ground.plane[0], d.ground.plane[1], d.ground.plane[2], d.ground.plane[3]};
+              },
+              [](ParamReader& r, D& d) {
+                std::vector<double> v;
+                r.read("plane", v, -kAny, kAny);
+                if (v.size() != 4) r.fail("plane", "expected 4 numbers");
+                d.ground.plane = Eigen::Vector4d(v[0], v[1], v[2], v[3]);
+              },
+              "[a, b, c, d]", "RANSAC plane ax + by + cz + d = 0, c > 0")
+          .unsigned_integer("points", [](auto& d) -> auto& { return d.ground.points; }, "points searched")
+          .unsigned_integer("candidates", [](auto& d) -> auto& { return d.ground.candidates; },
+                            "lowest points with near-vertical normals")
+          .unsigned_integer("inliers", [](auto& d) -> auto& { return d.ground.inliers; }, "RANSAC inliers");
+  return f;
+}
+
+const FieldList<ObservationDiagnostics>& diagnostics_fields() {
+  using D = ObservationDiagnostics;
+  static const FieldList<D> f =
+      FieldList<D>("observation diagnostics")
+          .text("path", &D::path, "mono or lidar")
+          .text("scale_alignment", &D::scale_alignment, "full, ground or none")
+          .unsigned_integer("views_total", &D::views_total, "views of the scan")
+          .integers("views_used", &D::views_used, "scan view indices kept")
+          .integers("views_dropped_far", &D::views_dropped_far, "dropped for their largest depth")
+          .integers("views_dropped_no_ground", &D::views_dropped_no_ground, "ground setting: views without a ground plane")
+          .series("view_scales", &D::view_scales, "final depth scale of each used view")
+          .series("relative_scales", &D::relative_scales, "from the overlap alignment (1 when not run)")
+          .number("global_scale", &D::global_scale, -kAny, kAny, "scale that puts the camera at its height")
+          .section("relative_alignment", &D::relative, relative_alignment_fields())
+          .section("ground", [](auto& d) -> auto& { return d; }, ground_result_fields())
+          .unsigned_integer("points_back_projected", &D::points_back_projected, "points of all views")
+          .unsigned_integer("pixels_edge_removed", &D::pixels_edge_removed, "pixels removed at depth edges")
+          .unsigned_integer("pixels_glass_removed", &D::pixels_glass_removed, "pixels removed by glass masks")
+          .unsigned_integer("points_merged", &D::points_merged, "after the merge voxel")
+          .unsigned_integer("points_subsampled", &D::points_subsampled, "after the subsample voxel")
+          .unsigned_integer("points_in_slice", &D::points_in_slice, "points in the band at camera height")
+          .number("band_half_height_m", &D::band_half_height_m, -kAny, kAny, "band actually used, m")
+          .unsigned_integer("planes_total", &D::planes_total, "LiDAR path: planes extracted")
+          .unsigned_integer("wall_planes", &D::wall_planes, "LiDAR path: planes kept as walls")
+          .texts("warnings", &D::warnings, "degradations the caller should know about");
+  return f;
+}
+
+}  // namespace
+
+nlohmann::ordered_json to_json(const ObservationDiagnostics& d) { return diagnostics_fields().write(d); }
 
 }  // namespace floorcast

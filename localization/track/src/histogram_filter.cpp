@@ -80,51 +80,38 @@ const std::vector<std::pair<const char*, BeliefEstimate>>& belief_estimate_names
   return n;
 }
 
-nlohmann::ordered_json HistogramFilterParams::to_json() const {
-  nlohmann::ordered_json j;
-  j["resolution_m"] = resolution_m;
-  j["grid_margin_m"] = grid_margin_m;
-  j["num_orientations"] = num_orientations;
-  j["motion_noise"] = enum_name(motion_noise, motion_noise_names());
-  j["odometry"] = odometry.to_json();
-  j["bias_growth"] = enum_name(bias_growth, bias_growth_names());
-  j["translation_sigma_m"] = translation_sigma_m;
-  j["rotation_sigma_rad"] = rotation_sigma_rad;
-  j["max_substep_m"] = max_substep_m;
-  j["max_substep_deg"] = max_substep_deg;
-  j["init"] = enum_name(init, belief_init_names());
-  j["measurement_floor"] = measurement_floor;
-  j["prune_below"] = prune_below;
-  j["estimate"] = enum_name(estimate, belief_estimate_names());
-  j["support_radius_m"] = support_radius_m;
-  j["support_yaw_deg"] = support_yaw_deg;
-  j["orientation_mass"] = orientation_mass;
-  j["converged_mass"] = converged_mass;
-  return j;
+const FieldList<HistogramFilterParams>& HistogramFilterParams::fields() {
+  using P = HistogramFilterParams;
+  static const FieldList<P> f =
+      FieldList<P>("tracker hist")
+          .number("resolution_m", &P::resolution_m, 0.01, 2.0, "belief grid resolution, m (F3Loc desdf grid: 0.1)")
+          .number("grid_margin_m", &P::grid_margin_m, 0.0, 100.0, "free margin of the grid around the plan, m (as the ray matcher)")
+          .integer("num_orientations", &P::num_orientations, 4, 720, "orientation slices (F3Loc: 36, 10 deg)")
+          .choice("motion_noise", &P::motion_noise, motion_noise_names(),
+                  "motion noise from the odometry's stated error (odometry) or F3Loc's constants per increment (fixed)")
+          .section("odometry", &P::odometry, OdometryUncertainty::fields())
+          .choice("bias_growth", &P::bias_growth, bias_growth_names(),
+                  "how the odometry's bias terms spread over increments: per increment or linear growth")
+          .number("translation_sigma_m", &P::translation_sigma_m, 0.0, 10.0, "motion_noise fixed: noise per increment and axis, m (F3Loc: 0.1)")
+          .number("rotation_sigma_rad", &P::rotation_sigma_rad, 0.0, 3.2, "motion_noise fixed: heading noise per increment, rad (F3Loc: 0.1)")
+          .number("max_substep_m", &P::max_substep_m, 0.01, 100.0, "largest motion applied in one pass, m (larger: sub-steps)")
+          .number("max_substep_deg", &P::max_substep_deg, 0.1, 180.0, "largest turn applied in one pass, deg")
+          .choice("init", &P::init, belief_init_names(), "initial belief: the first posterior (F3Loc) or uniform")
+          .number("measurement_floor", &P::measurement_floor, 0.0, 1.0,
+                  "measurement update: belief x (floor + (1 - floor) x posterior / max)")
+          .number("prune_below", &P::prune_below, 0.0, 1.0, "belief below this fraction of the maximum set to 0 (0 = never)")
+          .choice("estimate", &P::estimate, belief_estimate_names(),
+                  "the belief's largest cell (F3Loc) or the pose with the most mass within the support window")
+          .number("support_radius_m", &P::support_radius_m, 0.0, 100.0, "support window radius, m (success: 1 m)")
+          .number("support_yaw_deg", &P::support_yaw_deg, 0.0, 180.0, "support window half-width in heading, deg (success: 30)")
+          .number("orientation_mass", &P::orientation_mass, 0.0, 1.0, "stage 1: the best +-1 orientation bins hold this much")
+          .number("converged_mass", &P::converged_mass, 0.0, 1.0, "converged: the support (mass in the window around the estimate) reaches this");
+  return f;
 }
 
-void HistogramFilterParams::apply_overrides(const nlohmann::json& overrides) {
-  ParamReader r(overrides, "tracker hist");
-  r.read("resolution_m", resolution_m, 0.01, 2.0);
-  r.read("grid_margin_m", grid_margin_m, 0.0, 100.0);
-  r.read("num_orientations", num_orientations, 4, 720);
-  r.read_enum("motion_noise", motion_noise, motion_noise_names());
-  r.section("odometry", [&](ParamReader& o) { odometry.read(o); });
-  r.read_enum("bias_growth", bias_growth, bias_growth_names());
-  r.read("translation_sigma_m", translation_sigma_m, 0.0, 10.0);
-  r.read("rotation_sigma_rad", rotation_sigma_rad, 0.0, 3.2);
-  r.read("max_substep_m", max_substep_m, 0.01, 100.0);
-  r.read("max_substep_deg", max_substep_deg, 0.1, 180.0);
-  r.read_enum("init", init, belief_init_names());
-  r.read("measurement_floor", measurement_floor, 0.0, 1.0);
-  r.read("prune_below", prune_below, 0.0, 1.0);
-  r.read_enum("estimate", estimate, belief_estimate_names());
-  r.read("support_radius_m", support_radius_m, 0.0, 100.0);
-  r.read("support_yaw_deg", support_yaw_deg, 0.0, 180.0);
-  r.read("orientation_mass", orientation_mass, 0.0, 1.0);
-  r.read("converged_mass", converged_mass, 0.0, 1.0);
-  r.finish();
-}
+nlohmann::ordered_json HistogramFilterParams::to_json() const { return fields().write(*this); }
+
+void HistogramFilterParams::apply_overrides(const nlohmann::json& overrides) { fields().read(*this, overrides); }
 
 HistogramFilter::HistogramFilter(const FloorPlan& plan, const HistogramFilterParams& params) : params_(params) {
   grid_ = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);

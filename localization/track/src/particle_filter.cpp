@@ -41,57 +41,43 @@ const std::vector<std::pair<const char*, WallHandling>>& wall_handling_names() {
   return n;
 }
 
-nlohmann::ordered_json ParticleFilterParams::to_json() const {
-  nlohmann::ordered_json j;
-  j["num_particles"] = num_particles;
-  j["init"] = enum_name(init, particle_init_names());
-  j["init_percentile"] = init_percentile;
-  j["motion_noise"] = enum_name(motion_noise, motion_noise_names());
-  j["odometry"] = odometry.to_json();
-  j["bias_growth"] = enum_name(bias_growth, bias_growth_names());
-  j["drift_sigma_rad"] = drift_sigma_rad;
-  j["heading_sigma_rad"] = heading_sigma_rad;
-  j["step_sigma_m"] = step_sigma_m;
-  j["wall_handling"] = enum_name(wall_handling, wall_handling_names());
-  j["wall_weight"] = wall_weight;
-  j["scheduled_weight"] = scheduled_weight;
-  j["scheduled_updates"] = scheduled_updates;
-  j["jitter_sigma_m"] = jitter_sigma_m;
-  j["stage1_share"] = stage1_share;
-  j["mean_shift_every"] = mean_shift_every;
-  j["stage2_share"] = stage2_share;
-  j["mean_shift_bandwidth_m"] = mean_shift_bandwidth_m;
-  j["measurement_floor"] = measurement_floor;
-  j["wall_raster_resolution_m"] = wall_raster_resolution_m;
-  j["seed"] = seed;
-  return j;
+const FieldList<ParticleFilterParams>& ParticleFilterParams::fields() {
+  using P = ParticleFilterParams;
+  static const FieldList<P> f =
+      FieldList<P>("tracker pf")
+          .integer("num_particles", &P::num_particles, 1, 10000000, "particles (PALMS: 2000)")
+          .choice("init", &P::init, particle_init_names(),
+                  "initialisation (PALMS Table I, PALMS+ sec. 4.3): top-percentile cells, proportional to the "
+                  "posterior, uniform, uniform position with the posterior's orientations")
+          .number("init_percentile", &P::init_percentile, 0.0, 100.0, "palms init: percentile of the heatmaps (PALMS: 99)")
+          .choice("motion_noise", &P::motion_noise, motion_noise_names(),
+                  "motion noise from the odometry's stated error (odometry) or PALMS' constants per step (fixed)")
+          .section("odometry", &P::odometry, OdometryUncertainty::fields())
+          .choice("bias_growth", &P::bias_growth, bias_growth_names(),
+                  "how the odometry's bias terms spread over increments: per increment or linear growth")
+          .number("drift_sigma_rad", &P::drift_sigma_rad, 0.0, 10.0, "motion_noise fixed: heading drift random walk per step, rad (PALMS: 0.015)")
+          .number("heading_sigma_rad", &P::heading_sigma_rad, 0.0, 10.0, "motion_noise fixed: heading noise per step, rad (PALMS: 0.05)")
+          .number("step_sigma_m", &P::step_sigma_m, 0.0, 10.0, "motion_noise fixed: step-length noise per step, m (PALMS: 0.356)")
+          .choice("wall_handling", &P::wall_handling, wall_handling_names(), "what a particle crossing a wall costs")
+          .number("wall_weight", &P::wall_weight, 0.0, 1.0, "weighted walls: weight factor (PALMS: 0.3)")
+          .number("scheduled_weight", &P::scheduled_weight, 0.0, 1.0, "scheduled walls: weight factor at first (PALMS: 0.9)")
+          .integer("scheduled_updates", &P::scheduled_updates, 0, 100000000,
+                   "scheduled walls: steps with scheduled_weight, then 0 (PALMS: 40)")
+          .number("jitter_sigma_m", &P::jitter_sigma_m, 0.0, 10.0, "resampling jitter, m (PALMS: 0.1)")
+          .number("stage1_share", &P::stage1_share, 0.0, 1.0, "stage 1: one orientation group holds more than this (PALMS: 0.8)")
+          .integer("mean_shift_every", &P::mean_shift_every, 1, 100000, "mean shift every N steps in stage 1 (PALMS: 5)")
+          .number("stage2_share", &P::stage2_share, 0.0, 1.0, "stage 2: largest cluster share of the group (PALMS: 0.5)")
+          .number("mean_shift_bandwidth_m", &P::mean_shift_bandwidth_m, 0.01, 100.0, "flat kernel radius of the mean shift, m")
+          .number("measurement_floor", &P::measurement_floor, 0.0, 1.0,
+                  "measurement update: weight x (floor + (1 - floor) x value / max)")
+          .number("wall_raster_resolution_m", &P::wall_raster_resolution_m, 0.005, 1.0, "wall raster resolution, m")
+          .unsigned_integer("seed", &P::seed, "random seed");
+  return f;
 }
 
-void ParticleFilterParams::apply_overrides(const nlohmann::json& overrides) {
-  ParamReader r(overrides, "tracker pf");
-  r.read("num_particles", num_particles, 1, 10000000);
-  r.read_enum("init", init, particle_init_names());
-  r.read("init_percentile", init_percentile, 0.0, 100.0);
-  r.read_enum("motion_noise", motion_noise, motion_noise_names());
-  r.section("odometry", [&](ParamReader& o) { odometry.read(o); });
-  r.read_enum("bias_growth", bias_growth, bias_growth_names());
-  r.read("drift_sigma_rad", drift_sigma_rad, 0.0, 10.0);
-  r.read("heading_sigma_rad", heading_sigma_rad, 0.0, 10.0);
-  r.read("step_sigma_m", step_sigma_m, 0.0, 10.0);
-  r.read_enum("wall_handling", wall_handling, wall_handling_names());
-  r.read("wall_weight", wall_weight, 0.0, 1.0);
-  r.read("scheduled_weight", scheduled_weight, 0.0, 1.0);
-  r.read("scheduled_updates", scheduled_updates, 0, 100000000);
-  r.read("jitter_sigma_m", jitter_sigma_m, 0.0, 10.0);
-  r.read("stage1_share", stage1_share, 0.0, 1.0);
-  r.read("mean_shift_every", mean_shift_every, 1, 100000);
-  r.read("stage2_share", stage2_share, 0.0, 1.0);
-  r.read("mean_shift_bandwidth_m", mean_shift_bandwidth_m, 0.01, 100.0);
-  r.read("measurement_floor", measurement_floor, 0.0, 1.0);
-  r.read("wall_raster_resolution_m", wall_raster_resolution_m, 0.005, 1.0);
-  r.read("seed", seed);
-  r.finish();
-}
+nlohmann::ordered_json ParticleFilterParams::to_json() const { return fields().write(*this); }
+
+void ParticleFilterParams::apply_overrides(const nlohmann::json& overrides) { fields().read(*this, overrides); }
 
 struct ParticleFilter::Impl {
   WallRaster walls;

@@ -1,7 +1,10 @@
 // The built-in tracker table (explicit, like the matcher registry: static self-registration is
-// dropped by the linker from static libraries).
+// dropped by the linker from static libraries). A new tracker is one entry here: its parameter
+// struct P has a field list (P::fields(), core/fields.hpp) and, when it draws random numbers, a
+// `seed` member.
 #include <algorithm>
 #include <sstream>
+#include <type_traits>
 
 #include "floorcast/track/histogram_filter.hpp"
 #include "floorcast/track/particle_filter.hpp"
@@ -10,18 +13,45 @@
 namespace floorcast {
 namespace {
 
+template <class P, class = void>
+struct HasSeed : std::false_type {};
+template <class P>
+struct HasSeed<P, std::void_t<decltype(std::declval<P&>().seed)>> : std::true_type {};
+
+/// A tracker configuration of parameter type P building tracker type T.
 template <class P, class T>
-std::unique_ptr<Tracker> build(const FloorPlan& plan, const nlohmann::json& overrides) {
+class Config final : public TrackerConfig {
+ public:
+  Config(const char* name, P params) : name_(name), params_(std::move(params)) {}
+  std::string name() const override { return name_; }
+  nlohmann::ordered_json parameters() const override { return P::fields().write(params_); }
+  std::shared_ptr<const TrackerConfig> with_seed(std::uint64_t seed) const override {
+    P p = params_;
+    if constexpr (HasSeed<P>::value) p.seed = seed;
+    (void)seed;
+    return std::make_shared<Config>(name_, std::move(p));
+  }
+  std::optional<std::uint64_t> seed() const override {
+    if constexpr (HasSeed<P>::value) return params_.seed;
+    return std::nullopt;
+  }
+  std::unique_ptr<Tracker> build(const FloorPlan& plan) const override { return std::make_unique<T>(plan, params_); }
+
+ private:
+  const char* name_;
+  P params_;
+};
+
+template <class P, class T>
+std::shared_ptr<const TrackerConfig> parse(const char* name, const nlohmann::json& overrides) {
   P p;
-  p.apply_overrides(overrides);
-  return std::make_unique<T>(plan, p);
+  P::fields().read(p, overrides);
+  return std::make_shared<Config<P, T>>(name, std::move(p));
 }
 
 template <class P>
-nlohmann::ordered_json resolve(const nlohmann::json& overrides) {
-  P p;
-  p.apply_overrides(overrides);
-  return p.to_json();
+std::vector<FieldInfo> describe() {
+  return P::fields().describe(P{});
 }
 
 std::string number(const nlohmann::ordered_json& p, const char* key) {
@@ -43,14 +73,14 @@ std::string hist_convergence(const nlohmann::ordered_json& p) {
 
 struct Entry {
   const char* name;
-  std::unique_ptr<Tracker> (*make)(const FloorPlan&, const nlohmann::json&);
-  nlohmann::ordered_json (*resolve)(const nlohmann::json&);
+  std::shared_ptr<const TrackerConfig> (*parse)(const char*, const nlohmann::json&);
+  std::vector<FieldInfo> (*describe)();
   std::string (*convergence)(const nlohmann::ordered_json&);
 };
 
 constexpr Entry kTrackers[] = {
-    {"hist", &build<HistogramFilterParams, HistogramFilter>, &resolve<HistogramFilterParams>, &hist_convergence},
-    {"pf", &build<ParticleFilterParams, ParticleFilter>, &resolve<ParticleFilterParams>, &pf_convergence},
+    {"hist", &parse<HistogramFilterParams, HistogramFilter>, &describe<HistogramFilterParams>, &hist_convergence},
+    {"pf", &parse<ParticleFilterParams, ParticleFilter>, &describe<ParticleFilterParams>, &pf_convergence},
 };
 
 const Entry& find(const std::string& name) {
@@ -81,13 +111,16 @@ nlohmann::json with_odometry(const nlohmann::json& overrides, const OdometryUnce
   return out;
 }
 
-std::unique_ptr<Tracker> make_tracker(const std::string& name, const FloorPlan& plan, const nlohmann::json& overrides) {
-  return find(name).make(plan, overrides);
+std::shared_ptr<const TrackerConfig> make_tracker_config(const std::string& name, const nlohmann::json& overrides) {
+  const Entry& e = find(name);
+  return e.parse(e.name, overrides);
 }
 
-nlohmann::ordered_json resolve_tracker_parameters(const std::string& name, const nlohmann::json& overrides) {
-  return find(name).resolve(overrides);
+std::unique_ptr<Tracker> make_tracker(const std::string& name, const FloorPlan& plan, const nlohmann::json& overrides) {
+  return make_tracker_config(name, overrides)->build(plan);
 }
+
+std::vector<FieldInfo> tracker_parameter_fields(const std::string& name) { return find(name).describe(); }
 
 std::vector<std::string> tracker_names() {
   std::vector<std::string> names;
@@ -98,7 +131,7 @@ std::vector<std::string> tracker_names() {
 
 std::string describe_convergence(const std::string& name, const nlohmann::json& overrides) {
   const Entry& e = find(name);
-  return e.convergence(e.resolve(overrides));
+  return e.convergence(e.parse(e.name, overrides)->parameters());
 }
 
 }  // namespace floorcast

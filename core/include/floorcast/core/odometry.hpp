@@ -50,11 +50,10 @@ struct OdometryUncertainty {
   double rotation_rad_per_sqrt_s = 0.0;  ///< white: heading random walk, rad per sqrt(second)
   double rotation_rad_per_step = 0.05;   ///< white: heading error of each reported step
 
+  static const FieldList<OdometryUncertainty>& fields();
   nlohmann::ordered_json to_json() const;
   /// Strict overrides (keys as in to_json); throws ParameterError naming the key.
   void apply_overrides(const nlohmann::json& overrides);
-  /// The same keys from a reader (a section of a larger parameter set).
-  void read(ParamReader& r);
 };
 
 /// How a tracker spreads a bias term of OdometryUncertainty over the increments.

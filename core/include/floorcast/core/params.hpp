@@ -38,12 +38,18 @@ class ParameterError : public InputError {
   std::string key_;
 };
 
+/// How a ParamReader treats keys that are absent: overrides keep the current value (a parameter
+/// set read over its defaults); records need every key (a file written by floorcast, read back).
+enum class ReadMode { kOverrides, kRecord };
+
 /// Reads keys from an overrides object; every key must be read exactly by name and have the
 /// right type and range, and finish() refuses keys nobody read. `prefix` is prepended to keys in
-/// errors (for nested sections: "scale.").
+/// errors (for nested sections: "scale."). In record mode an absent key is an error too, and
+/// messages read "<who>: <key>: <reason>" (who = the file).
 class ParamReader {
  public:
-  ParamReader(const nlohmann::json& overrides, std::string who, std::string prefix = "");
+  ParamReader(const nlohmann::json& overrides, std::string who, std::string prefix = "",
+              ReadMode mode = ReadMode::kOverrides);
 
   void read(const char* key, double& value, double lo, double hi);
   void read(const char* key, int& value, int lo, int hi);
@@ -74,12 +80,44 @@ class ParamReader {
     if (!take(key)) return;
     const nlohmann::json& x = j_.at(key);
     if (!x.is_object()) fail(key, "expected an object");
-    ParamReader sub(x, who_, prefix_ + key + ".");
+    ParamReader sub(x, who_, prefix_ + key + ".", mode_);
     fn(sub);
     sub.finish();
   }
+  /// An array of objects, each read by `fn(ParamReader&, index)`; keys in errors are
+  /// "<key>[i].<sub>". Returns false (calling nothing) when the key is absent (overrides).
+  template <class F>
+  bool objects(const char* key, F&& fn) {
+    if (!take(key)) return false;
+    const nlohmann::json& x = j_.at(key);
+    if (!x.is_array()) fail(key, "expected an array of objects");
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const std::string at = std::string(key) + "[" + std::to_string(i) + "]";
+      if (!x[i].is_object()) fail(at, "expected an object");
+      ParamReader sub(x[i], who_, prefix_ + at + ".", mode_);
+      fn(sub, i);
+      sub.finish();
+    }
+    return true;
+  }
+  /// Any JSON value (kept as is: an opaque block such as a stage's overrides).
+  void read(const char* key, nlohmann::json& value);
+  void read(const char* key, nlohmann::ordered_json& value);
+  /// A list of strings.
+  void read(const char* key, std::vector<std::string>& value);
+  /// A list of integers (any length, empty included).
+  void read(const char* key, std::vector<int>& value);
+  /// A list of finite numbers of any length (empty included): a series recorded per step.
+  void read_series(const char* key, std::vector<double>& value);
   /// True when the overrides hold `key` (does not mark it read).
   bool has(const char* key) const { return j_.contains(key); }
+  /// Marks an optional key as known (so finish() lists it), whether present or not; true when
+  /// present (then read it).
+  bool optional(const char* key) {
+    seen_.emplace_back(key);
+    return j_.contains(key);
+  }
+  ReadMode mode() const { return mode_; }
   /// Refuses keys nobody read, listing the known ones.
   void finish() const;
   [[noreturn]] void fail(const std::string& key, const std::string& why) const;
@@ -89,6 +127,7 @@ class ParamReader {
   const nlohmann::json& j_;
   std::string who_;
   std::string prefix_;
+  ReadMode mode_ = ReadMode::kOverrides;
   std::set<std::string> read_;
   std::vector<std::string> seen_;
 };
@@ -114,11 +153,6 @@ inline BlockingOptions closed_door_map() {
   return b;
 }
 
-/// The one JSON form of blocking flags in parameter sets: "doors_closed" (open doors block),
-/// "glass_blocks", "obstacles_block", "cut_height_m". Closed door leaves always block.
-void write_blocking(nlohmann::ordered_json& j, const BlockingOptions& blocking);
-void read_blocking(ParamReader& r, BlockingOptions& blocking);
-
 /// Quantities every stage of one experiment must agree on, set once (a scenario's `shared`
 /// block, or a command's options) and handed to each stage, which uses them unless its own
 /// parameters override them explicitly.
@@ -130,6 +164,7 @@ struct SharedParams {
   BlockingOptions blocking = closed_door_map();
 };
 
+/// Its fields are shared_fields() (core/fields.hpp).
 nlohmann::ordered_json to_json(const SharedParams& shared);
 /// Strict: keys range_m, doors_closed, glass_blocks, obstacles_block, cut_height_m.
 void apply_overrides(SharedParams& shared, const nlohmann::json& overrides, const std::string& who = "shared");

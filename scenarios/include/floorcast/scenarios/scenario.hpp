@@ -21,6 +21,7 @@
 #include "floorcast/sim/odometry.hpp"
 #include "floorcast/sim/scan_params.hpp"
 #include "floorcast/sim/walk.hpp"
+#include "floorcast/track/tracker.hpp"
 
 namespace floorcast {
 
@@ -80,12 +81,11 @@ struct ObservationSpec {
   std::uint64_t seed = 1;  ///< scan: simulator seed (combined with building and point index)
 };
 
-/// A tracker under a label: registry name, its complete parameters (resolved at load), and the
-/// label of the matcher whose posteriors it takes.
+/// A tracker under a label: its configuration (parsed and complete at load), and the label of
+/// the matcher whose posteriors it takes.
 struct TrackerSpec {
   std::string label;
-  std::string tracker;
-  nlohmann::ordered_json parameters = nlohmann::ordered_json::object();
+  std::shared_ptr<const TrackerConfig> config;
   std::string matcher;
 };
 
@@ -148,6 +148,10 @@ struct Scenario {
   nlohmann::ordered_json resolved;
   std::string hash;                     ///< hex digest of `resolved`, identifies the run
 };
+
+/// The keys of the scenario blocks sampling, observation, scoring and output with their
+/// defaults, types, ranges and meanings (from the field lists the loader reads them with).
+std::vector<std::pair<std::string, std::vector<FieldInfo>>> scenario_block_fields();
 
 /// The rooms of a generator rooms file (`floorcast plan generate --rooms FILE`:
 /// {"rooms": [{"id", "kind", "polygon": [[x, y], ...]}, ...]}). Throws InputError naming the file

@@ -18,6 +18,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "floorcast/core/fields.hpp"
+
 #include "floorcast/core/odometry.hpp"
 #include "floorcast/sim/walk.hpp"
 
@@ -50,6 +52,8 @@ struct OdometryParams {
   PdrNoise pdr;
   std::uint64_t seed = 1;
 
+  /// The field list (core/fields.hpp): keys, ranges, docs; to_json and apply_overrides use it.
+  static const FieldList<OdometryParams>& fields();
   nlohmann::ordered_json to_json() const;
   /// Strict overrides (keys as in to_json); throws ParameterError naming the key.
   void apply_overrides(const nlohmann::json& overrides);

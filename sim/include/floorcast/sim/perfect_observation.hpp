@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "floorcast/core/fields.hpp"
+
 #include "floorcast/core/observation.hpp"
 #include "floorcast/core/params.hpp"
 #include "floorcast/floorplans/geometry.hpp"
@@ -22,6 +24,8 @@ struct PerfectObservationParams {
   BlockingOptions blocking = closed_door_map();
   int num_rays = 36;            ///< equiangular rays (F3Loc: 36; 180 also used); 0 = none
 
+  /// The field list (core/fields.hpp): keys, ranges, docs; to_json and apply_overrides use it.
+  static const FieldList<PerfectObservationParams>& fields();
   nlohmann::ordered_json to_json() const;
   /// Strict overrides (keys as in to_json); throws ParameterError naming the key.
   void apply_overrides(const nlohmann::json& overrides);

@@ -21,6 +21,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "floorcast/core/fields.hpp"
+
 #include "floorcast/core/blocking.hpp"
 #include "floorcast/core/types.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
@@ -61,6 +63,8 @@ struct WalkParams {
   double corner_radius_m = 0.6;
   std::uint64_t seed = 1;
 
+  /// The field list (core/fields.hpp): keys, ranges, docs; to_json and apply_overrides use it.
+  static const FieldList<WalkParams>& fields();
   nlohmann::ordered_json to_json() const;
   /// Strict overrides (keys as in to_json); throws ParameterError naming the key.
   void apply_overrides(const nlohmann::json& overrides);
@@ -115,6 +119,8 @@ struct ObservationSchedule {
   int every_steps = 0;
   double every_m = 0.0;
 };
+/// Its fields (initial, every_steps, every_m) as scenarios and walk.json write them.
+const FieldList<ObservationSchedule>& schedule_fields();
 std::vector<int> schedule_observations(const Walk& walk, const ObservationSchedule& schedule);
 
 }  // namespace floorcast

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <utility>
@@ -140,6 +141,10 @@ struct ImportResult {
   /// the import still succeeds unless ImportOptions::strict.
   std::vector<std::string> warnings;
 };
+
+/// The import report (`floorcast plan import --report`): output, name, level, source counts,
+/// cleanup counts, repairs, plan counts, notes.
+nlohmann::ordered_json import_report_json(const ImportResult& result, const std::string& output);
 
 /// Imports a file (csv/s3d/osm: a file; png: an image file; imdf: a folder).
 ImportResult import_floor_plan(const std::string& path, ImportFormat format, const ImportOptions& options = {});

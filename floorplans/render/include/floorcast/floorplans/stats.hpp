@@ -4,6 +4,7 @@
 // (`floorcast plan stats`, results/realplans_vs_generated.md). Pure computation, no I/O.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,7 @@ struct ThicknessClass {
 
 struct PlanStats {
   std::string name;
+  double direction_bin_deg = 15.0;   ///< PlanStatsParams::direction_bin_deg used
   double free_area_m2 = 0.0;         ///< free_floor_area_m2 (doors open)
   int walls = 0;
   int glass_walls = 0;
@@ -73,6 +75,10 @@ struct PlanStats {
   /// distribution is weighted by corridor length.
   Distribution corridor_width_m;
 };
+
+/// The statistics as `floorcast plan stats --json` writes them (measures rounded to 0.001),
+/// from their field list.
+nlohmann::ordered_json to_json(const PlanStats& stats);
 
 /// Measures `plan`. Without room labels the room and corridor measures stay empty (count 0).
 PlanStats plan_stats(const FloorPlan& plan, const PlanStatsParams& params = {});

@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/params.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/match/orientation.hpp"
@@ -176,8 +177,10 @@ struct KernelMatcherParams {
 
   /// Takes the experiment's shared range and blocking flags (max_range_m, blocking).
   void apply_shared(const SharedParams& shared);
+  /// The field list (core/fields.hpp): keys, ranges, docs; to_json and apply_overrides use it.
+  static const FieldList<KernelMatcherParams>& fields();
   nlohmann::ordered_json to_json() const;
-  /// Applies overrides (keys as in to_json); throws InputError naming the key.
+  /// Applies overrides (keys as in to_json); throws ParameterError naming the key.
   void apply_overrides(const nlohmann::json& overrides);
 };
 

@@ -10,6 +10,7 @@
 
 #include "floorcast/core/blocking.hpp"
 #include "floorcast/core/observation.hpp"
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/params.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 #include "floorcast/match/posterior.hpp"
@@ -114,6 +115,10 @@ std::shared_ptr<const MatcherConfig> make_matcher_config(const std::string& name
 /// make_matcher_config(name, overrides)->build(plan).
 std::unique_ptr<Matcher> make_matcher(const std::string& name, const FloorPlan& plan,
                                       const nlohmann::json& overrides = nlohmann::json::object());
+
+/// Every parameter of matcher `name` with its default (shared quantities at their defaults), key,
+/// type, range and meaning (from its field list): `floorcast params` and docs/parameters.md.
+std::vector<FieldInfo> matcher_parameter_fields(const std::string& name);
 
 /// Names of all registered matchers, sorted ("kernel", "ray").
 std::vector<std::string> matcher_names();

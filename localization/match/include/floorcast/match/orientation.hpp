@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/types.hpp"
 
 namespace floorcast {
@@ -48,6 +49,10 @@ struct OrientationParams {
 
 /// An angle in [0, 2 pi) (candidate yaws are given in this range).
 double wrap_2pi(double a_rad);
+
+/// Its fields as the kernel matcher's parameters name them ("orientations", "num_orientations",
+/// "histogram_bins", "nms_radius_bins", "dense_step_deg", "refine_orientations").
+const FieldList<OrientationParams>& orientation_fields();
 
 /// Length-weighted histogram of segment directions folded into [0, 180) deg: bin
 /// floor(direction / (180 deg / bins)). Zero-length segments are ignored.

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/params.hpp"
 #include "floorcast/match/distance_volume.hpp"
 #include "floorcast/match/matcher.hpp"
@@ -117,7 +118,10 @@ struct RayMatcherParams {
 
   /// Takes the experiment's shared range and blocking flags (max_range_m, blocking).
   void apply_shared(const SharedParams& shared);
+  /// The field list (core/fields.hpp): keys, ranges, docs; to_json and apply_overrides use it.
+  static const FieldList<RayMatcherParams>& fields();
   nlohmann::ordered_json to_json() const;
+  /// Applies overrides (keys as in to_json); throws ParameterError naming the key.
   void apply_overrides(const nlohmann::json& overrides);
 };
 
@@ -125,8 +129,7 @@ class RayMatcher final : public Matcher {
  public:
   /// Computes the distance volume (the per-plan precomputation).
   RayMatcher(const FloorPlan& plan, const RayMatcherParams& params = {});
-  /// Uses a volume computed earlier for this plan and these parameters (e.g. read from a cache
-  /// by the caller: distance_volume_io.hpp); throws InputError when its grid, direction count
+  /// Uses a volume computed earlier for this plan and these parameters (compute_volume); throws InputError when its grid, direction count
   /// or range do not match the parameters.
   RayMatcher(const FloorPlan& plan, const RayMatcherParams& params, DistanceVolume volume);
   /// Shares `other`'s precomputation (no copy) with other parameters: lambda_m, ray_source or
@@ -164,8 +167,6 @@ class RayMatcher final : public Matcher {
 
   /// The volume the matcher precomputes for a plan (what the first constructor computes).
   static DistanceVolume compute_volume(const FloorPlan& plan, const RayMatcherParams& params);
-  /// Identity of that volume (plan hash and the parameters it depends on), as a cache key.
-  static std::string volume_key(const FloorPlan& plan, const RayMatcherParams& params);
 
  private:
   /// The observation's rays and clipping range in the volume's units.

@@ -23,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/observation.hpp"
 #include "floorcast/core/scan.hpp"
 #include "floorcast/core/types.hpp"
@@ -199,11 +200,15 @@ struct ObservationParams {
   LidarPathParams lidar;
 };
 
+/// The field list of every observation-module parameter (core/fields.hpp): sections path,
+/// back_projection, scale, ground, slice, segments, lidar_back_projection, lidar, lidar_pcl,
+/// lidar_voxelplane; ranges, rules and docs (docs/parameters.md).
+const FieldList<ObservationParams>& observation_fields();
 /// Every parameter with its value, for writing next to results.
 nlohmann::ordered_json to_json(const ObservationParams& params);
 /// Fills params from a JSON object of overrides with the same keys as to_json (nested objects
-/// for the sub-structs); unknown keys or bad values throw InputError naming the key. Every numeric
-/// parameter has a documented range (localization/observe/README.md) checked here; the result is validate()d.
+/// for the sub-structs); unknown keys or bad values throw ParameterError naming the key, after
+/// the rules across fields are checked (validate()).
 void apply_overrides(ObservationParams& params, const nlohmann::json& overrides);
 /// Range of every numeric parameter (NaN and inf never pass) and the orderings (canny_low <=
 /// canny_high, min_scale < max_scale); throws ParameterError naming the key. The observation

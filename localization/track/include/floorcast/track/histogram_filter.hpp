@@ -83,6 +83,8 @@ struct HistogramFilterParams {
   double orientation_mass = 0.8;
   double converged_mass = 0.5;
 
+  /// The field list (core/fields.hpp): keys, ranges, docs; to_json and apply_overrides use it.
+  static const FieldList<HistogramFilterParams>& fields();
   nlohmann::ordered_json to_json() const;
   /// Strict overrides (keys as in to_json); throws ParameterError naming the key.
   void apply_overrides(const nlohmann::json& overrides);

@@ -72,6 +72,8 @@ struct ParticleFilterParams {
   double wall_raster_resolution_m = 0.05;
   std::uint64_t seed = 1;
 
+  /// The field list (core/fields.hpp): keys, ranges, docs; to_json and apply_overrides use it.
+  static const FieldList<ParticleFilterParams>& fields();
   nlohmann::ordered_json to_json() const;
   /// Strict overrides (keys as in to_json); throws ParameterError naming the key.
   void apply_overrides(const nlohmann::json& overrides);

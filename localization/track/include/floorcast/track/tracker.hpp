@@ -2,7 +2,8 @@
 // "scan, then walk"), follows the odometry, optionally takes further posteriors as observations
 // arrive, and reports an estimate after every step.
 //
-//   auto t = make_tracker("pf", plan, overrides);   // or "hist"
+//   auto config = make_tracker_config("pf", overrides);   // or "hist"; checked before any work
+//   auto t = config->build(plan);
 //   t->initialise(posterior_of_first_scan, odometry.steps[0]);
 //   for (k = 1 ..) { t->predict(odometry.steps[k]); if (observation at k) t->update(posterior_k);
 //                    TrackEstimate e = t->estimate(); }
@@ -11,12 +12,15 @@
 // simulator: real odometry and real scans run through them unchanged.
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/odometry.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 #include "floorcast/match/posterior.hpp"
@@ -71,16 +75,40 @@ class Tracker {
   virtual std::size_t state_bytes() const = 0;
 };
 
-/// Builds a tracker by name ("pf": PALMS particle filter, "hist": F3Loc histogram filter) with JSON
-/// parameter overrides (keys of parameters()). Throws ParameterError naming the key for bad
-/// parameters, InputError for unknown names.
+/// A tracker's parameters, parsed, validated and complete (every default filled in), before any
+/// plan is involved (like MatcherConfig): what scenarios and commands build when they load their
+/// input, so that a misspelt or out-of-range parameter fails there, and what they write next to
+/// results.
+class TrackerConfig {
+ public:
+  virtual ~TrackerConfig() = default;
+  /// Registry name ("pf", "hist").
+  virtual std::string name() const = 0;
+  /// Every parameter with its value (keys as the overrides take them).
+  virtual nlohmann::ordered_json parameters() const = 0;
+  /// The seed of a tracker that draws random numbers; nullopt for deterministic ones.
+  virtual std::optional<std::uint64_t> seed() const = 0;
+  /// The same configuration with another seed (a tracker without a seed: unchanged): the
+  /// scenario runner gives every work unit its own stream.
+  virtual std::shared_ptr<const TrackerConfig> with_seed(std::uint64_t seed) const = 0;
+  /// Builds the tracker for a plan.
+  virtual std::unique_ptr<Tracker> build(const FloorPlan& plan) const = 0;
+};
+
+/// Parses a tracker configuration by name ("pf": PALMS particle filter, "hist": F3Loc histogram
+/// filter): the defaults, then `overrides` (a JSON object with keys of parameters()). Throws
+/// ParameterError naming the key for bad parameters, InputError listing the known names for
+/// unknown trackers.
+std::shared_ptr<const TrackerConfig> make_tracker_config(const std::string& name,
+                                                         const nlohmann::json& overrides = nlohmann::json::object());
+
+/// make_tracker_config(name, overrides)->build(plan).
 std::unique_ptr<Tracker> make_tracker(const std::string& name, const FloorPlan& plan,
                                       const nlohmann::json& overrides = nlohmann::json::object());
 
-/// Every parameter of tracker `name` after `overrides` (defaults filled in), without building
-/// it: what scenarios check when they load. Throws like make_tracker.
-nlohmann::ordered_json resolve_tracker_parameters(const std::string& name,
-                                                  const nlohmann::json& overrides = nlohmann::json::object());
+/// Every parameter of tracker `name` with its default, key, type, range and meaning (from its
+/// field list): `floorcast params` and docs/parameters.md.
+std::vector<FieldInfo> tracker_parameter_fields(const std::string& name);
 
 /// What "converged" (TrackEstimate::stage 2) means for tracker `name` with these parameters, in
 /// words for reports: PALMS' two stages for the particle filter, the mass near the estimate for
