@@ -34,9 +34,7 @@ Json read_json(const fs::path& p) { return read_json_file(p.string()); }
 
 }  // namespace
 
-std::string configuration_hash(const OJson& resolved_full) {
-  return hex64(fnv1a64(Json(resolved_full).dump()));
-}
+std::string configuration_hash(const OJson& resolved_full) { return scenario_hash(Json(resolved_full)); }
 
 RunDirectory::RunDirectory(std::string root) : root_(std::move(root)) {}
 

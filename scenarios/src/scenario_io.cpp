@@ -338,11 +338,15 @@ std::vector<BuildingSpec> parse_buildings(const OJson& root, const Checker& chk,
         if (b.rooms_file.empty()) {
           chk.fail(path + ".rooms", "rooms file \"" + rooms + "\" not found (looked in " + base_dir + " and " + source_root + ")");
         }
+        b.rooms_given = rooms;
+        b.rooms_hash = hex64(fnv1a64(read_text_file(b.rooms_file)));
       }
     }
     if (!file.empty()) {
       b.file = find_file(file, base_dir, source_root);
       if (b.file.empty()) chk.fail(path, "plan file \"" + file + "\" not found (looked in " + base_dir + " and " + source_root + ")");
+      b.file_given = file;
+      b.file_hash = hex64(fnv1a64(read_text_file(b.file)));
       if (b.label.empty()) b.label = fs::path(b.file).stem().string();
     } else if (b.label.empty()) {
       b.label = b.archetype + "_" + std::to_string(b.seed);
@@ -703,7 +707,8 @@ const FieldList<OutputSpec>& output_fields() {
   return f;
 }
 
-/// A building as the resolved configuration records it.
+/// A building as the resolved configuration records it: the plan and rooms files as the scenario
+/// names them with the hashes of their bytes (the configuration hash covers those, never paths).
 const FieldList<BuildingSpec>& resolved_building_fields() {
   using B = BuildingSpec;
   auto from_file = [](const B& b) { return !b.file.empty(); };
@@ -712,13 +717,17 @@ const FieldList<BuildingSpec>& resolved_building_fields() {
   static const FieldList<B> f =
       FieldList<B>("building")
           .text("label", &B::label, "name in unit ids and tables")
-          .text("file", &B::file, "plan file (absolute path)")
+          .text("file", &B::file_given, "plan file as the scenario names it")
+          .optional(from_file)
+          .text("file_hash", &B::file_hash, "hash of the plan file's bytes")
           .optional(from_file)
           .text("generate", &B::archetype, "generator archetype")
           .optional(generated)
           .unsigned_integer("seed", &B::seed, "generator seed")
           .optional(generated)
-          .text("rooms", &B::rooms_file, "rooms file (absolute path)")
+          .text("rooms", &B::rooms_given, "rooms file as the scenario names it")
+          .optional(with_rooms)
+          .text("rooms_hash", &B::rooms_hash, "hash of the rooms file's bytes")
           .optional(with_rooms)
           .text("sampling_region", &B::sampling_region, "how its points are placed (resolved at load)")
           .optional([](const B&) { return true; });
@@ -932,8 +941,21 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
     }
     r["cells"].push_back(j);
   }
-  s.hash = hex64(fnv1a64(Json(r).dump()));  // canonical (sorted-key) form
+  s.hash = scenario_hash(Json(r));
   return s;
+}
+
+std::string scenario_hash(const Json& resolved) {
+  // Canonical (sorted-key) form without the files' locations: their content counts by hash.
+  Json h = resolved;
+  if (h.is_object() && h.contains("buildings") && h["buildings"].is_array()) {
+    for (Json& b : h["buildings"]) {
+      if (!b.is_object()) continue;
+      b.erase("file");
+      b.erase("rooms");
+    }
+  }
+  return hex64(fnv1a64(h.dump()));
 }
 
 Scenario scenario_from_resolved(const Json& resolved, const std::string& source) {
@@ -948,6 +970,8 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
       BuildingSpec spec;
       spec.sampling_region = "uniform";  // runs written before it was recorded
       resolved_building_fields().read_record(spec, b, source + ": buildings");
+      spec.file = spec.file_given;
+      spec.rooms_file = spec.rooms_given;
       s.buildings.push_back(spec);
     }
     const Json& sm = resolved.at("sampling");
@@ -985,7 +1009,7 @@ Scenario scenario_from_resolved(const Json& resolved, const std::string& source)
     }
     if (s.cells.empty() || s.buildings.empty()) throw InputError(source + ": resolved scenario has no cells or buildings");
     s.resolved = resolved;
-    s.hash = hex64(fnv1a64(resolved.dump()));
+    s.hash = scenario_hash(resolved);
     return s;
   } catch (const Json::exception& e) {
     throw InputError(source + ": not a resolved scenario: " + e.what());

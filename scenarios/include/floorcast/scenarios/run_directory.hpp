@@ -75,7 +75,7 @@ class RunDirectory {
 void refuse_output_inside_inputs(const std::string& output, const std::vector<std::string>& input_dirs,
                                  const std::string& what = "-o");
 
-/// Hex digest identifying a full resolved configuration.
+/// Hex digest identifying a full resolved configuration: scenario_hash (content, never paths).
 std::string configuration_hash(const nlohmann::ordered_json& resolved_full);
 
 }  // namespace floorcast

@@ -29,11 +29,18 @@ namespace floorcast {
 struct BuildingSpec {
   std::string label;      ///< short name used in unit ids and tables (default: file stem / archetype_seed)
   std::string file;       ///< absolute path of a plan file; empty for generated buildings
+  /// The plan file as the scenario names it (relative to the scenario's folder or the data
+  /// folder), and the hash of its bytes: what the resolved configuration records, so that the
+  /// configuration hash covers the plan's content, never where it lies.
+  std::string file_given;
+  std::string file_hash;
   std::string archetype;  ///< generator archetype when generated
   std::uint64_t seed = 0; ///< generator seed when generated
   /// Optional rooms file (`floorcast plan generate --rooms`) labelling the plan's rooms, for
   /// sampling.region_kinds; generated buildings carry their rooms themselves.
   std::string rooms_file;
+  std::string rooms_given;  ///< the rooms file as the scenario names it
+  std::string rooms_hash;   ///< hash of its bytes
   /// Resolved at load: how this building's observation points are placed: "transitional"
   /// (rooms of transitional kinds), "transitional_or_uniform" (the same, uniform when they cannot
   /// be sampled), "kinds" (rooms of sampling.region_kinds), "uniform" (asked
@@ -146,8 +153,13 @@ struct Scenario {
   /// plus per cell the complete parameters of every stage (perfect observer or sensor and
   /// observation module; matchers). Written next to every result.
   nlohmann::ordered_json resolved;
-  std::string hash;                     ///< hex digest of `resolved`, identifies the run
+  std::string hash;                     ///< scenario_hash(resolved): identifies the run
 };
+
+/// The hash identifying a resolved configuration: over its content only. Building plan and rooms
+/// files count by the hash of their bytes (file_hash, rooms_hash), never by their path, so the
+/// same scenario gives the same hash in another checkout, folder or installation.
+std::string scenario_hash(const nlohmann::json& resolved);
 
 /// The keys of the scenario blocks sampling, observation, scoring and output with their
 /// defaults, types, ranges and meanings (from the field lists the loader reads them with).
