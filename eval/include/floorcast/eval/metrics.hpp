@@ -107,17 +107,15 @@ inline Summary summarize(const std::vector<Record>& records, const std::vector<M
       if (m.bootstrap) draws[m.name].push_back(m.compute(sample));
     }
   }
+  // A draw is NaN where the metric is undefined on that resample (e.g. the median error of the
+  // localized observations when none is): the interval is over the draws where it is defined, and
+  // there is none when it is defined on no resample.
   for (auto& [name, v] : draws) {
-    std::sort(v.begin(), v.end());
-    auto pct = [&v](double q) {
-      const double pos = q * static_cast<double>(v.size() - 1);
-      const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
-      const std::size_t hi = std::min(lo + 1, v.size() - 1);
-      return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
-    };
+    v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return std::isnan(x); }), v.end());
+    if (v.empty()) continue;
     MetricValue& mv = out.values[name];
-    mv.ci_low = pct(0.025);
-    mv.ci_high = pct(0.975);
+    mv.ci_low = quantile(v, 0.025);
+    mv.ci_high = quantile(v, 0.975);
     mv.has_ci = true;
   }
   return out;
