@@ -140,29 +140,42 @@ void register_gate(CLI::App& root) {
 
 void register_compare_runs(CLI::App& root) {
   struct Opts {
-    std::string a, b;
+    std::string a, b, json;
     bool any_configuration = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* cmd = root.add_subcommand(
-      "compare-runs", "Check that two run directories hold the same results (timings excluded); exit 1 if not");
+      "compare-runs",
+      "Check that two run directories hold the same results (timings excluded); exit 1 if not. When they differ "
+      "(another configuration, a changed method), compare their methods on the units both hold: McNemar's exact test "
+      "and paired bootstrap intervals");
   cmd->add_option("RUN_A", o->a, "Run directory")->required();
   cmd->add_option("RUN_B", o->b, "Run directory")->required();
   cmd->add_flag("--any-configuration", o->any_configuration,
                 "Compare the units even when the configuration hashes differ (runs of one scenario by two versions "
                 "of floorcast)");
+  cmd->add_option("--json", o->json, "Also write the paired comparisons as JSON to this file");
   cmd->callback([o] {
     const RunComparison c = compare_runs(o->a, o->b, o->any_configuration);
+    // Paired comparisons of the two runs' methods on their shared units (printed when they differ).
+    auto paired = [&] {
+      std::cout << "\nA = " << o->a << ", B = " << o->b << "\n\n"
+                << cross_run_comparisons_md(c.paired, RunDirectory(o->a).stored_scenario());
+      if (c.paired.empty()) std::cout << "no units in common (same unit id and true pose): nothing to compare pairwise\n";
+      if (!o->json.empty()) write_json(o->json, cross_run_comparisons_json(c.paired, o->a, o->b));
+    };
     if (!c.same_configuration && o->any_configuration) {
       std::cout << "configurations differ (" << c.hash_a << " vs " << c.hash_b << "); comparing the units by id\n";
     }
     if (!c.same_configuration && !o->any_configuration) {
       std::cout << "different configurations: " << c.hash_a << " vs " << c.hash_b << "\n";
+      paired();
       throw CommandExit{kExitCheckFailed};
     }
     for (const std::string& line : c.differences) std::cout << line << "\n";
     if (!c.differences.empty()) {
       std::cout << c.differences.size() << " of " << c.units << " units differ\n";
+      paired();
       throw CommandExit{kExitCheckFailed};
     }
     std::cout << "identical: " << c.identical << " units (timings excluded)\n";

@@ -19,7 +19,9 @@ double quantile(std::vector<double> values, double q) {
   const double pos = q * static_cast<double>(values.size() - 1);
   const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
   const std::size_t hi = std::min(lo + 1, values.size() - 1);
-  return values[lo] + (pos - static_cast<double>(lo)) * (values[hi] - values[lo]);
+  const double f = pos - static_cast<double>(lo);
+  if (f == 0.0 || values[lo] == values[hi]) return values[lo];  // infinite ends stay infinite (never inf - inf)
+  return values[lo] + f * (values[hi] - values[lo]);
 }
 
 }  // namespace floorcast

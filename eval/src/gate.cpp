@@ -52,7 +52,7 @@ GateOutcome evaluate_gate(const Json& summary, const Json& baseline, const std::
   if (!baseline.is_object()) throw InputError(baseline_source + ": baseline must be a JSON object");
   for (auto it = baseline.begin(); it != baseline.end(); ++it) {
     if (it.key() != "description" && it.key() != "checks" && it.key() != "timing_ratios" && it.key() != "scenario" &&
-        it.key() != "scenario_hash")
+        it.key() != "scenario_hash" && it.key() != "paired_checks")
       throw InputError(baseline_source + ": unknown key \"" + it.key() + "\"");
   }
   // Floors hold for the configuration they were measured with: refuse any other.
@@ -110,6 +110,100 @@ GateOutcome evaluate_gate(const Json& summary, const Json& baseline, const std::
       }
     }
     if (ok) out.passes.push_back("ok: " + ptr + " = " + format_general(v, 4));
+  }
+
+  const Json paired = baseline.value("paired_checks", Json::array());
+  if (!paired.is_array()) throw InputError(baseline_source + ": \"paired_checks\" must be a list");
+  for (std::size_t i = 0; i < paired.size(); ++i) {
+    const Json& c = paired[i];
+    const std::string where = baseline_source + ": paired_checks[" + std::to_string(i) + "]";
+    if (!c.is_object()) throw InputError(where + ": must be an object");
+    for (const char* key : {"a", "not_worse_than", "at", "metric"})
+      if (!c.contains(key) || !c[key].is_string()) throw InputError(where + ": needs a \"" + std::string(key) + "\" string");
+    for (auto it = c.begin(); it != c.end(); ++it)
+      if (it.key() != "a" && it.key() != "not_worse_than" && it.key() != "at" && it.key() != "metric" && it.key() != "alpha" &&
+          it.key() != "margin" && it.key() != "note")
+        throw InputError(where + ": unknown key \"" + it.key() + "\"");
+    if (c.contains("alpha") && !(c["alpha"].is_number() && c["alpha"].get<double>() > 0.0 && c["alpha"].get<double>() < 1.0))
+      throw InputError(where + ": \"alpha\" must be a number in (0, 1)");
+    if (c.contains("margin") && !(c["margin"].is_number() && c["margin"].get<double>() >= 0.0))
+      throw InputError(where + ": \"margin\" must be a number >= 0");
+    const std::string a = c["a"], b = c["not_worse_than"], at = c["at"], metric = c["metric"];
+    const double alpha = c.value("alpha", 0.05);
+    const std::string name = a + " not worse than " + b + " on " + metric + " (" + at + ")";
+    // The pair is stored once, in either order; orient it as A - B.
+    std::string entry_ptr;
+    double sign = 1.0;
+    for (const auto& [key, s] : {std::pair<std::string, double>{a + " vs " + b, 1.0}, {b + " vs " + a, -1.0}}) {
+      try {
+        const Json::json_pointer p(at + "/" + key + "/" + metric);
+        if (summary.contains(p)) {
+          entry_ptr = p.to_string();
+          sign = s;
+          break;
+        }
+      } catch (const Json::exception&) {
+        throw InputError(where + ": bad JSON pointer \"" + at + "\"");
+      }
+    }
+    if (entry_ptr.empty()) {
+      fail("paired check " + name + ": no \"" + a + " vs " + b + "\" comparison with " + metric + " in the summary");
+      continue;
+    }
+    const Json& e = summary.at(Json::json_pointer(entry_ptr));
+    const Json& ci = e.contains("ci95") ? e["ci95"] : Json();
+    const bool has_ci = ci.is_array() && ci.size() == 2 && ci[0].is_number() && ci[1].is_number();
+    // Oriented interval of A - B.
+    const double lo = has_ci ? (sign > 0 ? ci[0].get<double>() : -ci[1].get<double>()) : 0.0;
+    const double hi = has_ci ? (sign > 0 ? ci[1].get<double>() : -ci[0].get<double>()) : 0.0;
+    const std::string interval = has_ci ? "[" + format_general(lo, 4) + ", " + format_general(hi, 4) + "]" : "(none)";
+    if (e.contains("p_value")) {
+      if (!e["p_value"].is_number() || !e["only_a"].is_number() || !e["only_b"].is_number()) {
+        fail("paired check " + name + ": malformed McNemar entry " + entry_ptr);
+        continue;
+      }
+      const double p = e["p_value"].get<double>();
+      const int wins_a = sign > 0 ? e["only_a"].get<int>() : e["only_b"].get<int>();
+      const int wins_b = sign > 0 ? e["only_b"].get<int>() : e["only_a"].get<int>();
+      if (wins_b > wins_a && p < alpha) {
+        fail("paired regression: " + b + " beats " + a + " on " + metric + " (" + std::to_string(wins_b) + " vs " +
+             std::to_string(wins_a) + " discordant units, McNemar p = " + format_general(p, 3) + " < " + format_general(alpha, 3) + ")");
+        continue;
+      }
+      if (c.contains("margin")) {
+        const double margin = c["margin"].get<double>();
+        if (!has_ci || lo < -margin) {
+          fail("paired check " + name + ": the paired 95% interval of the difference " + interval + " does not exclude " + a +
+               " being worse by more than the margin " + format_general(margin, 4));
+          continue;
+        }
+      }
+      out.passes.push_back("ok: " + name + ": " + std::to_string(wins_a) + " vs " + std::to_string(wins_b) +
+                           " discordant units, McNemar p = " + format_general(p, 3) + ", difference interval " + interval);
+    } else if (e.contains("lower_is_better") && e["lower_is_better"].is_boolean()) {
+      const bool lower = e["lower_is_better"].get<bool>();
+      if (c.contains("alpha"))
+        throw InputError(where + ": \"alpha\" applies to recall criteria (McNemar's test); " + metric +
+                         " is judged by its paired 95% interval");
+      if (!has_ci) {
+        fail("paired check " + name + ": no paired interval in the summary (undefined difference)");
+        continue;
+      }
+      // "Worse" for an error: A - B > 0.
+      const double worse_lo = lower ? lo : -hi, worse_hi = lower ? hi : -lo;
+      if (worse_lo > 0.0) {
+        fail("paired regression: " + a + " is worse than " + b + " on " + metric + ": the paired 95% interval of A - B is " + interval);
+        continue;
+      }
+      if (c.contains("margin") && worse_hi > c["margin"].get<double>()) {
+        fail("paired check " + name + ": the paired 95% interval " + interval + " does not exclude " + a +
+             " being worse by more than the margin " + format_general(c["margin"].get<double>(), 4));
+        continue;
+      }
+      out.passes.push_back("ok: " + name + ": paired 95% interval of A - B " + interval);
+    } else {
+      fail("paired check " + name + ": " + entry_ptr + " is neither a criterion with a McNemar test nor a metric");
+    }
   }
 
   const Json ratios = baseline.value("timing_ratios", Json::array());

@@ -41,29 +41,30 @@ double mean_of(const std::vector<double>& v) {
 
 }  // namespace
 
-std::vector<Metric<SingleShotRecord>> single_shot_metrics(const ScoringParams& params) {
-  std::vector<Metric<SingleShotRecord>> m;
-  for (double t : params.recall_thresholds_m) {
-    m.push_back({"recall_" + threshold_name(t),
-                 [t](const Sample& s) { return fraction(s, [t](const SingleShotRecord& r) { return r.position_error_m <= t; }); }});
-  }
+std::vector<SuccessCriterion<SingleShotRecord>> single_shot_success_criteria(const ScoringParams& params) {
+  std::vector<SuccessCriterion<SingleShotRecord>> c;
+  for (double t : params.recall_thresholds_m)
+    c.push_back({"recall_" + threshold_name(t), [t](const SingleShotRecord& r) { return r.position_error_m <= t; }});
   const double cm = params.combined_threshold_m, cd = params.combined_threshold_deg;
   std::ostringstream deg;
   deg << std::setprecision(6) << cd;
-  m.push_back({"recall_" + threshold_name(cm) + "_" + deg.str() + "deg", [cm, cd](const Sample& s) {
-                 return fraction(s, [cm, cd](const SingleShotRecord& r) {
-                   return r.position_error_m <= cm && r.yaw_error_deg <= cd;
-                 });
-               }});
+  c.push_back({"recall_" + threshold_name(cm) + "_" + deg.str() + "deg",
+               [cm, cd](const SingleShotRecord& r) { return r.position_error_m <= cm && r.yaw_error_deg <= cd; }});
   const int k = params.top_k;
-  m.push_back({"top" + std::to_string(k) + "_recall_" + threshold_name(cm), [k, cm](const Sample& s) {
-                 return fraction(s, [k, cm](const SingleShotRecord& r) {
-                   const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(k), r.top_k_position_error_m.size());
-                   for (std::size_t i = 0; i < n; ++i)
-                     if (r.top_k_position_error_m[i] <= cm) return true;
-                   return n == 0 && r.position_error_m <= cm;
-                 });
+  c.push_back({"top" + std::to_string(k) + "_recall_" + threshold_name(cm), [k, cm](const SingleShotRecord& r) {
+                 const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(k), r.top_k_position_error_m.size());
+                 for (std::size_t i = 0; i < n; ++i)
+                   if (r.top_k_position_error_m[i] <= cm) return true;
+                 return n == 0 && r.position_error_m <= cm;
                }});
+  return c;
+}
+
+std::vector<Metric<SingleShotRecord>> single_shot_metrics(const ScoringParams& params) {
+  std::vector<Metric<SingleShotRecord>> m;
+  for (const SuccessCriterion<SingleShotRecord>& c : single_shot_success_criteria(params)) {
+    m.push_back({c.name, [pred = c.success](const Sample& s) { return fraction(s, pred); }});
+  }
   m.push_back({"median_position_error_m", [](const Sample& s) {
                  return median(collect(s, [](const SingleShotRecord& r) { return r.position_error_m; }));
                }});

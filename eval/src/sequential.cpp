@@ -58,6 +58,15 @@ SequentialOutcome score_track(const SequentialRecord& r, const SequentialScoring
   return o;
 }
 
+std::vector<SuccessCriterion<SequentialRecord>> sequential_success_criteria(const SequentialScoring& sc) {
+  std::vector<SuccessCriterion<SequentialRecord>> c;
+  for (std::size_t k = 0; k < sc.success_thresholds_m.size(); ++k)
+    c.push_back({"success_" + threshold_name(sc.success_thresholds_m[k]),
+                 [sc, k](const SequentialRecord& r) -> bool { return score_track(r, sc).success[k]; }});
+  c.push_back({"converged", [sc](const SequentialRecord& r) { return score_track(r, sc).converged; }});
+  return c;
+}
+
 std::vector<Metric<SequentialRecord>> sequential_metrics(const SequentialScoring& sc) {
   using Sample = std::vector<const SequentialRecord*>;
   auto outcomes = [sc](const Sample& s) {
@@ -66,15 +75,17 @@ std::vector<Metric<SequentialRecord>> sequential_metrics(const SequentialScoring
     for (const SequentialRecord* r : s) out.push_back(score_track(*r, sc));
     return out;
   };
+  auto share = [](const std::function<bool(const SequentialRecord&)>& pred) {
+    return [pred](const Sample& s) {
+      if (s.empty()) return 0.0;
+      double hits = 0.0;
+      for (const SequentialRecord* r : s) hits += pred(*r) ? 1.0 : 0.0;
+      return hits / static_cast<double>(s.size());
+    };
+  };
+  const std::vector<SuccessCriterion<SequentialRecord>> criteria = sequential_success_criteria(sc);
   std::vector<Metric<SequentialRecord>> m;
-  for (std::size_t k = 0; k < sc.success_thresholds_m.size(); ++k) {
-    m.push_back({"success_" + threshold_name(sc.success_thresholds_m[k]), [outcomes, k](const Sample& s) {
-                   if (s.empty()) return 0.0;
-                   double hits = 0.0;
-                   for (const auto& o : outcomes(s)) hits += o.success[k] ? 1.0 : 0.0;
-                   return hits / static_cast<double>(s.size());
-                 }});
-  }
+  for (std::size_t k = 0; k + 1 < criteria.size(); ++k) m.push_back({criteria[k].name, share(criteria[k].success)});
   auto median_of = [outcomes](double SequentialOutcome::*field) {
     return [outcomes, field](const Sample& s) {
       std::vector<double> v;
@@ -85,12 +96,7 @@ std::vector<Metric<SequentialRecord>> sequential_metrics(const SequentialScoring
   m.push_back({"median_rmse_m", median_of(&SequentialOutcome::rmse_m)});
   m.push_back({"median_rmse_last_m", median_of(&SequentialOutcome::rmse_last_m)});
   m.push_back({"median_end_error_m", median_of(&SequentialOutcome::end_error_m)});
-  m.push_back({"converged", [outcomes](const Sample& s) {
-                 if (s.empty()) return 0.0;
-                 double c = 0.0;
-                 for (const auto& o : outcomes(s)) c += o.converged ? 1.0 : 0.0;
-                 return c / static_cast<double>(s.size());
-               }});
+  m.push_back({criteria.back().name, share(criteria.back().success)});
   m.push_back({"median_convergence_time_s", median_of(&SequentialOutcome::convergence_time_s)});
   m.push_back({"median_convergence_distance_m", median_of(&SequentialOutcome::convergence_distance_m)});
   m.push_back({"median_stage1_time_s", median_of(&SequentialOutcome::stage1_time_s)});

@@ -178,7 +178,14 @@ RunComparison compare_runs(const std::string& run_a, const std::string& run_b, b
   c.hash_a = a.read_run_info().value("configuration_hash", std::string());
   c.hash_b = b.read_run_info().value("configuration_hash", std::string());
   c.same_configuration = c.hash_a == c.hash_b;
-  if (!c.same_configuration && !any_configuration) return c;
+  auto paired = [&] {
+    const Scenario sa = a.stored_scenario(), sb = b.stored_scenario();
+    return compare_runs_paired(sa, a.read_units(sa), "A", sb, b.read_units(sb), "B");
+  };
+  if (!c.same_configuration && !any_configuration) {
+    c.paired = paired();
+    return c;
+  }
   const Scenario s = a.stored_scenario();
   std::map<std::string, std::string> units_a, units_b;
   for (const UnitResult& u : a.read_units(s)) units_a[u.unit.id] = strip_timings(unit_to_json(u)).dump();
@@ -195,6 +202,7 @@ RunComparison compare_runs(const std::string& run_a, const std::string& run_b, b
       ++c.identical;
     }
   }
+  if (!c.identical_results()) c.paired = paired();
   return c;
 }
 

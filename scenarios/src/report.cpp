@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "floorcast/core/format.hpp"
+#include "floorcast/eval/paired.hpp"
 #include "floorcast/eval/plot.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/track/tracker.hpp"
@@ -65,7 +66,72 @@ OJson summary_json(const Summary& s) {
   return j;
 }
 
+OJson interval_json(const PairedDifference& d) {
+  return d.has_ci ? OJson::array({finite_or_null(d.ci_low), finite_or_null(d.ci_high)}) : OJson(nullptr);
+}
+
 }  // namespace
+
+OJson paired_comparison_json(const PairedComparison& c) {
+  OJson j;
+  j["a"] = c.a;
+  j["b"] = c.b;
+  j["count"] = c.count;
+  for (const PairedCriterion& x : c.criteria) {
+    OJson e;
+    e["both"] = x.test.both;
+    e["only_a"] = x.test.only_a;
+    e["only_b"] = x.test.only_b;
+    e["neither"] = x.test.neither;
+    e["p_value"] = x.test.p_value;
+    e["difference"] = finite_or_null(x.difference.value);
+    e["ci95"] = interval_json(x.difference);
+    j[x.name] = e;
+  }
+  for (const PairedMetric& x : c.metrics) {
+    OJson e;
+    e["difference"] = finite_or_null(x.difference.value);
+    e["ci95"] = interval_json(x.difference);
+    e["lower_is_better"] = !x.higher_is_better;
+    j[x.name] = e;
+  }
+  return j;
+}
+
+std::string paired_comparisons_md(const std::vector<PairedComparison>& pairs, const std::string& criterion,
+                                  const std::string& criterion_title, const std::string& metric,
+                                  const std::string& metric_title, const std::string& units_word) {
+  if (pairs.empty()) return "";
+  std::ostringstream md;
+  md << "Paired comparisons on the same " << pairs.front().count << " " << units_word << " (A - B; McNemar's exact test on "
+     << criterion_title << ", paired bootstrap 95% intervals):\n\n"
+     << "| A vs B | " << criterion_title << " A / B | only A | only B | McNemar p | difference (percentage points) | "
+     << metric_title << " difference | verdict at 5% |\n|---|---|---|---|---|---|---|---|\n";
+  for (const PairedComparison& c : pairs) {
+    const PairedCriterion* x = nullptr;
+    for (const PairedCriterion& k : c.criteria)
+      if (k.name == criterion) x = &k;
+    const PairedMetric* m = nullptr;
+    for (const PairedMetric& k : c.metrics)
+      if (k.name == metric) m = &k;
+    if (!x) continue;
+    auto interval = [](const PairedDifference& d, double scale, int decimals) {
+      if (!std::isfinite(d.value)) return std::string("n/a");
+      std::string t = (d.value * scale >= 0 ? "+" : "") + format_fixed(d.value * scale, decimals);
+      if (d.has_ci && std::isfinite(d.ci_low) && std::isfinite(d.ci_high))
+        t += " [" + format_fixed(d.ci_low * scale, decimals) + ", " + format_fixed(d.ci_high * scale, decimals) + "]";
+      return t;
+    };
+    const int n = std::max(c.count, 1);
+    std::string verdict = "no significant difference";
+    if (x->test.p_value < 0.05) verdict = (x->test.only_a > x->test.only_b ? c.a : c.b) + " better";
+    md << "| " << c.a << " vs " << c.b << " | " << format_fixed(100.0 * (x->test.both + x->test.only_a) / n, 1) << " / "
+       << format_fixed(100.0 * (x->test.both + x->test.only_b) / n, 1) << " | " << x->test.only_a << " | " << x->test.only_b
+       << " | " << format_general(x->test.p_value, 3) << " | " << interval(x->difference, 100.0, 1) << " | "
+       << (m ? interval(m->difference, 1.0, 2) : std::string("n/a")) << " | " << verdict << " |\n";
+  }
+  return md.str() + "\n";
+}
 
 std::vector<SingleShotRecord> records_for(const std::vector<const UnitResult*>& units, const std::string& label) {
   std::vector<SingleShotRecord> out;
@@ -176,6 +242,8 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
     std::map<std::string, std::map<std::string, Summary>> summaries;  // group -> label -> summary
     std::vector<std::string> group_names = {"all"};
     for (const BuildingSpec& b : scenario.buildings) group_names.push_back(b.label);
+    OJson paired = OJson::object();
+    std::vector<PairedComparison> pairs_all;
     for (const std::string& g : group_names) {
       std::vector<const UnitResult*> members;
       for (const UnitResult* u : cell_units)
@@ -198,8 +266,20 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
         }
       }
       groups[g] = gj;
+      // Every pair of methods on this group's units.
+      OJson pj = OJson::object();
+      for (std::size_t i = 0; i < labels.size(); ++i) {
+        for (std::size_t k = i + 1; k < labels.size(); ++k) {
+          PairedComparison c = compare_single_shot(labels[i], records_for(members, labels[i]), labels[k],
+                                                   records_for(members, labels[k]), sp);
+          pj[labels[i] + " vs " + labels[k]] = paired_comparison_json(c);
+          if (g == "all") pairs_all.push_back(std::move(c));
+        }
+      }
+      paired[g] = pj;
     }
     cj["groups"] = groups;
+    if (labels.size() > 1) cj["paired"] = paired;
     // Mean stage timings over the cell.
     std::map<std::string, double> stage_sum;
     for (const UnitResult* u : cell_units)
@@ -268,6 +348,12 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
         md << "\n";
       }
     }
+    if (!pairs_all.empty()) {
+      std::ostringstream deg;
+      deg << std::setprecision(6) << sp.combined_threshold_deg;
+      md << "\n" << paired_comparisons_md(pairs_all, combined, "@" + threshold_name(sp.combined_threshold_m) + " " + deg.str() + "°",
+                                          "median_position_error_m", "median error (m)", "points");
+    }
     if (failed_obs > 0) md << "\n" << failed_obs << " observation(s) failed and count as misses.\n";
     bool any_no_pose = false;
     for (const auto& [label, n] : no_pose) any_no_pose = any_no_pose || n > 0;
@@ -285,6 +371,9 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
       sq.bootstrap_seed = sp.bootstrap_seed;
       OJson seq;
       std::map<std::string, std::map<std::string, Summary>> by_group;  // group -> tracker -> summary
+      std::map<std::string, std::map<std::string, std::vector<SequentialRecord>>> recs_by_group;
+      OJson seq_paired = OJson::object();
+      std::vector<PairedComparison> seq_pairs_all;
       for (const std::string& g : group_names) {
         OJson gj;
         for (const TrackerSpec& t : cell.sequential->trackers) {
@@ -296,11 +385,24 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
           }
           by_group[g][t.label] = summarize_sequential(recs, sq);
           gj[t.label] = summary_json(by_group[g][t.label]);
+          recs_by_group[g][t.label] = recs;
           if (g == "all") seq_records[cell.id][t.label] = recs;
         }
         seq[g] = gj;
+        OJson pj = OJson::object();
+        const auto& ts = cell.sequential->trackers;
+        for (std::size_t i = 0; i < ts.size(); ++i) {
+          for (std::size_t k = i + 1; k < ts.size(); ++k) {
+            PairedComparison c = compare_sequential(ts[i].label, recs_by_group[g][ts[i].label], ts[k].label,
+                                                    recs_by_group[g][ts[k].label], sq);
+            pj[ts[i].label + " vs " + ts[k].label] = paired_comparison_json(c);
+            if (g == "all") seq_pairs_all.push_back(std::move(c));
+          }
+        }
+        seq_paired[g] = pj;
       }
       sum["cells"].back()["sequential"] = seq;
+      if (cell.sequential->trackers.size() > 1) sum["cells"].back()["sequential_paired"] = seq_paired;
       const std::string s1 = "success_" + threshold_name(sq.success_thresholds_m.at(0));
       md << "Tracking " << cell_units.size() << " walks (scan, then walk; PALMS Table I metrics, medians over walks):\n\n"
          << "| tracker | matcher | success " << threshold_name(sq.success_thresholds_m.at(0)) << " | success "
@@ -336,6 +438,9 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
           md << "\n";
         }
       }
+      if (!seq_pairs_all.empty())
+        md << "\n" << paired_comparisons_md(seq_pairs_all, s1, "success " + threshold_name(sq.success_thresholds_m.at(0)),
+                                            "median_rmse_m", "median RMSE (m)", "walks");
       md << "\n";
     }
 
@@ -469,6 +574,108 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
     rep.plots.emplace_back(file, draw_line_plot(p));
   }
   return rep;
+}
+
+std::vector<CrossRunComparison> compare_runs_paired(const Scenario& scenario_a, const std::vector<UnitResult>& units_a,
+                                                    const std::string& name_a, const Scenario& scenario_b,
+                                                    const std::vector<UnitResult>& units_b, const std::string& name_b) {
+  std::map<std::string, const UnitResult*> by_id_b;
+  for (const UnitResult& u : units_b) by_id_b[u.unit.id] = &u;
+  auto cell_id = [](const Scenario& s, const UnitResult& u) { return s.cells.at(static_cast<std::size_t>(u.unit.cell)).id; };
+  // Shared units per cell id, in run A's order.
+  std::map<std::string, std::vector<std::pair<const UnitResult*, const UnitResult*>>> shared;
+  std::vector<std::string> cell_order;
+  for (const UnitResult& a : units_a) {
+    auto it = by_id_b.find(a.unit.id);
+    if (it == by_id_b.end()) continue;
+    const UnitResult& b = *it->second;
+    if (cell_id(scenario_a, a) != cell_id(scenario_b, b)) continue;
+    if (std::abs(a.truth.x_m - b.truth.x_m) > 1e-9 || std::abs(a.truth.y_m - b.truth.y_m) > 1e-9 ||
+        std::abs(a.truth.yaw_rad - b.truth.yaw_rad) > 1e-9)
+      continue;  // another point under the same id: not the same unit
+    const std::string c = cell_id(scenario_a, a);
+    if (!shared.count(c)) cell_order.push_back(c);
+    shared[c].push_back({&a, &b});
+  }
+  std::vector<CrossRunComparison> out;
+  const ScoringParams& sp = scenario_a.scoring;
+  SequentialScoring sq = scenario_a.sequential_scoring;
+  sq.bootstrap_resamples = sp.bootstrap_resamples;
+  sq.bootstrap_seed = sp.bootstrap_seed;
+  for (const std::string& c : cell_order) {
+    const auto& pairs = shared[c];
+    std::vector<const UnitResult*> ua, ub;
+    for (const auto& [a, b] : pairs) {
+      ua.push_back(a);
+      ub.push_back(b);
+    }
+    auto labels_of = [](const UnitResult& u) {
+      std::vector<std::string> l;
+      for (const MatcherOutcome& o : u.outcomes) l.push_back(o.label);
+      return l;
+    };
+    auto trackers_of = [](const UnitResult& u) {
+      std::vector<std::string> l;
+      for (const TrackOutcome& o : u.tracks) l.push_back(o.label);
+      return l;
+    };
+    auto track_records = [](const std::vector<const UnitResult*>& units, const std::string& label) {
+      std::vector<SequentialRecord> r;
+      for (const UnitResult* u : units) {
+        SequentialRecord rec;
+        rec.failed = true;
+        for (const TrackOutcome& o : u->tracks)
+          if (o.label == label) rec = o.record;
+        r.push_back(std::move(rec));
+      }
+      return r;
+    };
+    CrossRunComparison cmp;
+    cmp.cell = c;
+    cmp.shared_units = static_cast<int>(pairs.size());
+    for (const std::string& la : labels_of(*ua.front()))
+      for (const std::string& lb : labels_of(*ub.front()))
+        cmp.matchers.push_back(compare_single_shot(name_a + ":" + la, records_for(ua, la), name_b + ":" + lb, records_for(ub, lb), sp));
+    for (const std::string& la : trackers_of(*ua.front()))
+      for (const std::string& lb : trackers_of(*ub.front()))
+        cmp.trackers.push_back(compare_sequential(name_a + ":" + la, track_records(ua, la), name_b + ":" + lb, track_records(ub, lb), sq));
+    out.push_back(std::move(cmp));
+  }
+  return out;
+}
+
+nlohmann::ordered_json cross_run_comparisons_json(const std::vector<CrossRunComparison>& comparisons,
+                                                  const std::string& run_a, const std::string& run_b) {
+  using OJ = nlohmann::ordered_json;
+  OJ cells = OJ::array();
+  for (const CrossRunComparison& x : comparisons) {
+    OJ cj;
+    cj["cell"] = x.cell;
+    cj["shared_units"] = x.shared_units;
+    cj["matchers"] = OJ::object();
+    for (const PairedComparison& p : x.matchers) cj["matchers"][p.a + " vs " + p.b] = paired_comparison_json(p);
+    cj["trackers"] = OJ::object();
+    for (const PairedComparison& p : x.trackers) cj["trackers"][p.a + " vs " + p.b] = paired_comparison_json(p);
+    cells.push_back(cj);
+  }
+  return OJ{{"a", run_a}, {"b", run_b}, {"cells", cells}};
+}
+
+std::string cross_run_comparisons_md(const std::vector<CrossRunComparison>& comparisons, const Scenario& scenario_a) {
+  const ScoringParams& sp = scenario_a.scoring;
+  std::ostringstream deg;
+  deg << std::setprecision(6) << sp.combined_threshold_deg;
+  const std::string combined = "recall_" + threshold_name(sp.combined_threshold_m) + "_" + deg.str() + "deg";
+  const std::string s1 = "success_" + threshold_name(scenario_a.sequential_scoring.success_thresholds_m.at(0));
+  std::ostringstream md;
+  for (const CrossRunComparison& c : comparisons) {
+    md << "## Cell " << c.cell << " (" << c.shared_units << " shared units)\n\n";
+    md << paired_comparisons_md(c.matchers, combined, "@" + threshold_name(sp.combined_threshold_m) + " " + deg.str() + "°",
+                                "median_position_error_m", "median error (m)", "points");
+    md << paired_comparisons_md(c.trackers, s1, "success " + threshold_name(scenario_a.sequential_scoring.success_thresholds_m.at(0)),
+                                "median_rmse_m", "median RMSE (m)", "walks");
+  }
+  return md.str();
 }
 
 }  // namespace floorcast

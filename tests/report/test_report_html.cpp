@@ -91,7 +91,7 @@ TEST_F(ReportHtml, RenderedByChromium) {
                             " --user-data-dir=" + quote((work_ / "profile").string());
   const std::string url = "file://" + fs::absolute(work_ / "report.html").string();
   const fs::path shot = work_ / "screenshot.png", dom_file = work_ / "dom.html";
-  ASSERT_EQ(run("timeout 120 " + quote(b) + flags + " --window-size=1280,2400 --screenshot=" + quote(shot.string()) + " " +
+  ASSERT_EQ(run("timeout 120 " + quote(b) + flags + " --window-size=1280,3600 --screenshot=" + quote(shot.string()) + " " +
                 quote(url) + " > /dev/null 2>&1"),
             0);
   ASSERT_EQ(run("timeout 120 " + quote(b) + flags + " --dump-dom " + quote(url) + " > " + quote(dom_file.string()) + " 2>/dev/null"), 0);

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <set>
 #include <sstream>
 
@@ -91,12 +92,56 @@ void expect_baseline_matches(const std::string& scenario, const std::string& bas
     bad[nlohmann::json::json_pointer(r["numerator"].get<std::string>())] = 10.0 * base;
     bad[nlohmann::json::json_pointer(r["denominator"].get<std::string>())] = 1.0;
   }
+  // Paired checks name two methods of the cell, at the cell's paired comparisons of a group; the
+  // good summary has A ahead, the bad one B significantly ahead (or A's error significantly larger).
+  const nlohmann::json paired = baseline.value("paired_checks", nlohmann::json::array());
+  for (const auto& c : paired) {
+    const std::string at = c["at"].get<std::string>();
+    const auto parts = split_pointer(at);
+    ASSERT_EQ(parts.size(), 4u) << at;
+    const std::size_t cell = std::stoul(parts[1]);
+    ASSERT_LT(cell, s.cells.size()) << at;
+    EXPECT_TRUE(parts[2] == "paired" || parts[2] == "sequential_paired") << at;
+    EXPECT_TRUE(groups.count(parts[3])) << at;
+    std::vector<std::string> labels;
+    if (parts[2] == "paired") {
+      for (const MatcherSpec& m : s.cells[cell].matchers) labels.push_back(m.label);
+    } else {
+      ASSERT_TRUE(s.cells[cell].sequential.has_value()) << at;
+      for (const TrackerSpec& t : s.cells[cell].sequential->trackers) labels.push_back(t.label);
+    }
+    const std::string a = c["a"], b = c["not_worse_than"], metric = c["metric"];
+    const auto ia = std::find(labels.begin(), labels.end(), a), ib = std::find(labels.begin(), labels.end(), b);
+    ASSERT_TRUE(ia != labels.end() && ib != labels.end()) << a << ", " << b;
+    // The report stores each pair once, in label order.
+    const bool a_first = ia < ib;
+    const std::string key = a_first ? a + " vs " + b : b + " vs " + a;
+    const double s_ = a_first ? 1.0 : -1.0;  // sign of A - B in the stored orientation
+    auto entry = [&](bool a_ahead) {
+      nlohmann::json e;
+      if (metric.rfind("median_", 0) == 0) {
+        e["lower_is_better"] = true;
+        e["difference"] = (a_ahead ? -0.5 : 0.5) * s_;
+        e["ci95"] = a_ahead == a_first ? nlohmann::json::array({-0.8, -0.2}) : nlohmann::json::array({0.2, 0.8});
+      } else {
+        const int ahead = 10, behind = 0;
+        const bool first_ahead = a_ahead == a_first;
+        e["only_a"] = first_ahead ? ahead : behind;
+        e["only_b"] = first_ahead ? behind : ahead;
+        e["p_value"] = 0.002;
+        e["ci95"] = first_ahead ? nlohmann::json::array({0.05, 0.2}) : nlohmann::json::array({-0.2, -0.05});
+      }
+      return e;
+    };
+    good[nlohmann::json::json_pointer(at + "/" + key + "/" + metric)] = entry(true);
+    bad[nlohmann::json::json_pointer(at + "/" + key + "/" + metric)] = entry(false);
+  }
   const GateOutcome pass = evaluate_gate(good, baseline, "gate.json");
   EXPECT_TRUE(pass.passed);
-  EXPECT_TRUE(pass.failures.empty());
+  EXPECT_TRUE(pass.failures.empty()) << (pass.failures.empty() ? "" : pass.failures.front());
   const GateOutcome fail = evaluate_gate(bad, baseline, "gate.json");
   EXPECT_FALSE(fail.passed);
-  EXPECT_EQ(fail.failures.size(), baseline["checks"].size() + baseline["timing_ratios"].size());
+  EXPECT_EQ(fail.failures.size(), baseline["checks"].size() + baseline["timing_ratios"].size() + paired.size());
 }
 
 TEST(BuiltinScenarios, GateBaselinesReferToWhatTheGateScenariosProduce) {

@@ -77,6 +77,45 @@ TEST(Report, SummaryTablesAndCsvFromUnits) {
   EXPECT_EQ(rep.plots[2].first, "accuracy_vs_observation.rays.png");
 }
 
+TEST(Report, PairedComparisonsOfEveryPairOnTheSameUnits) {
+  const Scenario s = small_scenario();
+  const auto units = fake_units(s);
+  const Report rep = build_report(s, units, {});
+  // Per cell of 4 points: kernel within 1 m on points 0-2, ray on none (3 discordant units, all
+  // kernel's: McNemar p = 2 / 2^3); medians 0.2 m vs 5 m.
+  const auto& p = rep.summary["cells"][0]["paired"]["all"]["kernel vs ray"];
+  EXPECT_EQ(p["a"], "kernel");
+  EXPECT_EQ(p["count"], 4);
+  EXPECT_EQ(p["recall_1m_30deg"]["only_a"], 3);
+  EXPECT_EQ(p["recall_1m_30deg"]["only_b"], 0);
+  EXPECT_EQ(p["recall_1m_30deg"]["both"], 0);
+  EXPECT_DOUBLE_EQ(p["recall_1m_30deg"]["p_value"].get<double>(), 0.25);
+  EXPECT_DOUBLE_EQ(p["recall_1m_30deg"]["difference"].get<double>(), 0.75);
+  EXPECT_EQ(p["recall_1m_30deg"]["ci95"].size(), 2u);
+  EXPECT_DOUBLE_EQ(p["median_position_error_m"]["difference"].get<double>(), 0.2 - 5.0);
+  EXPECT_TRUE(p["median_position_error_m"]["lower_is_better"].get<bool>());
+  EXPECT_TRUE(rep.summary["cells"][1]["paired"].contains("two_rooms"));  // per building too
+  EXPECT_NE(rep.summary_md.find("| kernel vs ray | 75.0 / 0.0 | 3 | 0 | 0.25 | +75.0 ["), std::string::npos) << rep.summary_md;
+  EXPECT_NE(rep.summary_md.find("no significant difference |"), std::string::npos);
+
+  // Two runs compared on their shared units: B's ray is kernel's results under another name.
+  std::vector<UnitResult> b = units;
+  for (UnitResult& u : b) {
+    u.outcomes[1] = u.outcomes[0];
+    u.outcomes[1].label = "ray";
+  }
+  b.pop_back();  // B lacks one unit: 7 shared
+  b[2].truth.x_m += 1.0;  // another point under the same id: not shared
+  const std::vector<CrossRunComparison> c = compare_runs_paired(s, units, "A", s, b, "B");
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c[0].shared_units + c[1].shared_units, 6);
+  ASSERT_EQ(c[0].matchers.size(), 4u);  // A:kernel, A:ray x B:kernel, B:ray
+  EXPECT_EQ(c[0].matchers[0].a, "A:kernel");
+  EXPECT_EQ(c[0].matchers[1].b, "B:ray");
+  for (const PairedCriterion& x : c[0].matchers[1].criteria) EXPECT_DOUBLE_EQ(x.test.p_value, 1.0);  // identical
+  EXPECT_NE(cross_run_comparisons_md(c, s).find("| A:ray vs B:ray |"), std::string::npos);
+}
+
 TEST(Report, RefusesPartialResults) {
   const Scenario s = small_scenario();
   auto units = fake_units(s);

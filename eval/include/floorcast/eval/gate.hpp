@@ -9,7 +9,18 @@
 //                       "numerator": "/cells/0/groups/all/kernel/mean_time_s",
 //                       "denominator": "/timing/reference_s",
 //                       "baseline": 12.0, "tolerance": 1.0}]}
-// Accuracy checks compare values to fixed floors/ceilings. Timing is never judged in absolute
+//    "paired_checks": [{"a": "pf_palms", "not_worse_than": "pf_uniform",
+//                       "at": "/cells/0/sequential_paired/all", "metric": "success_1m",
+//                       "alpha": 0.05, "margin": 0.1}]}
+// Accuracy checks compare values to fixed floors/ceilings. Paired checks read the run's paired
+// comparisons (the object of "A vs B" entries at "at", either order) and require A not worse than
+// B on the same units:
+//   - a recall/success criterion (an entry with a McNemar test) fails when the test shows B
+//     better: B wins more discordant units and p < alpha (default 0.05). With "margin" (a
+//     fraction) it also demands evidence: the paired 95% interval of A - B must lie above -margin;
+//   - a continuous metric (an entry with "lower_is_better") fails when the paired 95% interval
+//     shows A worse (for errors: the interval of A - B lies above 0); with "margin" it demands the
+//     interval's worse end within margin (for errors: ci_high <= margin). Timing is never judged in absolute
 // seconds: a ratio of two times measured in the same run must not exceed
 // baseline * (1 + tolerance).
 #pragma once

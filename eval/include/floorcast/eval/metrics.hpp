@@ -28,6 +28,14 @@ struct SingleShotRecord {
   double time_s = 0.0;  ///< matching time for this observation
 };
 
+/// A per-record yes/no outcome (e.g. "within 1 m and 30 deg"): the recall metrics are the share of
+/// records where it holds, and paired tests (paired.hpp) compare two methods on it unit by unit.
+template <class Record>
+struct SuccessCriterion {
+  std::string name;  ///< the recall metric's name, e.g. recall_1m_30deg
+  std::function<bool(const Record&)> success;
+};
+
 template <class Record>
 struct Metric {
   std::string name;
@@ -49,6 +57,10 @@ struct ScoringParams {
   std::uint64_t bootstrap_seed = 0x5eed;
 };
 
+/// The single-shot success criteria in metric order: recall_<t>m per threshold, the combined
+/// recall_<m>m_<d>deg and top<K>_recall_<m>m.
+std::vector<SuccessCriterion<SingleShotRecord>> single_shot_success_criteria(const ScoringParams& params);
+
 /// The single-shot metric set, keyed as in summary.json: recall_<t>m, recall_1m_30deg,
 /// top5_recall_1m, median_position_error_m, mean_position_error_m, median_yaw_error_deg,
 /// mean_yaw_error_deg, mean_time_s, median_time_s. Recalls are fractions in [0, 1].
@@ -69,6 +81,13 @@ struct Summary {
   std::vector<std::string> order;            ///< metric names in definition order
   std::map<std::string, MetricValue> values;
 };
+
+/// Index of draw i of bootstrap resample b over n records: the one counter-based stream every
+/// bootstrap in eval uses, so per-method and paired intervals resample the same units.
+inline std::size_t bootstrap_index(std::uint64_t seed, int resample, std::uint64_t i, std::uint64_t n) {
+  const std::uint64_t h = mix64(seed ^ mix64((static_cast<std::uint64_t>(resample) << 32) ^ i));
+  return static_cast<std::size_t>(h % n);
+}
 
 /// Evaluates every metric on all records, and bootstrap percentile intervals from resamples
 /// drawn with a counter-based generator seeded by params.bootstrap_seed (deterministic).
@@ -99,10 +118,7 @@ inline Summary summarize(const std::vector<Record>& records, const std::vector<M
   std::vector<const Record*> sample(records.size());
   const std::uint64_t n = records.size();
   for (int b = 0; b < bootstrap_resamples; ++b) {
-    for (std::uint64_t i = 0; i < n; ++i) {
-      const std::uint64_t h = mix64(seed ^ mix64((static_cast<std::uint64_t>(b) << 32) ^ i));
-      sample[i] = all[static_cast<std::size_t>(h % n)];
-    }
+    for (std::uint64_t i = 0; i < n; ++i) sample[i] = all[bootstrap_index(seed, b, i, n)];
     for (const Metric<Record>& m : metrics) {
       if (m.bootstrap) draws[m.name].push_back(m.compute(sample));
     }

@@ -58,6 +58,9 @@ struct SequentialOutcome {
 
 SequentialOutcome score_track(const SequentialRecord& record, const SequentialScoring& scoring);
 
+/// The per-walk success criteria in metric order: success_<t>m per threshold, then converged.
+std::vector<SuccessCriterion<SequentialRecord>> sequential_success_criteria(const SequentialScoring& scoring);
+
 /// The metric set, keyed as in summary.json: success_1m, success_0.5m, median_rmse_m,
 /// median_rmse_last_m, median_end_error_m, converged, median_convergence_time_s,
 /// median_convergence_distance_m, median_stage1_time_s, within_1m_after_convergence,

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "floorcast/scenarios/report.hpp"
 #include "floorcast/scenarios/runner.hpp"
 #include "floorcast/scenarios/scenario.hpp"
 
@@ -59,6 +60,10 @@ struct RunComparison {
   std::size_t identical = 0;      ///< units present in both with the same results
   /// One line per difference ("c000/apartment/p003: results differ", "...: only in DIR").
   std::vector<std::string> differences;
+  /// When the runs differ (another configuration, or units whose results differ): their methods
+  /// compared on the units both hold (same unit id and true pose): McNemar's exact test and paired
+  /// bootstrap intervals, per cell. Empty when the runs are identical.
+  std::vector<CrossRunComparison> paired;
   bool identical_results() const { return same_configuration && differences.empty(); }
 };
 
