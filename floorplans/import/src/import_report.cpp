@@ -1,5 +1,6 @@
 // The import report (`floorcast plan import --report FILE`) from field lists.
 #include "floorcast/core/fields.hpp"
+#include "floorcast/floorplans/faithfulness.hpp"
 #include "floorcast/floorplans/import.hpp"
 
 namespace floorcast {
@@ -31,41 +32,51 @@ const FieldList<CleanupReport>& cleanup_fields() {
   return f;
 }
 
+const FieldList<KindFaithfulness>& kind_faithfulness_fields() {
+  using K = KindFaithfulness;
+  constexpr int kMany = 1 << 30;
+  static const FieldList<K> f = FieldList<K>("faithfulness kind")
+                                    .text("kind", &K::kind, "room kind")
+                                    .integer("spaces", &K::spaces, 0, kMany, "spaces of the kind")
+                                    .number("source_area_m2", &K::source_area_m2, 0.0, 1e300, "their areas as drawn, m^2")
+                                    .number("mapped_area_m2", &K::mapped_area_m2, 0.0, 1e300, "their union, m^2")
+                                    .number("wall_area_m2", &K::wall_area_m2, 0.0, 1e300, "of the union under walls, m^2")
+                                    .number("free_area_m2", &K::free_area_m2, 0.0, 1e300, "free floor in them, m^2")
+                                    .number("free_share", &K::free_share, 0.0, 1.0, "free / (mapped - wall)");
+  return f;
+}
+
+const FieldList<FaithfulnessReport>& faithfulness_fields() {
+  using F = FaithfulnessReport;
+  constexpr int kMany = 1 << 30;
+  static const FieldList<F> f =
+      FieldList<F>("faithfulness")
+          .flag("applicable", &F::applicable, "the plan has source spaces (else nothing else is written)")
+          .number("resolution_m_per_px", &F::resolution_m_per_px, 0.0, 1e300, "raster of the check, m/px")
+          .integer("spaces", &F::spaces, 0, kMany, "spaces of the source")
+          .number("source_area_m2", &F::source_area_m2, 0.0, 1e300, "the spaces' areas as drawn (nested twice), m^2")
+          .number("mapped_area_m2", &F::mapped_area_m2, 0.0, 1e300, "their union, m^2")
+          .number("wall_area_m2", &F::wall_area_m2, 0.0, 1e300, "of the union under walls, glass, closed doors, m^2")
+          .number("free_area_m2", &F::free_area_m2, 0.0, 1e300, "the plan's free floor, m^2")
+          .number("free_in_mapped_m2", &F::free_in_mapped_m2, 0.0, 1e300, "free floor inside the spaces, m^2")
+          .number("free_outside_mapped_m2", &F::free_outside_mapped_m2, 0.0, 1e300, "free floor no space covers, m^2")
+          .number("free_share", &F::free_share, 0.0, 1.0, "free_in_mapped / (mapped - wall)")
+          .number("unmapped_area_m2", &F::unmapped_area_m2, 0.0, 1e300, "enclosed regions no space covers, m^2")
+          .integer("unmapped_regions", &F::unmapped_regions, 0, kMany, "their count")
+          .list("kinds", &F::kinds, kind_faithfulness_fields())
+          .integer("sealed_spaces", &F::sealed_spaces, 0, kMany, "spaces cut off from the main free region")
+          .number("sealed_area_m2", &F::sealed_area_m2, 0.0, 1e300, "their area, m^2")
+          .texts("sealed_ids", &F::sealed_ids, "their ids")
+          .integer("unreachable_spaces", &F::unreachable_spaces, 0, kMany, "spaces outside the main free region")
+          .number("unreachable_area_m2", &F::unreachable_area_m2, 0.0, 1e300, "their area, m^2")
+          .texts("spaces_outside_free", &F::spaces_outside_free, "spaces less than half free")
+          .texts("levels_without_spaces", &F::levels_without_spaces, "levels of the source with no space");
+  return f;
+}
+
 OJson faithfulness_json(const FaithfulnessReport& f) {
-  OJson j;
-  j["applicable"] = f.applicable;
-  if (!f.applicable) return j;
-  auto r2 = [](double v) { return std::round(v * 100.0) / 100.0; };
-  j["resolution_m_per_px"] = f.resolution_m_per_px;
-  j["spaces"] = f.spaces;
-  j["source_area_m2"] = r2(f.source_area_m2);
-  j["mapped_area_m2"] = r2(f.mapped_area_m2);
-  j["wall_area_m2"] = r2(f.wall_area_m2);
-  j["free_area_m2"] = r2(f.free_area_m2);
-  j["free_in_mapped_m2"] = r2(f.free_in_mapped_m2);
-  j["free_outside_mapped_m2"] = r2(f.free_outside_mapped_m2);
-  j["free_share"] = std::round(f.free_share * 10000.0) / 10000.0;
-  j["unmapped_area_m2"] = r2(f.unmapped_area_m2);
-  j["unmapped_regions"] = f.unmapped_regions;
-  OJson kinds = OJson::array();
-  for (const KindFaithfulness& k : f.kinds) {
-    kinds.push_back({{"kind", k.kind},
-                     {"spaces", k.spaces},
-                     {"source_area_m2", r2(k.source_area_m2)},
-                     {"mapped_area_m2", r2(k.mapped_area_m2)},
-                     {"wall_area_m2", r2(k.wall_area_m2)},
-                     {"free_area_m2", r2(k.free_area_m2)},
-                     {"free_share", std::round(k.free_share * 10000.0) / 10000.0}});
-  }
-  j["kinds"] = kinds;
-  j["sealed_spaces"] = f.sealed_spaces;
-  j["sealed_area_m2"] = r2(f.sealed_area_m2);
-  j["sealed_ids"] = f.sealed_ids;
-  j["unreachable_spaces"] = f.unreachable_spaces;
-  j["unreachable_area_m2"] = r2(f.unreachable_area_m2);
-  j["spaces_outside_free"] = f.spaces_outside_free;
-  j["levels_without_spaces"] = f.levels_without_spaces;
-  return j;
+  if (!f.applicable) return OJson{{"applicable", false}};
+  return faithfulness_fields().write(f);
 }
 
 /// An ImportResult with where it was written (the report's first key).
