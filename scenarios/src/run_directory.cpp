@@ -15,6 +15,7 @@
 #include "floorcast/core/hash.hpp"
 #include "floorcast/core/json_text.hpp"
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/scenarios/driver.hpp"
 
 namespace floorcast {
 
@@ -151,10 +152,39 @@ Json RunDirectory::read_run_info() const {
 }
 Json RunDirectory::read_resolved_config() const { return read_json(fs::path(root_) / "resolved_config.json"); }
 
+namespace {
+
+/// The file a stored configuration names (as its scenario named it: relative to the scenario's
+/// folder or floorcast's data folder, or absolute) with the bytes it hashed: the name as it stands
+/// (absolute, or relative to the working folder), else under the data folder. "" when neither has
+/// those bytes.
+std::string find_recorded_file(const std::string& given, const std::string& hash) {
+  if (given.empty()) return "";
+  for (const fs::path& candidate : {fs::path(given), fs::path(data_dir()) / given}) {
+    std::error_code ec;
+    if (!fs::is_regular_file(candidate, ec)) continue;
+    try {
+      if (hash.empty() || hex64(fnv1a64(read_text_file(candidate.string()))) == hash) return candidate.string();
+    } catch (const InputError&) {
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 Scenario RunDirectory::stored_scenario() const {
   Json resolved = read_resolved_config();
   resolved.erase("resolved_parameters");
-  return scenario_from_resolved(resolved, (fs::path(root_) / "resolved_config.json").string());
+  Scenario s = scenario_from_resolved(resolved, (fs::path(root_) / "resolved_config.json").string());
+  // The configuration records plans by name and content, not location: find them again (for work
+  // done on a finished run, e.g. the report drawing heatmaps the run did not keep). A plan not
+  // found keeps its recorded name, and using it fails with that name.
+  for (BuildingSpec& b : s.buildings) {
+    if (const std::string f = find_recorded_file(b.file_given, b.file_hash); !f.empty()) b.file = f;
+    if (const std::string f = find_recorded_file(b.rooms_given, b.rooms_hash); !f.empty()) b.rooms_file = f;
+  }
+  return s;
 }
 
 void RunDirectory::update_run_info(const std::string& key, const Json& value) const {
