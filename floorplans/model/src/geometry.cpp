@@ -75,6 +75,13 @@ double ray_segment_distance(const Vec2& origin, const Vec2& direction, const Seg
   return t;
 }
 
+std::vector<Segment2> outline_segments(const std::vector<LabeledSegment>& outline) {
+  std::vector<Segment2> out;
+  out.reserve(outline.size());
+  for (const LabeledSegment& l : outline) out.push_back(l.segment_m);
+  return out;
+}
+
 std::vector<Footprint> blocking_footprints(const FloorPlan& plan, const BlockingOptions& options) {
   std::vector<Footprint> out;
   const double h = options.cut_height_m;

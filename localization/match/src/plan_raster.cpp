@@ -160,13 +160,6 @@ std::vector<Segment2> footprint_centrelines(const std::vector<Footprint>& footpr
   return out;
 }
 
-std::vector<Segment2> outline_segments(const std::vector<LabeledSegment>& outline) {
-  std::vector<Segment2> out;
-  out.reserve(outline.size());
-  for (const LabeledSegment& l : outline) out.push_back(l.segment_m);
-  return out;
-}
-
 cv::Mat rasterize_outline(const std::vector<LabeledSegment>& outline, const GridSpec& grid, LineRule rule) {
   cv::Mat img = cv::Mat::zeros(grid.height_px, grid.width_px, CV_8U);
   draw_segment_lines(img, outline_segments(outline), {grid.origin_x_m, grid.origin_y_m}, grid.resolution_m_per_px, rule);

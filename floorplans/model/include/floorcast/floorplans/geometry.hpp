@@ -42,6 +42,9 @@ std::vector<LabeledSegment> blocking_outline(const FloorPlan& plan, const Blocki
 /// Same, from explicit footprints.
 std::vector<LabeledSegment> footprint_outline(const std::vector<Footprint>& footprints);
 
+/// Outline segments without labels.
+std::vector<Segment2> outline_segments(const std::vector<LabeledSegment>& outline);
+
 /// True if p lies inside (or on the boundary of) the convex CCW polygon.
 bool point_in_convex_polygon(const std::vector<Vec2>& polygon_m, const Vec2& p);
 

@@ -66,7 +66,4 @@ cv::Mat matcher_valid_mask(const FloorPlan& plan, const GridSpec& grid, const Bl
 /// obstacles: their polygon's edges), as segments.
 std::vector<Segment2> footprint_centrelines(const std::vector<Footprint>& footprints);
 
-/// Outline segments without labels.
-std::vector<Segment2> outline_segments(const std::vector<LabeledSegment>& outline);
-
 }  // namespace floorcast
