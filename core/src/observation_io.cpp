@@ -54,6 +54,66 @@ constant(const char* key, T value, const char* expected) {
           }};
 }
 
+const std::vector<std::pair<const char*, BevClasses>> kBevClassNames = {{"semantic", BevClasses::kSemantic},
+                                                                        {"occupancy", BevClasses::kOccupancy}};
+
+/// One BEV as the observation schema's "bev" entries hold it (validated: BevPrediction::check).
+const FieldList<BevPrediction>& bev_fields() {
+  using B = BevPrediction;
+  static const FieldList<B> f =
+      FieldList<B>("bev")
+          .choice("classes", &B::classes, kBevClassNames, "class set: the thesis' semantic classes or Table 4.3's occupancy")
+          .custom(
+              "class_names", [](ordered_json& j, const B& b) { j["class_names"] = bev_class_names(b.classes); },
+              [](ParamReader& r, B& b) {
+                if (!r.optional("class_names")) return;
+                nlohmann::json names;
+                r.read("class_names", names);
+                if (names != nlohmann::json(bev_class_names(b.classes))) {
+                  r.fail("class_names", "expected " + nlohmann::json(bev_class_names(b.classes)).dump() + " for these classes");
+                }
+              },
+              "texts", "optional: the class of each index (checked against classes)")
+          .integer("depth_bins", [](auto& b) -> auto& { return b.bins.count; }, 1, 255, "D log-spaced depth bins")
+          .number("min_depth_m", [](auto& b) -> auto& { return b.bins.min_m; }, 1e-6, 1e5, "near edge of bin 0, m")
+          .number("max_depth_m", [](auto& b) -> auto& { return b.bins.max_m; }, 1e-6, 1e5, "far edge of the last bin, m")
+          .custom(
+              "column_azimuth_rad", [](ordered_json& j, const B& b) { j["column_azimuth_rad"] = b.column_azimuth_rad; },
+              [](ParamReader& r, B& b) { r.read("column_azimuth_rad", b.column_azimuth_rad, -100.0, 100.0); },
+              "numbers", "W columns' azimuths, observer frame, rad")
+          .custom(
+              "probabilities",
+              [](ordered_json& j, const B& b) {
+                ordered_json p = ordered_json::array();
+                for (const float v : b.probabilities) p.push_back(std::round(static_cast<double>(v) * 1e6) / 1e6);
+                j["probabilities"] = p;
+              },
+              [](ParamReader& r, B& b) {
+                nlohmann::json p;
+                r.read("probabilities", p);
+                if (!p.is_array()) r.fail("probabilities", "expected an array of W x D x C numbers");
+                const double expected = static_cast<double>(b.column_azimuth_rad.size()) * b.bins.count * b.num_classes();
+                if (static_cast<double>(p.size()) != expected) {
+                  r.fail("probabilities", "has " + std::to_string(p.size()) + " numbers, expected W x D x C = " +
+                                              std::to_string(static_cast<long long>(expected)));
+                }
+                b.probabilities.reserve(p.size());
+                for (const nlohmann::json& v : p) {
+                  if (!v.is_number()) r.fail("probabilities", "expected numbers");
+                  b.probabilities.push_back(static_cast<float>(v.get<double>()));
+                }
+              },
+              "numbers", "W x D x C, index (w * D + d) * C + c, rounded to 1e-6")
+          .check([](const B& b, const ParamReader& r) {
+            try {
+              b.check("BEV");
+            } catch (const InputError& e) {
+              r.fail("probabilities", e.what());
+            }
+          });
+  return f;
+}
+
 const FieldList<ObservationRecord>& observation_fields() {
   using R = ObservationRecord;
   const auto format = constant("format", "floorcast-observation", "expected \"floorcast-observation\"");
@@ -118,7 +178,11 @@ const FieldList<ObservationRecord>& observation_fields() {
               },
               "[label, ...]", "optional: wall, door_closed, glass or obstacle per segment")
           .custom(
-              "ray_ranges_m", [](ordered_json& j, const R& rec) { j["ray_ranges_m"] = rec.observation.ray_ranges_m; },
+              "ray_ranges_m",
+              [](ordered_json& j, const R& rec) {
+                // Left out when there are none: the reader refuses fewer than 4 rays.
+                if (!rec.observation.ray_ranges_m.empty()) j["ray_ranges_m"] = rec.observation.ray_ranges_m;
+              },
               [](ParamReader& r, R& rec) {
                 if (!r.optional("ray_ranges_m")) return;
                 nlohmann::json rays;
@@ -139,6 +203,29 @@ const FieldList<ObservationRecord>& observation_fields() {
                 }
               },
               "[range, ...]", "optional: ranges along equiangular rays (ray i at 360 i / n deg), m")
+          .custom(
+              "bev",
+              [](ordered_json& j, const R& rec) {
+                if (rec.observation.bev.empty()) return;
+                ordered_json bevs = ordered_json::array();
+                for (const BevPrediction& b : rec.observation.bev) bevs.push_back(bev_fields().write(b));
+                j["bev"] = bevs;
+              },
+              [](ParamReader& r, R& rec) {
+                if (!r.optional("bev")) return;
+                r.objects("bev", [&](ParamReader& in, std::size_t i) {
+                  BevPrediction b;
+                  bev_fields().read_into(in, b);
+                  for (const BevPrediction& other : rec.observation.bev) {
+                    if (other.classes == b.classes) {
+                      r.fail("bev[" + std::to_string(i) + "]", std::string("a second ") + bev_classes_name(b.classes) + " BEV");
+                    }
+                  }
+                  rec.observation.bev.push_back(std::move(b));
+                });
+              },
+              "[{classes, class_names, depth_bins, min_depth_m, max_depth_m, column_azimuth_rad, probabilities}, ...]",
+              "optional: BEV predictions (core/bev.hpp), at most one per class set")
           .custom(
               "ground_truth",
               [](ordered_json& j, const R& rec) {
@@ -191,6 +278,15 @@ ObservationRecord parse_observation_json(const std::string& text, const std::str
                                          std::tuple{"ray_ranges_m", "max_rays", "rays"}}) {
     if (j.is_object() && j.contains(key) && j.at(key).is_array()) {
       check_limit(limit, static_cast<double>(j.at(key).size()), source_name + ": " + key, unit);
+    }
+  }
+  if (j.is_object() && j.contains("bev") && j.at("bev").is_array()) {
+    for (std::size_t i = 0; i < j.at("bev").size(); ++i) {
+      const nlohmann::json& b = j.at("bev")[i];
+      if (b.is_object() && b.contains("column_azimuth_rad") && b.at("column_azimuth_rad").is_array()) {
+        check_limit("max_rays", static_cast<double>(b.at("column_azimuth_rad").size()),
+                    source_name + ": bev[" + std::to_string(i) + "].column_azimuth_rad", "columns");
+      }
     }
   }
   ObservationRecord rec;

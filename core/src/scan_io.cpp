@@ -1,11 +1,14 @@
 #include "floorcast/core/scan_io.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "floorcast/core/depth_io.hpp"
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/image_io.hpp"
 #include "floorcast/core/json_reader.hpp"
@@ -58,7 +61,130 @@ cv::Mat read_colour(const std::string& path, int width, int height) {
   return bgr;
 }
 
+std::string view_named_file(std::size_t k, const char* suffix) {
+  std::ostringstream s;
+  s << "view_" << std::setw(3) << std::setfill('0') << k << "_" << suffix;
+  return s.str();
+}
+
+/// The scan-level "bev" block: the class set and depth range every view's BEV file shares (the
+/// bin count comes from each file's shape).
+struct BevGeometry {
+  BevClasses classes = BevClasses::kSemantic;
+  double min_depth_m = 0.0;
+  double max_depth_m = 0.0;
+};
+
 }  // namespace
+
+std::string column_semantics_json_text(const std::vector<std::vector<SemanticHit>>& columns) {
+  ordered_json j;
+  j["format"] = "floorcast-column-semantics";
+  j["format_version"] = 1;
+  ordered_json cols = ordered_json::array();
+  for (const std::vector<SemanticHit>& hits : columns) {
+    ordered_json c = ordered_json::array();
+    for (const SemanticHit& h : hits) c.push_back({semantic_class_name(h.label), std::round(h.range_m * 1e4) / 1e4});
+    cols.push_back(c);
+  }
+  j["columns"] = cols;
+  return j.dump() + "\n";
+}
+
+std::vector<std::vector<SemanticHit>> parse_column_semantics(const std::string& text, const std::string& source,
+                                                             int width_px) {
+  const nlohmann::json j = parse_json_text(text, source);
+  const JsonReader r(j, source, "");
+  r.only({"format", "format_version", "columns"});
+  if (r.string("format") != "floorcast-column-semantics") r.fail_key("format", "expected \"floorcast-column-semantics\"");
+  if (r.integer("format_version", 0, 1000000) != 1) r.fail_key("format_version", "unsupported (this floorcast reads version 1)");
+  const nlohmann::json& cols = r.raw("columns");
+  if (!cols.is_array() || static_cast<int>(cols.size()) != width_px) {
+    r.fail_key("columns", "expected one entry per image column (" + std::to_string(width_px) + ")");
+  }
+  std::vector<std::vector<SemanticHit>> out(cols.size());
+  for (std::size_t u = 0; u < cols.size(); ++u) {
+    const std::string key = "columns[" + std::to_string(u) + "]";
+    const nlohmann::json& c = cols[u];
+    if (!c.is_array()) r.fail_key(key, "expected an array of [class, range_m] pairs");
+    if (c.size() > 256) r.fail_key(key, "more than 256 hits");
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      const std::string hk = key + "[" + std::to_string(i) + "]";
+      const nlohmann::json& h = c[i];
+      SemanticHit hit;
+      if (!h.is_array() || h.size() != 2 || !h[0].is_string() || !h[1].is_number()) {
+        r.fail_key(hk, "expected [class, range_m]");
+      }
+      if (!semantic_class_from_name(h[0].get<std::string>(), hit.label)) {
+        r.fail_key(hk, "unknown class \"" + printable_text(h[0].get<std::string>(), 40) +
+                           "\" (known: wall, window, door_open, door_closed, furniture)");
+      }
+      hit.range_m = h[1].get<double>();
+      if (!std::isfinite(hit.range_m) || hit.range_m < 0.0 || hit.range_m > 1e5) r.fail_key(hk, "range must be in [0, 1e5] m");
+      if (!out[u].empty() && hit.range_m < out[u].back().range_m) r.fail_key(hk, "hits must be nearest first");
+      if (!out[u].empty() && out[u].back().label == SemanticClass::kWall) r.fail_key(hk, "a hit after the wall that stops the ray");
+      out[u].push_back(hit);
+    }
+  }
+  return out;
+}
+
+BevPrediction read_view_bev(const std::string& path, const CameraIntrinsics& intrinsics, BevClasses classes,
+                            double min_depth_m, double max_depth_m) {
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": BEV file missing");
+  const NpyArray a = read_npy(path);
+  const int C = bev_class_count(classes);
+  if (a.shape.size() != 3 || a.shape[0] < 1 || a.shape[1] < 1 || a.shape[1] > 255 ||
+      a.shape[2] != static_cast<std::size_t>(C)) {
+    std::string shape;
+    for (const std::size_t n : a.shape) shape += (shape.empty() ? "" : ", ") + std::to_string(n);
+    throw InputError(path + ": BEV must have shape (W, D, C) with 1 <= D <= 255 and C = " + std::to_string(C) + " (" +
+                     bev_classes_name(classes) + " classes), got (" + shape + ")");
+  }
+  check_limit("max_rays", static_cast<double>(a.shape[0]), path + ": BEV columns", "columns");
+  BevPrediction b;
+  b.classes = classes;
+  b.bins.count = static_cast<int>(a.shape[1]);
+  b.bins.min_m = min_depth_m;
+  b.bins.max_m = max_depth_m;
+  b.bins.check(path);
+  const std::size_t n = a.shape[0] * a.shape[1] * a.shape[2];
+  b.probabilities.resize(n);
+  if (a.dtype == "<f4") {
+    std::memcpy(b.probabilities.data(), a.data.data(), n * sizeof(float));
+  } else if (a.dtype == "<f8") {
+    for (std::size_t i = 0; i < n; ++i) {
+      double v;
+      std::memcpy(&v, a.data.data() + i * sizeof(double), sizeof(double));
+      b.probabilities[i] = static_cast<float>(v);
+    }
+  } else {
+    throw InputError(path + ": BEV must be float32 or float64 (got dtype " + a.dtype + ")");
+  }
+  const std::size_t W = a.shape[0], D = a.shape[1];
+  for (std::size_t cell = 0; cell < W * D; ++cell) {
+    float* p = b.probabilities.data() + cell * static_cast<std::size_t>(C);
+    double sum = 0.0;
+    for (int c = 0; c < C; ++c) {
+      if (!std::isfinite(p[c]) || p[c] < 0.0f || p[c] > 1.0f + 1e-6f) {
+        throw InputError(path + ": BEV value at column " + std::to_string(cell / D) + ", bin " + std::to_string(cell % D) +
+                         " is not a probability in [0, 1] (logits need a softmax over the class axis first)");
+      }
+      sum += p[c];
+    }
+    if (std::abs(sum - 1.0) > 1e-2) {
+      throw InputError(path + ": BEV values at column " + std::to_string(cell / D) + ", bin " + std::to_string(cell % D) +
+                       " sum to " + std::to_string(sum) + ", not 1: each (column, bin) must be a distribution over the classes");
+    }
+    for (int c = 0; c < C; ++c) p[c] = static_cast<float>(p[c] / sum);
+  }
+  b.column_azimuth_rad.resize(W);
+  for (std::size_t w = 0; w < W; ++w) {
+    const double u = (static_cast<double>(w) + 0.5) * intrinsics.width_px / static_cast<double>(W) - 0.5;
+    b.column_azimuth_rad[w] = std::atan((intrinsics.cx_px - u) / intrinsics.fx_px);
+  }
+  return b;
+}
 
 std::string scan_view_file(std::size_t k, const std::string& kind) {
   std::ostringstream s;
@@ -88,7 +214,17 @@ std::string scan_json_text(const Scan& scan) {
     if (!v.rgb.empty()) jv["rgb"] = view_file(k, "rgb");
     if (!v.glass_mask.empty()) jv["glass_mask"] = view_file(k, "glass");
     if (!v.confidence.empty()) jv["confidence"] = view_file(k, "confidence");
+    if (!v.column_semantics.empty()) jv["semantics"] = view_named_file(k, "semantics.json");
+    if (!v.bev.empty()) jv["bev"] = view_named_file(k, "bev.npy");
     views.push_back(jv);
+  }
+  for (const DepthView& v : scan.views) {
+    if (v.bev.empty()) continue;
+    j["bev"] = {{"classes", bev_classes_name(v.bev.classes)},
+                {"class_names", bev_class_names(v.bev.classes)},
+                {"min_depth_m", v.bev.bins.min_m},
+                {"max_depth_m", v.bev.bins.max_m}};
+    break;
   }
   j["views"] = views;
   return j.dump(2) + "\n";
@@ -104,6 +240,24 @@ void save_scan(const std::string& dir, const Scan& scan) {
         throw InputError(where + ": colour image must be CV_8UC3 of the intrinsics' size");
       }
       write_png(dir + "/" + view_file(k, "rgb"), v.rgb);
+    }
+    if (!v.column_semantics.empty()) {
+      if (static_cast<int>(v.column_semantics.size()) != v.intrinsics.width_px) {
+        throw InputError(where + ": column semantics need one entry per image column");
+      }
+      write_text_file_atomic(dir + "/" + view_named_file(k, "semantics.json"), column_semantics_json_text(v.column_semantics));
+    }
+    if (!v.bev.empty()) {
+      const BevPrediction& b = v.bev;
+      const DepthView& first = *std::find_if(scan.views.begin(), scan.views.end(), [](const DepthView& x) { return !x.bev.empty(); });
+      if (b.classes != first.bev.classes || b.bins.min_m != first.bev.bins.min_m || b.bins.max_m != first.bev.bins.max_m) {
+        throw InputError(where + ": every view's BEV must share one class set and depth range");
+      }
+      b.check(where + ": BEV");
+      write_npy(dir + "/" + view_named_file(k, "bev.npy"),
+                {static_cast<std::size_t>(b.num_columns()), static_cast<std::size_t>(b.bins.count),
+                 static_cast<std::size_t>(b.num_classes())},
+                b.probabilities);
     }
     if (v.depth_m.empty()) {
       if (v.rgb.empty()) throw InputError(where + ": a view needs a depth or a colour image");
@@ -151,7 +305,7 @@ ScanDescription parse_scan_description(const std::string& json_text, const std::
     r.only({"format", "format_version", "sensor", "setting", "seed", "depth_unit_m", "frames", "ground_truth",
             "params", "views"});
   } else if (version == kScanFormatVersion) {
-    r.only({"format", "format_version", "sensor", "depth_unit_m", "frames", "views"});
+    r.only({"format", "format_version", "sensor", "depth_unit_m", "frames", "bev", "views"});
   } else {
     r.fail_key("format_version", "unsupported (this floorcast reads versions 1 and " +
                                      std::to_string(kScanFormatVersion) + ")");
@@ -167,7 +321,7 @@ ScanDescription parse_scan_description(const std::string& json_text, const std::
   double pixels = 0.0;
   for (std::size_t k = 0; k < jviews.size(); ++k) {
     const JsonReader v(jviews[k], json_path, "views[" + std::to_string(k) + "]");
-    v.only({"view_index", "intrinsics", "T_scan_camera", "depth", "glass_mask", "confidence", "rgb"});
+    v.only({"view_index", "intrinsics", "T_scan_camera", "depth", "glass_mask", "confidence", "rgb", "semantics", "bev"});
     DepthView view;
     view.view_index = v.has("view_index") ? static_cast<int>(v.integer("view_index", 0, 100000)) : static_cast<int>(k);
     const JsonReader in = v.object("intrinsics");
@@ -199,9 +353,25 @@ ScanDescription parse_scan_description(const std::string& json_text, const std::
     f.rgb = file("rgb");
     f.glass_mask = file("glass_mask");
     f.confidence = file("confidence");
+    f.semantics = file("semantics");
+    f.bev = file("bev");
+    if (!f.bev.empty() && !r.has("bev")) {
+      v.fail_key("bev", "a view BEV needs the scan-level \"bev\" block (classes, min_depth_m, max_depth_m)");
+    }
     view.rgb_file = f.rgb;
     d.files.push_back(f);
     scan.views.push_back(std::move(view));
+  }
+  if (r.has("bev")) {
+    const JsonReader b = r.object("bev");
+    b.only({"classes", "class_names", "min_depth_m", "max_depth_m"});
+    if (!bev_classes_from_name(b.string("classes"), d.bev_classes)) b.fail_key("classes", "expected \"semantic\" or \"occupancy\"");
+    if (b.has("class_names") && b.raw("class_names") != nlohmann::json(bev_class_names(d.bev_classes))) {
+      b.fail_key("class_names", "expected " + nlohmann::json(bev_class_names(d.bev_classes)).dump() + " for these classes");
+    }
+    d.bev_min_depth_m = b.number("min_depth_m", 1e-6, 1e5);
+    d.bev_max_depth_m = b.number("max_depth_m", 1e-6, 1e5);
+    if (!(d.bev_max_depth_m > d.bev_min_depth_m)) b.fail_key("max_depth_m", "must exceed min_depth_m");
   }
   // Every view's images are decoded at once: their pixels together are one scan's points.
   check_limit("max_points", pixels, json_path + ": pixels of all views", "pixels");
@@ -231,6 +401,12 @@ Scan load_scan(const std::string& dir, const ScanLoadOptions& options) {
       }
     }
     if (!f.glass_mask.empty()) view.glass_mask = read_png(dir + "/" + f.glass_mask, CV_8U, W, H, "glass mask");
+    if (!f.semantics.empty()) {
+      const std::string path = dir + "/" + f.semantics;
+      if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": column semantics missing");
+      view.column_semantics = parse_column_semantics(read_text_file(path), path, W);
+    }
+    if (!f.bev.empty()) view.bev = read_view_bev(dir + "/" + f.bev, view.intrinsics, d.bev_classes, d.bev_min_depth_m, d.bev_max_depth_m);
     if (!f.confidence.empty()) {
       view.confidence = read_png(dir + "/" + f.confidence, CV_8U, W, H, "confidence");
       double lo = 0.0, hi = 0.0;

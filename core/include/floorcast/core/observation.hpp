@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "floorcast/core/bev.hpp"
 #include "floorcast/core/types.hpp"
 
 namespace floorcast {
@@ -29,6 +30,9 @@ struct Observation2D {
   std::vector<double> ray_ranges_m;
   /// Range the observation was limited to, metres.
   double max_range_m = 10.0;
+  /// Optional bird's-eye-view predictions (core/bev.hpp) in the observer frame, at most one per
+  /// class set (semantic, occupancy), for the BEV matcher; empty when none was made.
+  std::vector<BevPrediction> bev;
 };
 
 }  // namespace floorcast

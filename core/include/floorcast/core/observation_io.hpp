@@ -11,8 +11,13 @@
 //     "max_range_m": 10.0,            // > 0
 //     "segments_m": [[ax, ay, bx, by], ...],   // observer frame; free space on each one's left
 //     "segment_labels": ["wall", ...],         // optional; same length: wall, door_closed, glass, obstacle
-//     "ray_ranges_m": [r0, r1, ...],           // optional (may be []); ray i at angle i*2*pi/N CCW
+//     "ray_ranges_m": [r0, r1, ...],           // optional (at least 4; left out when none); ray i at angle i*2*pi/N CCW
 //                                              // from +x; no return = max_range_m
+//     "bev": [{"classes": "semantic",          // optional BEV predictions (core/bev.hpp), at most
+//              "class_names": [...],           //   one per class set ("semantic", "occupancy")
+//              "depth_bins": 32, "min_depth_m": 0.3, "max_depth_m": 10.0,
+//              "column_azimuth_rad": [...],    //   W columns, observer frame
+//              "probabilities": [...]}],       //   W x D x C, (w * D + d) * C + c, rounded to 1e-6
 //     "ground_truth": {"x_m": 1.0, "y_m": 2.0, "yaw_rad": 0.3},   // optional: T_world_observer
 //     "metadata": {"key": "value", ...}        // optional free strings (plan file, parameters)
 //   }

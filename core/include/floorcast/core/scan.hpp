@@ -12,8 +12,11 @@
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <cmath>
 #include <string>
 #include <vector>
+
+#include "floorcast/core/bev.hpp"
 
 namespace floorcast {
 
@@ -45,7 +48,32 @@ struct DepthView {
   cv::Mat rgb;
   /// Name of the colour image inside its scan folder when the scan was read from one ("" else).
   std::string rgb_file;
+  /// Optional semantic annotation (core/bev.hpp), empty or one entry per image column u =
+  /// 0..width_px-1: the elements the column's horizontal ray at camera height meets, nearest
+  /// first, through doors, windows and furniture, ending at the first wall (a column without a
+  /// wall within the annotation's range ends without one). The column's ray is the
+  /// gravity-aligned one (view_column_azimuth_rad). What a simulator knows and a labelled mesh
+  /// or a labelling tool can give: the truth a BEV predictor turns into a prediction.
+  std::vector<std::vector<SemanticHit>> column_semantics;
+  /// Optional BEV brought for this view (a network's output, core/bev.hpp): W columns spread
+  /// evenly over the image width (column w at pixel u = (w + 0.5) width / W - 0.5, left to
+  /// right); its column_azimuth_rad are relative to the view's heading (view_heading_rad), i.e.
+  /// atan((cx - u) / fx). Empty (no columns) when none.
+  BevPrediction bev;
 };
+
+/// Heading of a view in the scan frame: azimuth of its optical axis projected on the horizontal
+/// plane (CCW from the scan's +x), radians.
+inline double view_heading_rad(const DepthView& view) {
+  const Eigen::Vector3d z = view.T_scan_camera.linear().col(2);
+  return std::atan2(z.y(), z.x());
+}
+
+/// Scan-frame azimuth of image column u (pixel centres at integers) after gravity alignment (the
+/// thesis' sec. 3.3.1): the view's heading plus atan((cx - u) / fx).
+inline double view_column_azimuth_rad(const DepthView& view, double u_px) {
+  return view_heading_rad(view) + std::atan((view.intrinsics.cx_px - u_px) / view.intrinsics.fx_px);
+}
 
 struct Scan {
   /// Free-form sensor description ("lidar", "mono", "iPhone 15 Pro LiDAR", "Depth Pro", ...);
