@@ -88,6 +88,7 @@ void register_sim(CLI::App& root) {
     double max_range_m = -1.0, scale_sigma = -1.0;
     bool rgb = false;
     bool doors_open = false;
+    bool semantics = false;
     BuildingOptions building;
   };
   auto so = std::make_shared<ScanOptions>();
@@ -118,6 +119,10 @@ void register_sim(CLI::App& root) {
   scan->add_flag("--doors-open", so->doors_open,
                  "Open doors stay open as drawn (default, as `sim perfect` and the matchers' map: every door closed, "
                  "PALMS+ 4.4)");
+  scan->add_flag("--semantics", so->semantics,
+                 "Also annotate every view with its column semantics (view_NNN_semantics.json: per image column, the "
+                 "walls, windows, doors and furniture its horizontal ray meets), the truth the BEV predictor of "
+                 "`observe --bev` turns into a BEV");
   add_building_options(scan, so->building);
   scan->add_option("-o,--output", so->out, "Output scan folder")->required();
   scan->callback([so, scan, scale_sigma_opt] {
@@ -144,7 +149,9 @@ void register_sim(CLI::App& root) {
     check_observer_pose(full, pose, so->plan);
     const RayScene scene(extrude_plan(full, extrusion(b)));
     const auto t1 = std::chrono::steady_clock::now();
-    SimulatedScan sim = simulate_scan(scene, pose, params);
+    SimulationOptions options;
+    options.column_semantics = so->semantics;
+    SimulatedScan sim = simulate_scan(scene, pose, params, options);
     sim.truth.plan_hash = hex64(plan_hash(given));
     const auto t2 = std::chrono::steady_clock::now();
     double rgb_s = 0.0;
@@ -177,6 +184,7 @@ void register_sim(CLI::App& root) {
     std::uint64_t seed = 0;
     int rays = PerfectObservationParams{}.num_rays;
     double range_m = PerfectObservationParams{}.max_range_m;
+    int bev_columns = PerfectObservationParams{}.bev_columns;
     bool doors_open = false;
   };
   auto po = std::make_shared<PerfectOptions>();
@@ -188,6 +196,11 @@ void register_sim(CLI::App& root) {
       ->capture_default_str()
       ->check(CLI::Range(0, 100000));
   perfect->add_option("--range", po->range_m, "Maximum range, metres")->capture_default_str()->check(CLI::Range(0.01, 1e4));
+  perfect->add_option("--bev-columns", po->bev_columns,
+                      "Perfect bird's-eye views (semantic and occupancy, for the bev matcher) on this many equiangular "
+                      "columns (72: 5 deg; 0 = none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 3600));
   perfect->add_flag("--doors-open", po->doors_open,
                     "Open doors stay open as drawn (default, as `sim scan` and the matchers' map: every door closed, "
                     "PALMS+ 4.4)");
@@ -199,6 +212,7 @@ void register_sim(CLI::App& root) {
     PerfectObservationParams params;
     params.num_rays = po->rays;
     params.max_range_m = po->range_m;
+    params.bev_columns = po->bev_columns;
     params.blocking.open_doors_block = !po->doors_open;
     const PerfectObserver observer(plan, params);
     ObservationRecord rec;
@@ -215,7 +229,9 @@ void register_sim(CLI::App& root) {
     const std::string path = po->out + "/observation.json";
     save_observation(path, rec);
     std::cout << "perfect: " << rec.observation.segments_m.size() << " visible segments, "
-              << rec.observation.ray_ranges_m.size() << " rays within " << params.max_range_m << " m at "
+              << rec.observation.ray_ranges_m.size() << " rays"
+              << (params.bev_columns > 0 ? ", BEV of " + std::to_string(params.bev_columns) + " columns" : std::string())
+              << " within " << params.max_range_m << " m at "
               << format_pose(pose) << " -> " << path << "\n";
   });
 

@@ -45,7 +45,28 @@ Vec2 ray_line_point(const Vec2& o, double theta, const Segment2& s) {
 PerfectObserver::PerfectObserver(const FloorPlan& plan, const PerfectObservationParams& params)
     : params_(params) {
   check_limit("max_rays", params.num_rays, "perfect observer", "rays");
+  check_limit("max_rays", params.bev_columns, "perfect observer: bev_columns", "columns");
   outline_ = blocking_outline(plan, params.blocking);
+  if (params.bev_columns > 0) {
+    semantic_lines_ = semantic_plan_lines(plan, BevClasses::kSemantic, params.blocking.cut_height_m);
+    occupancy_lines_ = semantic_plan_lines(plan, BevClasses::kOccupancy, params.blocking.cut_height_m);
+  }
+}
+
+BevPrediction PerfectObserver::bev(const Pose2& T_world_observer, BevClasses classes, int columns) const {
+  if (columns <= 0) return {};
+  BevDepthBins bins;
+  bins.count = params_.bev_depth_bins;
+  bins.min_m = params_.bev_min_depth_m;
+  bins.max_m = params_.max_range_m;
+  const SemanticPlanLines& lines = classes == BevClasses::kSemantic ? semantic_lines_ : occupancy_lines_;
+  const std::vector<double> azimuths = full_circle_azimuths(columns);
+  std::vector<std::vector<SemanticHit>> hits(azimuths.size());
+  for (std::size_t w = 0; w < azimuths.size(); ++w) {
+    hits[w] = semantic_ray_hits(lines, T_world_observer.position_m(), T_world_observer.yaw_rad + azimuths[w],
+                                params_.max_range_m);
+  }
+  return one_hot_bev(hits, azimuths, classes, bins);
 }
 
 std::vector<LabeledSegment> PerfectObserver::visible_world_segments(const Vec2& o) const {
@@ -151,6 +172,10 @@ Observation2D PerfectObserver::observe(const Pose2& T_world_observer) const {
                               T_world_observer.inverse_transform(s.segment_m.b_m)});
   }
   obs.ray_ranges_m = ray_ranges(o, T_world_observer.yaw_rad, params_.num_rays);
+  if (params_.bev_columns > 0) {
+    obs.bev.push_back(bev(T_world_observer, BevClasses::kSemantic, params_.bev_columns));
+    obs.bev.push_back(bev(T_world_observer, BevClasses::kOccupancy, params_.bev_columns));
+  }
   return obs;
 }
 
@@ -160,7 +185,14 @@ const FieldList<PerfectObservationParams>& PerfectObservationParams::fields() {
       FieldList<P>("perfect observer")
           .number("max_range_m", &P::max_range_m, 0.1, 1000.0, "visible geometry within this range, m (PALMS+ sec. 4.4: 10)")
           .flatten(&P::blocking, blocking_fields())
-          .integer("num_rays", &P::num_rays, 0, 3600, "equiangular rays (F3Loc: 36); 0 = none");
+          .integer("num_rays", &P::num_rays, 0, 3600, "equiangular rays (F3Loc: 36); 0 = none")
+          .integer("bev_columns", &P::bev_columns, 0, 3600,
+                   "equiangular columns of the perfect BEVs (the thesis' one-hot ray casting of the plan); 0 = none")
+          .integer("bev_depth_bins", &P::bev_depth_bins, 1, 255, "log-spaced depth bins of the perfect BEVs")
+          .number("bev_min_depth_m", &P::bev_min_depth_m, 0.01, 100.0, "first depth bin edge of the perfect BEVs, m (the last is max_range_m)")
+          .check([](const P& p, const ParamReader& r) {
+            if (p.bev_columns > 0 && !(p.bev_min_depth_m < p.max_range_m)) r.fail("bev_min_depth_m", "must be below max_range_m");
+          });
   return f;
 }
 

@@ -661,6 +661,80 @@ std::vector<ViewJob> make_jobs(const Pose2& T_world_scan, const ScanParams& para
 
 }  // namespace
 
+std::vector<std::vector<SemanticHit>> simulate_column_semantics(const RayScene& scene,
+                                                                const Eigen::Isometry3d& T_world_camera,
+                                                                const CameraIntrinsics& K, double max_range_m,
+                                                                double lintel_probe_height_m) {
+  const Eigen::Vector3d axis = T_world_camera.linear().col(2);
+  const double heading = std::atan2(axis.y(), axis.x());
+  const Eigen::Vector3d c = T_world_camera.translation();
+  const Mesh& mesh = scene.mesh();
+  constexpr int kMaxHits = 64;
+  // Faces a horizontal ray enters (outward normal against the ray), nearest first, as (range,
+  // label), up to the first face with a label in `stop` or max_range_m.
+  auto entered = [&](const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, bool stop_at_wall) {
+    std::vector<std::pair<float, MeshLabel>> out;
+    float t0 = 0.0f;
+    for (int i = 0; i < 4 * kMaxHits; ++i) {
+      const RayHit3 h = scene.intersect({origin, dir, t0, static_cast<float>(max_range_m)});
+      if (!h.hit()) break;
+      const std::size_t tri = static_cast<std::size_t>(h.triangle);
+      if (scene.normals()[tri].dot(dir) < 0.0f) {
+        out.emplace_back(h.t, mesh.labels[tri]);
+        if (stop_at_wall && mesh.labels[tri] == MeshLabel::kWall) break;
+        if (static_cast<int>(out.size()) >= kMaxHits) break;
+      }
+      t0 = h.t + 1e-4f;
+    }
+    return out;
+  };
+  std::vector<std::vector<SemanticHit>> columns(static_cast<std::size_t>(K.width_px));
+  tbb::parallel_for(0, K.width_px, [&](int u) {
+    const double az = heading + std::atan((K.cx_px - u) / K.fx_px);
+    const Eigen::Vector3f dir(static_cast<float>(std::cos(az)), static_cast<float>(std::sin(az)), 0.0f);
+    const Eigen::Vector3f low(static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z()));
+    const Eigen::Vector3f high(low.x(), low.y(), static_cast<float>(lintel_probe_height_m));
+    std::vector<SemanticHit>& hits = columns[static_cast<std::size_t>(u)];
+    double stop = max_range_m;
+    for (const auto& [t, label] : entered(low, dir, true)) {
+      SemanticHit hit;
+      hit.range_m = t;
+      switch (label) {
+        case MeshLabel::kWall: hit.label = SemanticClass::kWall; stop = t; break;
+        case MeshLabel::kDoorClosed: hit.label = SemanticClass::kDoorClosed; break;
+        case MeshLabel::kGlass: hit.label = SemanticClass::kWindow; break;
+        case MeshLabel::kClutter: hit.label = SemanticClass::kFurniture; break;
+        case MeshLabel::kFloor:
+        case MeshLabel::kCeiling: continue;
+      }
+      // Touching faces of one element (a pane split in two triangles' edges) count once.
+      if (!hits.empty() && hits.back().label == hit.label && hit.range_m - hits.back().range_m < 1e-3) continue;
+      hits.push_back(hit);
+    }
+    // Lintels the camera-height ray passes under: open doorways.
+    std::vector<SemanticHit> doors;
+    for (const auto& [t, label] : entered(high, dir, false)) {
+      if (t >= stop - 5e-3) break;  // the stopping wall itself (coplanar above the camera)
+      if (label != MeshLabel::kWall) continue;
+      const bool matched = std::any_of(hits.begin(), hits.end(), [&](const SemanticHit& h) {
+        // The same wall plane (a closed leaf, a pane or the wall itself under the probe): the
+        // probe's face is coplanar with it, so the ranges agree to float precision.
+        return h.label != SemanticClass::kFurniture && std::abs(h.range_m - t) < 5e-3;
+      });
+      const bool repeated = !doors.empty() && t - doors.back().range_m < 5e-3;
+      if (!matched && !repeated) doors.push_back({SemanticClass::kDoorOpen, t});
+    }
+    if (!doors.empty()) {
+      hits.insert(hits.end(), doors.begin(), doors.end());
+      std::stable_sort(hits.begin(), hits.end(), [](const SemanticHit& a, const SemanticHit& b) {
+        return a.range_m < b.range_m;
+      });
+      // The wall that stopped the ray stays last (doors lie before it).
+    }
+  });
+  return columns;
+}
+
 CameraIntrinsics view_intrinsics(const ScanGeometry& g) {
   CameraIntrinsics K;
   K.width_px = g.width_px;
@@ -754,6 +828,11 @@ SimulatedScan simulate_scan(const RayScene& scene, const Pose2& T_world_scan, co
         draws = mono_view_draws(params, job.view_index, scan_scale);
         apply_mono(params, K, job, draws, scene.mesh().labels, face_keys, view);
         break;
+    }
+    if (options.column_semantics) {
+      const Eigen::Isometry3d T_world_camera = scan_frame_in_world(T_world_scan, g.camera_height_m) * T_true;
+      view.column_semantics = simulate_column_semantics(scene, T_world_camera, K, params.sensor.max_range_m,
+                                                        options.lintel_probe_height_m);
     }
     scan.truth.T_scan_camera_true.push_back(T_true);
     scan.truth.view_depth_scale.push_back(draws.scale);

@@ -13,6 +13,7 @@
 #include "floorcast/core/observation.hpp"
 #include "floorcast/core/params.hpp"
 #include "floorcast/floorplans/geometry.hpp"
+#include "floorcast/floorplans/semantic_rays.hpp"
 
 namespace floorcast {
 
@@ -23,6 +24,13 @@ struct PerfectObservationParams {
   /// clutter does not occlude, cut at camera height.
   BlockingOptions blocking = closed_door_map();
   int num_rays = 36;            ///< equiangular rays (F3Loc: 36; 180 also used); 0 = none
+  /// Perfect bird's-eye views (core/bev.hpp), one per class set (semantic and occupancy), on
+  /// bev_columns equiangular columns around the observer (column i at 2 pi i / bev_columns in the
+  /// observer frame; 0 = none): the thesis' one-hot ray casting of the plan at the blocking cut
+  /// height (floorplans/semantic_rays.hpp), the upper bound of any BEV predictor.
+  int bev_columns = 0;
+  int bev_depth_bins = 32;        ///< log-spaced depth bins
+  double bev_min_depth_m = 0.3;   ///< first bin edge; the last is max_range_m
 
   /// The field list (core/fields.hpp): keys, ranges, docs; to_json and apply_overrides use it.
   static const FieldList<PerfectObservationParams>& fields();
@@ -48,12 +56,16 @@ class PerfectObserver {
   /// Ranges along num_rays equiangular rays starting at world angle start_rad.
   std::vector<double> ray_ranges(const Vec2& position_m, double start_rad, int num_rays) const;
 
+  /// The perfect BEV of `classes` on `columns` equiangular columns (empty when columns is 0).
+  BevPrediction bev(const Pose2& T_world_observer, BevClasses classes, int columns) const;
+
   const std::vector<LabeledSegment>& outline() const { return outline_; }
   const PerfectObservationParams& params() const { return params_; }
 
  private:
   PerfectObservationParams params_;
   std::vector<LabeledSegment> outline_;
+  SemanticPlanLines semantic_lines_, occupancy_lines_;
 };
 
 }  // namespace floorcast

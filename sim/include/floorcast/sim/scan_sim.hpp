@@ -17,7 +17,25 @@ namespace floorcast {
 struct SimulationOptions {
   /// Keep the noise-free first-surface depth of every view in Scan::truth.depth_m.
   bool keep_true_depth = false;
+  /// Annotate every view with its column semantics (DepthView::column_semantics, core/bev.hpp):
+  /// per image column, the horizontal ray at camera height from the true camera centre along the
+  /// gravity-aligned column, cast through everything it enters (window and glass-wall panes,
+  /// closed door leaves, furniture taller than the camera) until the first wall face, within the
+  /// sensor's max_range_m. The sensor realisation (depth, glass, noise) is unchanged.
+  bool column_semantics = false;
+  /// Open doorways are not surfaces: a second horizontal ray at this height (above the door
+  /// openings, below the ceiling; default between the default door height 2.1 m and wall height
+  /// 3.0 m) finds their lintels, and a lintel face the camera-height ray passes under (no element
+  /// of its own in that plane: within 5 mm) is an open doorway at that range.
+  double lintel_probe_height_m = 2.55;
 };
+
+/// The column semantics of one view (SimulationOptions::column_semantics) seen from the camera
+/// pose T_world_camera (OpenCV camera frame) with intrinsics K: one hit list per image column.
+std::vector<std::vector<SemanticHit>> simulate_column_semantics(const RayScene& scene,
+                                                                const Eigen::Isometry3d& T_world_camera,
+                                                                const CameraIntrinsics& K, double max_range_m,
+                                                                double lintel_probe_height_m);
 
 /// Pinhole intrinsics of a view: square pixels, principal point at the image centre (OpenCV
 /// convention: pixel (u, v) has its centre at integer coordinates, so cx = (width - 1) / 2),
