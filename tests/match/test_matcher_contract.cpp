@@ -22,7 +22,12 @@ class MatcherContract : public ::testing::TestWithParam<std::string> {
     static const FloorPlan p = test::asymmetric_floor();
     return p;
   }
-  static Observation2D observe(const FloorPlan& p, const Pose2& pose) { return PerfectObserver(p).observe(pose); }
+  /// Perfect observations with every input a matcher may take: segments, rays and BEVs.
+  static Observation2D observe(const FloorPlan& p, const Pose2& pose) {
+    PerfectObservationParams params;
+    params.bev_columns = 72;
+    return PerfectObserver(p, params).observe(pose);
+  }
 };
 
 bool same_bytes(const Posterior& a, const Posterior& b) {

@@ -14,68 +14,6 @@
 #include "floorcast/core/math.hpp"
 
 namespace floorcast {
-namespace {
-
-
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-/// Writes min(t) into zbuf for every cell's cast point (origin + (c + off, r + off) * res: the
-/// centre for off = 0.5) inside the parallelogram of segment (a, b) swept back along -u by `range`.
-void splat_segment(std::vector<float>& zbuf, const GridSpec& grid, const Vec2& a, const Vec2& b, const Vec2& u,
-                   double range, double off) {
-  const Vec2 e = b - a;
-  const double ue = cross(u, e);
-  const Vec2 back = -range * u;
-  const Vec2 quad[4] = {a, b, b + back, a + back};
-  double ymin = quad[0].y(), ymax = quad[0].y();
-  for (const Vec2& q : quad) {
-    ymin = std::min(ymin, q.y());
-    ymax = std::max(ymax, q.y());
-  }
-  const double res = grid.resolution_m_per_px;
-  const double ox = grid.origin_x_m, oy = grid.origin_y_m;
-  // Rows whose cast point y lies in [ymin, ymax].
-  const int r0 = std::max(0, static_cast<int>(std::ceil((ymin - oy) / res - off)));
-  const int r1 = std::min(grid.height_px - 1, static_cast<int>(std::floor((ymax - oy) / res - off)));
-  const double inv_ue = 1.0 / ue;
-  for (int r = r0; r <= r1; ++r) {
-    const double y = oy + (r + off) * res;
-    // The quad's x-interval on this horizontal line: intersections with its edges.
-    double xl = 1e300, xr = -1e300;
-    for (int k = 0; k < 4; ++k) {
-      const Vec2& p = quad[k];
-      const Vec2& q = quad[(k + 1) % 4];
-      const double dy = q.y() - p.y();
-      if (dy == 0.0) {
-        if (y == p.y()) {
-          xl = std::min({xl, p.x(), q.x()});
-          xr = std::max({xr, p.x(), q.x()});
-        }
-        continue;
-      }
-      const double s = (y - p.y()) / dy;
-      if (s < 0.0 || s > 1.0) continue;
-      const double x = p.x() + s * (q.x() - p.x());
-      xl = std::min(xl, x);
-      xr = std::max(xr, x);
-    }
-    if (xl > xr) continue;
-    const int c0 = std::max(0, static_cast<int>(std::ceil((xl - ox) / res - off)));
-    const int c1 = std::min(grid.width_px - 1, static_cast<int>(std::floor((xr - ox) / res - off)));
-    if (c0 > c1) continue;
-    // t(x) = cross(a - p, e) / cross(u, e) is affine in x along the row.
-    const double ay = a.y() - y;
-    float* z = zbuf.data() + static_cast<std::size_t>(r) * grid.width_px;
-    for (int c = c0; c <= c1; ++c) {
-      const double x = ox + (c + off) * res;
-      const double t = ((a.x() - x) * e.y() - ay * e.x()) * inv_ue;
-      const float tf = static_cast<float>(std::clamp(t, 0.0, range));
-      if (tf < z[c]) z[c] = tf;
-    }
-  }
-}
-
-}  // namespace
 
 int DistanceVolume::max_units() const {
   return static_cast<int>(std::lround(max_range_m * 1000.0 / step_mm));
@@ -153,10 +91,13 @@ DistanceVolume compute_distance_volume(const std::vector<Segment2>& segments, co
     const double ang = 2.0 * kPi * d / D;
     const Vec2 u(std::cos(ang), std::sin(ang));
     for (const Segment2& s : segments) {
-      const Vec2 e = s.b_m - s.a_m;
-      // Front face for a ray along u: the free (left) side faces the ray, cross(u, e) > 0.
-      if (!(cross(u, e) > 1e-12 * e.norm())) continue;
-      splat_segment(z, grid, s.a_m, s.b_m, u, max_range_m, sample_offset);
+      // Front face for a ray along u: the free (left) side faces the ray.
+      if (!front_facing(u, s)) continue;
+      sweep_segment(grid, s.a_m, s.b_m, u, max_range_m, sample_offset, [&](int r, int c, double t) {
+        float& zc = z[static_cast<std::size_t>(r) * static_cast<std::size_t>(grid.width_px) + static_cast<std::size_t>(c)];
+        const float tf = static_cast<float>(t);
+        if (tf < zc) zc = tf;
+      });
     }
     store_direction(v, d, [&](std::size_t i) { return static_cast<double>(z[static_cast<std::size_t>(v.cells[i])]); });
   });

@@ -6,6 +6,7 @@
 // other matcher.
 #include <algorithm>
 
+#include "floorcast/match/bev_matcher.hpp"
 #include "floorcast/match/kernel_matcher.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/match/ray_matcher.hpp"
@@ -55,6 +56,7 @@ struct Entry {
 constexpr Entry kMatchers[] = {
     {"kernel", &parse<KernelMatcherParams, KernelMatcher>, &describe<KernelMatcherParams>},
     {"ray", &parse<RayMatcherParams, RayMatcher>, &describe<RayMatcherParams>},
+    {"bev", &parse<BevMatcherParams, BevMatcher>, &describe<BevMatcherParams>},
 };
 
 const Entry& find(const std::string& name) {

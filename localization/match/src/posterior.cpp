@@ -1,6 +1,7 @@
 #include "floorcast/match/posterior.hpp"
 
 #include <algorithm>
+#include <opencv2/imgproc.hpp>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -139,6 +140,47 @@ std::vector<PoseHypothesis> Posterior::top_k(int k, double min_separation_m, dou
     }
   }
   return modes;
+}
+
+std::vector<PoseHypothesis> Posterior::maximum_filter_peaks(int k, int half_cells, int half_slices) const {
+  std::vector<PoseHypothesis> peaks;
+  if (k <= 0 || scores.empty()) return peaks;
+  const int S = num_slices();
+  const cv::Mat kernel = cv::Mat::ones(2 * half_cells + 1, 2 * half_cells + 1, CV_8U);
+  std::vector<cv::Mat> spatial(static_cast<std::size_t>(S));
+  for (int s = 0; s < S; ++s) {
+    cv::dilate(scores[static_cast<std::size_t>(s)], spatial[static_cast<std::size_t>(s)], kernel, cv::Point(-1, -1), 1,
+               cv::BORDER_CONSTANT, cv::Scalar(0));
+  }
+  struct Peak {
+    float score;
+    int s, r, c;
+  };
+  std::vector<Peak> found;
+  for (int s = 0; s < S; ++s) {
+    cv::Mat window = spatial[static_cast<std::size_t>(s)].clone();
+    for (int d = 1; d <= std::min(half_slices, S / 2); ++d) {
+      cv::max(window, spatial[static_cast<std::size_t>((s + d) % S)], window);
+      cv::max(window, spatial[static_cast<std::size_t>((s - d + S) % S)], window);
+    }
+    const cv::Mat& m = scores[static_cast<std::size_t>(s)];
+    for (int r = 0; r < m.rows; ++r) {
+      const float* v = m.ptr<float>(r);
+      const float* w = window.ptr<float>(r);
+      for (int c = 0; c < m.cols; ++c) {
+        if (v[c] > 0.0f && v[c] >= w[c]) found.push_back({v[c], s, r, c});
+      }
+    }
+  }
+  std::sort(found.begin(), found.end(), [](const Peak& a, const Peak& b) {
+    if (a.score != b.score) return a.score > b.score;
+    if (a.s != b.s) return a.s < b.s;
+    return a.r != b.r ? a.r < b.r : a.c < b.c;
+  });
+  for (std::size_t i = 0; i < found.size() && static_cast<int>(peaks.size()) < k; ++i) {
+    peaks.push_back(hypothesis_at(*this, found[i].s, found[i].r, found[i].c, found[i].score));
+  }
+  return peaks;
 }
 
 cv::Mat Posterior::max_over_yaw() const {

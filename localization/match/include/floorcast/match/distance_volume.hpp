@@ -12,6 +12,8 @@
 // utils.ray_cast): a march through a fine occupancy image, reproduced arithmetic for arithmetic.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -58,6 +60,72 @@ struct DistanceVolume {
            mm.size() * sizeof(std::uint16_t) + q8.size();
   }
 };
+
+/// For every cell of `grid` whose cast point (origin + (col + offset, row + offset) * resolution;
+/// offset 0.5: the centre) lies inside the parallelogram {a, b, b - range u, a - range u} (the
+/// origins whose ray along the unit direction u meets segment a-b within `range`), calls
+/// visit(row, col, t) with t = the distance along u from the cast point to the segment, clamped to
+/// [0, range]. Rows in increasing order, columns in increasing order within a row. The sweep of the
+/// distance volume (compute_distance_volume) and of the BEV matcher's semantic volume.
+template <class Visit>
+void sweep_segment(const GridSpec& grid, const Vec2& a, const Vec2& b, const Vec2& u, double range, double offset,
+                   Visit&& visit) {
+  auto cross = [](const Vec2& p, const Vec2& q) { return p.x() * q.y() - p.y() * q.x(); };
+  const Vec2 e = b - a;
+  const double ue = cross(u, e);
+  const Vec2 back = -range * u;
+  const Vec2 quad[4] = {a, b, b + back, a + back};
+  double ymin = quad[0].y(), ymax = quad[0].y();
+  for (const Vec2& q : quad) {
+    ymin = std::min(ymin, q.y());
+    ymax = std::max(ymax, q.y());
+  }
+  const double res = grid.resolution_m_per_px;
+  const double ox = grid.origin_x_m, oy = grid.origin_y_m;
+  // Rows whose cast point y lies in [ymin, ymax].
+  const int r0 = std::max(0, static_cast<int>(std::ceil((ymin - oy) / res - offset)));
+  const int r1 = std::min(grid.height_px - 1, static_cast<int>(std::floor((ymax - oy) / res - offset)));
+  const double inv_ue = 1.0 / ue;
+  for (int r = r0; r <= r1; ++r) {
+    const double y = oy + (r + offset) * res;
+    // The quad's x-interval on this horizontal line: intersections with its edges.
+    double xl = 1e300, xr = -1e300;
+    for (int k = 0; k < 4; ++k) {
+      const Vec2& p = quad[k];
+      const Vec2& q = quad[(k + 1) % 4];
+      const double dy = q.y() - p.y();
+      if (dy == 0.0) {
+        if (y == p.y()) {
+          xl = std::min({xl, p.x(), q.x()});
+          xr = std::max({xr, p.x(), q.x()});
+        }
+        continue;
+      }
+      const double s = (y - p.y()) / dy;
+      if (s < 0.0 || s > 1.0) continue;
+      const double x = p.x() + s * (q.x() - p.x());
+      xl = std::min(xl, x);
+      xr = std::max(xr, x);
+    }
+    if (xl > xr) continue;
+    const int c0 = std::max(0, static_cast<int>(std::ceil((xl - ox) / res - offset)));
+    const int c1 = std::min(grid.width_px - 1, static_cast<int>(std::floor((xr - ox) / res - offset)));
+    if (c0 > c1) continue;
+    // t(x) = cross(a - p, e) / cross(u, e) is affine in x along the row.
+    const double ay = a.y() - y;
+    for (int c = c0; c <= c1; ++c) {
+      const double x = ox + (c + offset) * res;
+      const double t = ((a.x() - x) * e.y() - ay * e.x()) * inv_ue;
+      visit(r, c, std::clamp(t, 0.0, range));
+    }
+  }
+}
+
+/// True when a ray along u meets segment s from its free (left) side: the faces a ray enters.
+inline bool front_facing(const Vec2& u, const Segment2& s) {
+  const Vec2 e = s.b_m - s.a_m;
+  return u.x() * e.y() - u.y() * e.x() > 1e-12 * e.norm();
+}
 
 /// Distances from the cast point (sample_offset) of every non-zero cell of `mask` (CV_8U, on
 /// `grid`) along num_directions directions to the nearest of `segments` (any orientation is a wall

@@ -41,6 +41,12 @@ struct Posterior {
   /// taken in argmax order.
   std::vector<PoseHypothesis> top_k(int k, double min_separation_m = 1.0,
                                     double min_separation_rad = 0.5235987755982988) const;
+  /// Up to k local maxima as the floor-plan localization thesis finds its top-K peaks (seed paper
+  /// 004, sec. 5.3: a maximum filter of 5 x 5 x 3 cells, 1 m x 1 m x 30 deg on its 0.2 m grid, over
+  /// the whole volume with circular padding in yaw): a cell is a peak when its score is > 0 and no
+  /// cell within +-half_cells rows and columns and +-half_slices slices (circular) scores higher;
+  /// peaks in descending score order, ties in argmax order.
+  std::vector<PoseHypothesis> maximum_filter_peaks(int k, int half_cells, int half_slices) const;
   /// Max over orientation, CV_32F.
   cv::Mat max_over_yaw() const;
   /// Scores divided by their total over all slices (a PDF over cells x slices); all zeros stay

@@ -1,0 +1,571 @@
+#include "floorcast/match/bev_matcher.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "floorcast/core/limits.hpp"
+#include "floorcast/core/math.hpp"
+#include "floorcast/core/timing.hpp"
+#include "floorcast/match/plan_raster.hpp"
+
+namespace floorcast {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+const std::vector<std::pair<const char*, BevLikelihood>> kLikelihoodNames = {{"mean", BevLikelihood::kMean},
+                                                                             {"exp", BevLikelihood::kExp}};
+const std::vector<std::pair<const char*, BevSearch>> kSearchNames = {{"bounded", BevSearch::kBounded},
+                                                                     {"exhaustive", BevSearch::kExhaustive}};
+const std::vector<std::pair<const char*, BevPeaks>> kPeakNames = {{"suppression", BevPeaks::kSuppression},
+                                                                  {"max_filter", BevPeaks::kMaxFilter}};
+
+/// Stored cells per tile of the scoring loop.
+constexpr int kTileCells = 256;
+
+/// Direction index (0..A-1) nearest an angle.
+int nearest_direction(double angle_rad, int A) {
+  // floor(x + 1/2), not lround: shifting the angle by whole directions shifts the result alike.
+  const long k = static_cast<long>(std::floor(angle_rad * A / (2.0 * kPi) + 0.5));
+  return static_cast<int>(((k % A) + A) % A);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Parameters
+
+const FieldList<BevMatcherParams>& BevMatcherParams::fields() {
+  using P = BevMatcherParams;
+  static const FieldList<P> f =
+      FieldList<P>("matcher bev")
+          .number("resolution_m", &P::resolution_m, 0.01, 1.0, "grid resolution of the semantic volume, m (the thesis: 0.2)")
+          .number("grid_margin_m", &P::grid_margin_m, 0.0, 100.0, "free margin of the grid around the plan, m")
+          .integer("num_orientations", &P::num_orientations, 4, 3600, "orientations of the posterior (the thesis: 36, 10 deg)")
+          .integer("num_directions", &P::num_directions, 4, 3600,
+                   "directions the plan is rendered along, a multiple of num_orientations (angular resolution of the rendered BEV)")
+          .integer("depth_bins", &P::depth_bins, 1, kMaxSemanticBins,
+                   "log-spaced depth bins from min_depth_m to max_range_m (the observation's BEV must have the same)")
+          .number("min_depth_m", &P::min_depth_m, 0.01, 100.0, "first depth bin edge, m")
+          .number("max_range_m", &P::max_range_m, 0.1, 1000.0, "last depth bin edge, m (default: the shared range)")
+          .flag("semantics", &P::semantics,
+                "wall, window, door, empty with doors and windows passing rays (the thesis); false: occupied, empty, "
+                "doors removed (Table 4.3 without semantics)")
+          .choice("likelihood", &P::likelihood, kLikelihoodNames, "mean: Eq. 3.3 as is; exp: exp(-(1 - L) / temperature)")
+          .number("temperature", &P::temperature, 1e-6, 1e6, "temperature of the exp likelihood")
+          .choice("search", &P::search, kSearchNames, "modes by the exact bounded block search or exhaustively")
+          .choice("peaks", &P::peaks, kPeakNames,
+                  "top-K by greedy suppression at the request's separation, or the thesis' maximum filter (sec. 5.3)")
+          .number("peak_window_m", &P::peak_window_m, 0.0, 100.0, "max_filter extent, m (the thesis: 5 cells of 0.2 m = 1)")
+          .number("peak_window_deg", &P::peak_window_deg, 0.0, 360.0, "max_filter extent, deg (the thesis: 3 x 10 deg = 30)")
+          .flatten(&P::blocking, blocking_fields())
+          .check([](const P& p, const ParamReader& r) {
+            if (p.num_directions % p.num_orientations != 0) {
+              r.fail("num_directions", "must be a multiple of num_orientations (" + std::to_string(p.num_orientations) + ")");
+            }
+            if (!(p.min_depth_m < p.max_range_m)) r.fail("min_depth_m", "must be below max_range_m");
+          });
+  return f;
+}
+
+nlohmann::ordered_json BevMatcherParams::to_json() const { return fields().write(*this); }
+
+void BevMatcherParams::apply_overrides(const nlohmann::json& overrides) { fields().read(*this, overrides); }
+
+void BevMatcherParams::apply_shared(const SharedParams& shared) {
+  max_range_m = shared.range_m;
+  blocking = shared.blocking;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Precomputation
+
+SemanticVolume BevMatcher::compute_volume(const FloorPlan& plan, const BevMatcherParams& p) {
+  if (p.num_directions % p.num_orientations != 0) {
+    throw InputError("matcher bev: num_directions must be a multiple of num_orientations");
+  }
+  const GridSpec grid = grid_for_plan(plan, p.resolution_m, p.grid_margin_m);
+  // Refused before anything is allocated: cell index and stored cells (8 bytes), per direction a
+  // stop byte and (semantic) two crossing bytes, and a match's K float posterior slices.
+  check_limit("max_rays", p.num_directions, "matcher bev: num_directions", "directions");
+  check_raster_budget(grid, 8.0 + (p.semantics ? 3.0 : 1.0) * p.num_directions + 4.0 * p.num_orientations, "matcher bev");
+  const BevClasses classes = p.semantics ? BevClasses::kSemantic : BevClasses::kOccupancy;
+  const SemanticPlanLines lines = semantic_plan_lines(plan, classes, p.blocking.cut_height_m);
+  const cv::Mat valid = matcher_valid_mask(plan, grid, p.blocking);
+  return compute_semantic_volume(lines, classes, grid, valid, p.num_directions, p.bins());
+}
+
+BevMatcher::BevMatcher(const FloorPlan& plan, const BevMatcherParams& params) : params_(params) {
+  const auto t0 = Clock::now();
+  auto pre = std::make_shared<Precomputed>();
+  pre->volume = compute_volume(plan, params_);
+  const SemanticVolume& v = pre->volume;
+  pre->row_start.assign(static_cast<std::size_t>(v.grid.height_px) + 1, 0);
+  std::size_t i = 0;
+  for (int r = 0; r <= v.grid.height_px; ++r) {
+    const std::int64_t first_lin = static_cast<std::int64_t>(r) * v.grid.width_px;
+    while (i < v.cells.size() && v.cells[i] < first_lin) ++i;
+    pre->row_start[static_cast<std::size_t>(r)] = static_cast<std::int64_t>(i);
+  }
+  index_blocks(*pre);
+  pre_ = std::move(pre);
+  precompute_s_ = seconds(t0, Clock::now());
+}
+
+void BevMatcher::index_blocks(Precomputed& pre) const {
+  const SemanticVolume& v = pre.volume;
+  const GridSpec& g = v.grid;
+  const int B = kBlockCells, A = v.num_directions;
+  const std::size_t N = v.num_cells();
+  for (int r0 = 0; r0 < g.height_px; r0 += B) {
+    for (int c0 = 0; c0 < g.width_px; c0 += B) {
+      std::vector<std::pair<std::int64_t, int>> runs;
+      for (int r = r0; r < std::min(g.height_px, r0 + B); ++r) {
+        const auto rb = v.cells.begin() + pre.row_start[static_cast<std::size_t>(r)];
+        const auto re = v.cells.begin() + pre.row_start[static_cast<std::size_t>(r) + 1];
+        const std::int32_t base = r * g.width_px;
+        const auto a = std::lower_bound(rb, re, base + c0);
+        const auto b = std::lower_bound(rb, re, base + std::min(g.width_px, c0 + B));
+        if (b > a) runs.emplace_back(a - v.cells.begin(), static_cast<int>(b - a));
+      }
+      if (!runs.empty()) pre.block_runs.push_back(std::move(runs));
+    }
+  }
+  const std::size_t NB = pre.block_runs.size();
+  const bool semantic = !v.crossings.empty();
+  pre.block_stop_lo.assign(NB * static_cast<std::size_t>(A), 255);
+  pre.block_stop_hi.assign(NB * static_cast<std::size_t>(A), 0);
+  if (semantic) {
+    pre.block_doors.assign(NB * static_cast<std::size_t>(A), 0);
+    pre.block_windows.assign(NB * static_cast<std::size_t>(A), 0);
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NB, 16), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t b = range.begin(); b != range.end(); ++b) {
+      auto mark = [&](int a, std::uint8_t byte) {
+        if (!(byte & 0x80)) return;
+        std::uint64_t& m = (byte & 0x40) ? pre.block_windows[b * A + static_cast<std::size_t>(a)]
+                                         : pre.block_doors[b * A + static_cast<std::size_t>(a)];
+        m |= std::uint64_t{1} << (byte & 0x3f);
+      };
+      for (int a = 0; a < A; ++a) {
+        std::uint8_t lo = 255, hi = 0;
+        for (const auto& [first, n] : pre.block_runs[b]) {
+          const std::uint8_t* st = v.stop.data() + static_cast<std::size_t>(a) * N + static_cast<std::size_t>(first);
+          for (int j = 0; j < n; ++j) {
+            lo = std::min(lo, st[j]);
+            hi = std::max(hi, st[j]);
+          }
+          if (semantic) {
+            const std::uint16_t* cr = v.crossings.data() + static_cast<std::size_t>(a) * N + static_cast<std::size_t>(first);
+            for (int j = 0; j < n; ++j) {
+              mark(a, static_cast<std::uint8_t>(cr[j] & 0xff));
+              mark(a, static_cast<std::uint8_t>(cr[j] >> 8));
+            }
+          }
+        }
+        pre.block_stop_lo[b * A + static_cast<std::size_t>(a)] = lo;
+        pre.block_stop_hi[b * A + static_cast<std::size_t>(a)] = hi;
+      }
+      if (!semantic || v.overflow.empty()) continue;
+      for (const auto& [first, n] : pre.block_runs[b]) {
+        const std::uint64_t k0 = static_cast<std::uint64_t>(first) * A;
+        const std::uint64_t k1 = static_cast<std::uint64_t>(first + n) * A;
+        for (auto it = std::lower_bound(v.overflow.begin(), v.overflow.end(), std::make_pair(k0, std::uint8_t{0}));
+             it != v.overflow.end() && it->first < k1; ++it) {
+          mark(static_cast<int>(it->first % A), it->second);
+        }
+      }
+    }
+  });
+}
+
+BevMatcher::BevMatcher(const BevMatcher& other, const BevMatcherParams& params) : params_(params), pre_(other.pre_) {
+  nlohmann::ordered_json a = params.to_json(), b = other.params_.to_json();
+  for (const char* k : {"likelihood", "temperature", "search", "peaks", "peak_window_m", "peak_window_deg"}) {
+    a.erase(k);
+    b.erase(k);
+  }
+  if (a != b) {
+    throw InputError("bev matcher: cannot share the semantic volume of a matcher with other volume parameters (" +
+                     b.dump() + " vs " + a.dump() + ")");
+  }
+}
+
+BevMatcher::~BevMatcher() = default;
+
+std::size_t BevMatcher::precompute_bytes() const {
+  return pre_->volume.bytes() + pre_->row_start.size() * sizeof(std::int64_t);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scoring
+
+/// Per observation: each column's tables of Eq. 3.3 in the volume's codes. Column w's
+/// contribution at a cell and direction is E_w + tstop[w][stop] + tx[w][crossing bytes], with
+/// E_w = sum_d B[w, d, empty] and T[w](c, d) = B[w, d, c] - B[w, d, empty] for a marked bin.
+struct BevMatcher::Tables {
+  int W = 0, K = 0, A = 0, step = 1;
+  std::vector<int> offset;   ///< direction of column w at orientation 0
+  double base = 0.0;         ///< sum_w E_w
+  std::vector<float> tstop;  ///< W x 256: stop code -> T(wall or occupied, bin); code D -> 0
+  std::vector<float> tx;     ///< W x 256: crossing byte -> T(door or window, bin); 0 -> 0
+  float scale = 1.0f;        ///< 1 / (D W)
+  BevLikelihood likelihood = BevLikelihood::kMean;
+  float inv_temperature = 1.0f;
+  /// Bounds (bounded search): rm[w][lo * (D + 1) + hi] = max of tstop[w][lo..hi]; the positive
+  /// parts of the crossing entries per bin, door (pos[w][d]) and window (pos[w][64 + d]).
+  int D = 0;
+  std::vector<float> rm;
+  std::vector<float> pos;
+};
+
+const BevPrediction* BevMatcher::observation_bev(const Observation2D& obs) const {
+  const BevClasses want = params_.semantics ? BevClasses::kSemantic : BevClasses::kOccupancy;
+  for (const BevPrediction& b : obs.bev) {
+    if (b.classes == want) return &b;
+  }
+  return nullptr;
+}
+
+BevMatcher::Tables BevMatcher::tables(const BevPrediction& bev) const {
+  const SemanticVolume& v = pre_->volume;
+  if (!(bev.bins == v.bins)) {
+    throw InputError("matcher bev: the observation's BEV has " + std::to_string(bev.bins.count) + " depth bins over [" +
+                     std::to_string(bev.bins.min_m) + ", " + std::to_string(bev.bins.max_m) + ") m but the matcher " +
+                     std::to_string(v.bins.count) + " over [" + std::to_string(v.bins.min_m) + ", " +
+                     std::to_string(v.bins.max_m) + ") m (matcher parameters depth_bins, min_depth_m, max_range_m)");
+  }
+  bev.check("matcher bev: observation BEV");
+  Tables t;
+  t.W = bev.num_columns();
+  t.K = params_.num_orientations;
+  t.A = v.num_directions;
+  t.step = t.A / t.K;
+  const int D = v.bins.count, C = bev.num_classes(), empty = bev_empty_class(bev.classes);
+  const int stop_class = params_.semantics ? kBevWall : kBevOccupied;
+  t.offset.resize(static_cast<std::size_t>(t.W));
+  t.tstop.assign(static_cast<std::size_t>(t.W) * 256, 0.0f);
+  t.tx.assign(static_cast<std::size_t>(t.W) * 256, 0.0f);
+  double base = 0.0;
+  for (int w = 0; w < t.W; ++w) {
+    t.offset[static_cast<std::size_t>(w)] = nearest_direction(bev.column_azimuth_rad[static_cast<std::size_t>(w)], t.A);
+    float* ts = t.tstop.data() + static_cast<std::size_t>(w) * 256;
+    float* tx = t.tx.data() + static_cast<std::size_t>(w) * 256;
+    for (int d = 0; d < D; ++d) {
+      const float pe = bev.p(w, d, empty);
+      base += pe;
+      ts[d] = bev.p(w, d, stop_class) - pe;
+      if (C == 4) {
+        tx[semantic_crossing_byte(false, d)] = bev.p(w, d, kBevDoor) - pe;
+        tx[semantic_crossing_byte(true, d)] = bev.p(w, d, kBevWindow) - pe;
+      }
+    }
+  }
+  t.base = base;
+  t.scale = static_cast<float>(1.0 / (static_cast<double>(D) * t.W));
+  if (params_.search == BevSearch::kBounded) {
+    t.D = D;
+    const std::size_t D1 = static_cast<std::size_t>(D) + 1;
+    t.rm.assign(static_cast<std::size_t>(t.W) * D1 * D1, 0.0f);
+    t.pos.assign(static_cast<std::size_t>(t.W) * 128, 0.0f);
+    for (int w = 0; w < t.W; ++w) {
+      const float* ts = t.tstop.data() + static_cast<std::size_t>(w) * 256;
+      float* rm = t.rm.data() + static_cast<std::size_t>(w) * D1 * D1;
+      for (std::size_t lo = 0; lo < D1; ++lo) {
+        float m = ts[lo];
+        for (std::size_t hi = lo; hi < D1; ++hi) {
+          m = std::max(m, ts[hi]);
+          rm[lo * D1 + hi] = m;
+        }
+      }
+      const float* tx = t.tx.data() + static_cast<std::size_t>(w) * 256;
+      float* pos = t.pos.data() + static_cast<std::size_t>(w) * 128;
+      for (int d = 0; d < D && C == 4; ++d) {
+        pos[d] = std::max(0.0f, tx[semantic_crossing_byte(false, d)]);
+        pos[64 + d] = std::max(0.0f, tx[semantic_crossing_byte(true, d)]);
+      }
+    }
+  }
+  t.likelihood = params_.likelihood;
+  t.inv_temperature = static_cast<float>(1.0 / params_.temperature);
+  return t;
+}
+
+/// out[k * n + j] = the score of stored cell first + j at orientation k (k < K, j < n <=
+/// kTileCells). One fixed order of additions per cell, whatever the tile: the bounded search and
+/// the posterior get the same bits.
+void BevMatcher::score_tile(const Tables& t, std::size_t first, int n, float* out) const {
+  const SemanticVolume& v = pre_->volume;
+  const std::size_t N = v.num_cells();
+  const bool semantic = !v.crossings.empty();
+  float acc[kTileCells];
+  for (int k = 0; k < t.K; ++k) {
+    const float base = static_cast<float>(t.base);
+    for (int j = 0; j < n; ++j) acc[j] = base;
+    for (int w = 0; w < t.W; ++w) {
+      const int a = (k * t.step + t.offset[static_cast<std::size_t>(w)]) % t.A;
+      const std::uint8_t* st = v.stop.data() + static_cast<std::size_t>(a) * N + first;
+      const float* ts = t.tstop.data() + static_cast<std::size_t>(w) * 256;
+      for (int j = 0; j < n; ++j) acc[j] += ts[st[j]];
+      if (semantic) {
+        const std::uint16_t* cr = v.crossings.data() + static_cast<std::size_t>(a) * N + first;
+        const float* tx = t.tx.data() + static_cast<std::size_t>(w) * 256;
+        for (int j = 0; j < n; ++j) {
+          const std::uint16_t c = cr[j];
+          if (c) acc[j] += tx[c & 0xff] + tx[c >> 8];
+        }
+      }
+    }
+    std::memcpy(out + static_cast<std::size_t>(k) * n, acc, static_cast<std::size_t>(n) * sizeof(float));
+  }
+  // Crossings beyond the second: cell-major, so one range per tile.
+  if (!v.overflow.empty()) {
+    const std::uint64_t A = static_cast<std::uint64_t>(t.A);
+    auto it = std::lower_bound(v.overflow.begin(), v.overflow.end(), std::make_pair(first * A, std::uint8_t{0}));
+    for (; it != v.overflow.end() && it->first < (first + static_cast<std::size_t>(n)) * A; ++it) {
+      const std::size_t j = static_cast<std::size_t>(it->first / A) - first;
+      const int a = static_cast<int>(it->first % A);
+      for (int w = 0; w < t.W; ++w) {
+        const int rel = ((a - t.offset[static_cast<std::size_t>(w)]) % t.A + t.A) % t.A;
+        if (rel % t.step) continue;
+        out[static_cast<std::size_t>(rel / t.step) * n + j] += t.tx[static_cast<std::size_t>(w) * 256 + it->second];
+      }
+    }
+  }
+  const std::size_t total = static_cast<std::size_t>(t.K) * n;
+  if (t.likelihood == BevLikelihood::kMean) {
+    for (std::size_t q = 0; q < total; ++q) out[q] = std::max(0.0f, out[q] * t.scale);
+  } else {
+    for (std::size_t q = 0; q < total; ++q) out[q] = std::exp(-(1.0f - out[q] * t.scale) * t.inv_temperature);
+  }
+}
+
+MatchResult BevMatcher::match(const Observation2D& obs, const MatchRequest& request) const {
+  const auto t0 = Clock::now();
+  MatchResult result;
+  const SemanticVolume& v = pre_->volume;
+  const GridSpec& g = v.grid;
+  const int K = params_.num_orientations;
+  const BevPrediction* bev = observation_bev(obs);
+  Posterior& post = result.posterior;
+  post.grid = g;
+  result.grid = g;
+  // The full posterior is made only when it is needed (campus: 5 MB per orientation).
+  const bool max_filter = params_.peaks == BevPeaks::kMaxFilter;
+  const bool bounded = request.output == MatchOutput::kModes && params_.search == BevSearch::kBounded && !max_filter;
+  auto allocate = [&] {
+    post.yaw_rad.resize(static_cast<std::size_t>(K));
+    post.scores.resize(static_cast<std::size_t>(K));
+    for (int k = 0; k < K; ++k) {
+      post.yaw_rad[static_cast<std::size_t>(k)] = 2.0 * kPi * k / K;
+      post.scores[static_cast<std::size_t>(k)] = cv::Mat::zeros(g.height_px, g.width_px, CV_32F);
+    }
+  };
+  if (!bev) {
+    result.counters["bev_missing"] = 1.0;
+    if (request.output != MatchOutput::kModes) allocate();
+    finish_from_posterior(result, request);
+    result.match_s = seconds(t0, Clock::now());
+    return result;
+  }
+  const Tables t = tables(*bev);
+  if (!bounded) allocate();
+  if (bounded) {
+    result.stage_s["tables"] = seconds(t0, Clock::now());
+    match_modes(t, request, result);
+    result.match_s = seconds(t0, Clock::now());
+    return result;
+  }
+  const auto t1 = Clock::now();
+  std::vector<float*> slices(static_cast<std::size_t>(K));
+  for (int k = 0; k < K; ++k) slices[static_cast<std::size_t>(k)] = post.scores[static_cast<std::size_t>(k)].ptr<float>();
+  tbb::enumerable_thread_specific<std::vector<float>> scratch;
+  tbb::parallel_for(0, g.height_px, [&](int row) {
+    std::vector<float>& s = scratch.local();
+    s.resize(static_cast<std::size_t>(K) * kTileCells);
+    const std::size_t begin = static_cast<std::size_t>(pre_->row_start[static_cast<std::size_t>(row)]);
+    const std::size_t end = static_cast<std::size_t>(pre_->row_start[static_cast<std::size_t>(row) + 1]);
+    for (std::size_t first = begin; first < end; first += kTileCells) {
+      const int n = static_cast<int>(std::min<std::size_t>(kTileCells, end - first));
+      score_tile(t, first, n, s.data());
+      for (int k = 0; k < K; ++k) {
+        float* dst = slices[static_cast<std::size_t>(k)];
+        for (int j = 0; j < n; ++j) dst[v.cells[first + static_cast<std::size_t>(j)]] = s[static_cast<std::size_t>(k) * n + j];
+      }
+    }
+  });
+  const auto t2 = Clock::now();
+  // The thesis' peaks instead of the greedy suppression (found before the slices may go).
+  std::vector<PoseHypothesis> peaks;
+  if (max_filter) {
+    const double res = g.resolution_m_per_px;
+    const int half_cells = std::max(0, static_cast<int>(std::floor((params_.peak_window_m / res - 1.0) / 2.0 + 1e-9)));
+    const int half_slices = std::max(0, static_cast<int>(std::floor((params_.peak_window_deg * K / 360.0 - 1.0) / 2.0 + 1e-9)));
+    peaks = post.maximum_filter_peaks(request.top_k, half_cells, half_slices);
+  }
+  finish_from_posterior(result, request);
+  if (max_filter) result.modes = std::move(peaks);
+  result.stage_s["tables"] = seconds(t0, t1);
+  result.stage_s["scores"] = seconds(t1, t2);
+  result.stage_s["modes"] = seconds(t2, Clock::now());
+  result.match_s = seconds(t0, Clock::now());
+  return result;
+}
+
+void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, MatchResult& result) const {
+  // Exact best-first search over blocks. A block's bound at orientation k adds, per column, the
+  // largest table entry over its cells' stop codes (the range [lo, hi] holds every cell's code)
+  // and the positive entries of every bin where one of its cells has a crossing: each cell's
+  // sum is at most that, since its marked bins are distinct. Blocks are scored exactly (every
+  // orientation) in descending order of their best bound; greedy suppression on the scored
+  // cells gives the modes Posterior::top_k would find on the full posterior once the last mode
+  // scores above every unscored block's bound (a mode is the best live cell; cells that can
+  // score no more than the last mode are never chosen and suppress nothing).
+  const auto t0 = Clock::now();
+  const SemanticVolume& v = pre_->volume;
+  const GridSpec& g = v.grid;
+  const int K = t.K, W = t.W, A = t.A, D1 = t.D + 1;
+  const std::size_t NB = pre_->block_runs.size();
+  const bool semantic = !v.crossings.empty();
+  result.grid = g;
+  auto transform = [&](double acc) {
+    return t.likelihood == BevLikelihood::kMean ? std::max(0.0, acc * t.scale)
+                                                : std::exp(-(1.0 - acc * t.scale) * t.inv_temperature);
+  };
+  // Float sums of up to 3 W terms of magnitude <= D: bounds are raised by a margin above their
+  // rounding before they are compared with exact scores.
+  const double margin = 1e-3 + 1e-5 * t.base;
+  std::vector<double> bound(NB);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NB, 64), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t b = range.begin(); b != range.end(); ++b) {
+      double best = -1e300;
+      for (int k = 0; k < K; ++k) {
+        double ub = t.base;
+        for (int w = 0; w < W; ++w) {
+          const std::size_t idx = b * static_cast<std::size_t>(A) + static_cast<std::size_t>((k * t.step + t.offset[static_cast<std::size_t>(w)]) % A);
+          ub += t.rm[static_cast<std::size_t>(w) * D1 * D1 + static_cast<std::size_t>(pre_->block_stop_lo[idx]) * D1 +
+                     pre_->block_stop_hi[idx]];
+          if (semantic) {
+            const float* pos = t.pos.data() + static_cast<std::size_t>(w) * 128;
+            for (std::uint64_t m = pre_->block_doors[idx]; m; m &= m - 1) ub += pos[__builtin_ctzll(m)];
+            for (std::uint64_t m = pre_->block_windows[idx]; m; m &= m - 1) ub += pos[64 + __builtin_ctzll(m)];
+          }
+        }
+        best = std::max(best, ub);
+      }
+      bound[b] = transform(best + margin);
+    }
+  });
+  std::vector<std::uint32_t> order(NB);
+  for (std::size_t b = 0; b < NB; ++b) order[b] = static_cast<std::uint32_t>(b);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return bound[a] != bound[b] ? bound[a] > bound[b] : a < b;
+  });
+  const auto t1 = Clock::now();
+
+  struct Candidate {
+    float score;
+    std::int32_t slice, row, col;
+    bool operator<(const Candidate& o) const {  // Posterior::top_k's order: score, slice, row, column
+      if (score != o.score) return score > o.score;
+      if (slice != o.slice) return slice < o.slice;
+      if (row != o.row) return row < o.row;
+      return col < o.col;
+    }
+  };
+  std::vector<Candidate> pool;
+  std::size_t next = 0, cells_scored = 0;
+  double score_s = 0.0, modes_s = 0.0;
+  const double res = g.resolution_m_per_px;
+  while (true) {
+    const auto ts = Clock::now();
+    const std::size_t end = std::min(NB, next + std::max<std::size_t>(16, next / 2));
+    std::vector<std::vector<Candidate>> found(end - next);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(next, end, 4), [&](const tbb::blocked_range<std::size_t>& range) {
+      std::vector<float> s(static_cast<std::size_t>(K) * kTileCells);
+      for (std::size_t u = range.begin(); u != range.end(); ++u) {
+        std::vector<Candidate>& out = found[u - next];
+        for (const auto& [first, n] : pre_->block_runs[order[u]]) {
+          score_tile(t, static_cast<std::size_t>(first), n, s.data());
+          for (int j = 0; j < n; ++j) {
+            const int lin = v.cells[static_cast<std::size_t>(first) + static_cast<std::size_t>(j)];
+            for (int k = 0; k < K; ++k) {
+              const float x = s[static_cast<std::size_t>(k) * n + j];
+              if (x > 0.0f) out.push_back({x, k, lin / g.width_px, lin % g.width_px});
+            }
+          }
+        }
+      }
+    });
+    for (std::size_t u = next; u < end; ++u) {
+      for (const auto& run : pre_->block_runs[order[u]]) cells_scored += static_cast<std::size_t>(run.second);
+      pool.insert(pool.end(), found[u - next].begin(), found[u - next].end());
+    }
+    next = end;
+    const auto tm = Clock::now();
+    score_s += seconds(ts, tm);
+    // Greedy suppression on the scored cells.
+    std::sort(pool.begin(), pool.end());
+    result.modes.clear();
+    for (const Candidate& c : pool) {
+      if (static_cast<int>(result.modes.size()) >= request.top_k) break;
+      const double yaw = 2.0 * kPi * c.slice / K;
+      bool suppressed = false;
+      for (const PoseHypothesis& m : result.modes) {
+        if (angle_distance_rad(yaw, m.yaw_rad) > request.mode_separation_rad) continue;
+        const double dx = (c.col - m.col) * res, dy = (c.row - m.row) * res;
+        if (std::sqrt(dx * dx + dy * dy) <= request.mode_separation_m + 1e-12) {
+          suppressed = true;
+          break;
+        }
+      }
+      if (suppressed) continue;
+      PoseHypothesis h;
+      const Vec2 p = g.cell_center_m(c.row, c.col);
+      h.x_m = p.x();
+      h.y_m = p.y();
+      h.yaw_rad = yaw;
+      h.score = c.score;
+      h.slice = c.slice;
+      h.row = c.row;
+      h.col = c.col;
+      result.modes.push_back(h);
+    }
+    modes_s += seconds(tm, Clock::now());
+    if (next >= NB) break;
+    if (static_cast<int>(result.modes.size()) >= request.top_k && result.modes.back().score > bound[order[next]]) break;
+  }
+  result.stage_s["bounds"] = seconds(t0, t1);
+  result.stage_s["scores"] = score_s;
+  result.stage_s["modes"] = modes_s;
+  result.counters["blocks_scored"] = static_cast<double>(next);
+  result.counters["cells_scored"] = static_cast<double>(cells_scored);
+  result.counters["cells_scored_share"] = v.num_cells() ? static_cast<double>(cells_scored) / static_cast<double>(v.num_cells()) : 0.0;
+}
+
+std::vector<double> bev_scores_reference(const SemanticVolume& v, std::size_t cell, const BevPrediction& bev,
+                                         int K, BevLikelihood likelihood, double temperature) {
+  const int A = v.num_directions, D = v.bins.count, W = bev.num_columns();
+  std::vector<double> out(static_cast<std::size_t>(K));
+  std::vector<int> cls(static_cast<std::size_t>(D));
+  for (int k = 0; k < K; ++k) {
+    double sum = 0.0;
+    for (int w = 0; w < W; ++w) {
+      const int a = nearest_direction(2.0 * kPi * k / K + bev.column_azimuth_rad[static_cast<std::size_t>(w)], A);
+      v.render(cell, a, cls.data());
+      for (int d = 0; d < D; ++d) sum += bev.p(w, d, cls[static_cast<std::size_t>(d)]);
+    }
+    const double L = sum / (static_cast<double>(D) * W);
+    out[static_cast<std::size_t>(k)] = likelihood == BevLikelihood::kMean ? L : std::exp(-(1.0 - L) / temperature);
+  }
+  return out;
+}
+
+}  // namespace floorcast
