@@ -44,6 +44,10 @@ void add_observation_options(CLI::App& cmd, ObserveCliOptions& o) {
   cmd.add_option("--depth-kind", o.depth_kind, "What the --depth-dir maps measure: z (depth along the optical axis) or range (distance from the camera)")
       ->capture_default_str()
       ->check(CLI::IsMember({"z", "range"}));
+  cmd.add_option("--bev", o.bev,
+                 "Also make the semantic bird's-eye view for the bev matcher: the views' own BEV files, else the "
+                 "simulated predictor with this error preset on the views' column semantics (`sim scan --semantics`)")
+      ->check(CLI::IsMember(bev_predictor_presets()));
   cmd.add_option("--depth-unit", o.depth_unit_m, "Metres per unit of 16-bit --depth-dir maps (PNG, TIFF, NPY uint16)")
       ->capture_default_str()
       ->check(CLI::Range(1e-6, 1.0));
@@ -85,6 +89,11 @@ ObservationParams observation_params_from_cli(const ObserveCliOptions& o, const 
   if (o.mask_glass) {
     p.back_projection.mask_glass = true;
     p.lidar.back_projection.mask_glass = true;
+  }
+  if (!o.bev.empty()) {
+    p.bev.enabled = true;
+    p.bev.preset = o.bev;
+    p.bev.error = bev_error_preset(o.bev);
   }
   return p;
 }
@@ -231,6 +240,11 @@ void register_observe(CLI::App& root) {
                 << d.points_in_slice << " points in slice\n";
     } else {
       std::cout << "  planes: " << d.planes_total << " (" << d.wall_planes << " walls)\n";
+    }
+    if (params.bev.enabled) {
+      std::cout << "  BEV: " << r.observation.bev.size() << " (" << d.bev_columns << " columns from "
+                << d.bev_views_used.size() << " views" << (d.bev_views_brought.empty() ? ", predictor " + params.bev.preset : ", brought")
+                << ")\n";
     }
     for (const std::string& w : d.warnings) std::cout << "  warning: " << w << "\n";
     std::cout << "  -> " << obs_path.string() << ", " << diag.string() << "\n";

@@ -21,6 +21,8 @@ struct ObserveCliOptions {
   std::string depth_dir;
   std::string depth_kind = "z";
   double depth_unit_m = 0.001;  ///< unit of 16-bit depth files
+  /// "" = the params file decides (default off); else enable the BEV predictor with this preset.
+  std::string bev;
 };
 
 void add_observation_options(CLI::App& cmd, ObserveCliOptions& options);

@@ -177,6 +177,64 @@ const FieldList<VoxelPlaneParams>& voxel_plane_fields() {
   return f;
 }
 
+const FieldList<BevPredictorParams>& bev_predictor_fields() {
+  using P = BevPredictorParams;
+  std::string presets;
+  for (const std::string& n : bev_predictor_presets()) presets += (presets.empty() ? "" : " | ") + n;
+  static const FieldList<P> f =
+      FieldList<P>("bev predictor")
+          .flag("enabled", &P::enabled,
+                "make the observation's BEVs: from each view's own BEV file, else from its column semantics through the error model")
+          // Read before the error-model keys (declaration order): a preset sets every value, the
+          // other keys of the same overrides then change single values of it.
+          .custom(
+              "preset", [](nlohmann::ordered_json& j, const P& p) { j["preset"] = p.preset; },
+              [](ParamReader& r, P& p) {
+                std::string name = p.preset;
+                r.read("preset", name);
+                try {
+                  p.error = bev_error_preset(name);
+                } catch (const InputError& e) {
+                  r.fail("preset", e.what());
+                }
+                p.preset = name;
+              },
+              presets.c_str(), "error-model preset (the thesis' Figs. 5.1-5.4; values assumed, bev_predictor.hpp)")
+          .number("depth_sigma_ln", [](auto& p) -> auto& { return p.error.depth_sigma_ln; }, 0, 5,
+                  "spread of a predicted range (log sigma) at 0 m")
+          .number("depth_sigma_ln_per_m", [](auto& p) -> auto& { return p.error.depth_sigma_ln_per_m; }, 0, 5,
+                  "growth of the range spread per metre of range (log sigma per m)")
+          .number("view_scale_sigma_ln", [](auto& p) -> auto& { return p.error.view_scale_sigma_ln; }, 0, 5,
+                  "per view: every range times exp(N(0, s^2))")
+          .number("element_offset_sigma_ln", [](auto& p) -> auto& { return p.error.element_offset_sigma_ln; }, 0, 5,
+                  "per element: its range times exp(N(0, s^2))")
+          .number("window_as_wall", [](auto& p) -> auto& { return p.error.window_as_wall; }, 0, 1,
+                  "P(a window is predicted as a wall and stops the ray)")
+          .number("wall_as_window", [](auto& p) -> auto& { return p.error.wall_as_window; }, 0, 1, "P(a wall is predicted as a window)")
+          .number("door_missed", [](auto& p) -> auto& { return p.error.door_missed; }, 0, 1, "P(a door is not predicted)")
+          .number("closed_door_as_wall", [](auto& p) -> auto& { return p.error.closed_door_as_wall; }, 0, 1,
+                  "P(a closed door leaf is predicted as a wall)")
+          .number("furniture_as_wall", [](auto& p) -> auto& { return p.error.furniture_as_wall; }, 0, 1,
+                  "P(furniture at camera height is predicted as a wall)")
+          .number("occluded_spread", [](auto& p) -> auto& { return p.error.occluded_spread; }, 0, 1,
+                  "share of an unseen element's mass spread beyond its occluder")
+          .number("peak_mass", [](auto& p) -> auto& { return p.error.peak_mass; }, 0, 1, "class mass of an element over its bins")
+          .number("floor_mass", [](auto& p) -> auto& { return p.error.floor_mass; }, 0, 1,
+                  "mass of every (column, bin) spread over all classes")
+          .integer("depth_bins", &P::depth_bins, 1, 63, "log-spaced depth bins (the bev matcher's must be the same)")
+          .number("min_depth_m", &P::min_depth_m, 0.01, 100, "first depth bin edge, m")
+          .number("max_depth_m", &P::max_depth_m, 0.1, 1000, "last depth bin edge, m (the range)")
+          .number("column_step_deg", &P::column_step_deg, 0.1, 180,
+                  "a BEV column every this many degrees of azimuth, from the view whose heading is nearest")
+          .unsigned_integer("seed", &P::seed, "seed of the error model's draws")
+          .check([](const P& p, const ParamReader& r) {
+            if (!(p.min_depth_m < p.max_depth_m)) {
+              r.fail("min_depth_m", "must be below max_depth_m (" + nlohmann::json(p.max_depth_m).dump() + ")");
+            }
+          });
+  return f;
+}
+
 }  // namespace
 
 const FieldList<ObservationParams>& observation_fields() {
@@ -192,7 +250,8 @@ const FieldList<ObservationParams>& observation_fields() {
           .section("lidar_back_projection", [](auto& p) -> auto& { return p.lidar.back_projection; }, back_projection_fields())
           .section("lidar", &P::lidar, lidar_fields())
           .section("lidar_pcl", [](auto& p) -> auto& { return p.lidar.pcl; }, pcl_fields())
-          .section("lidar_voxelplane", [](auto& p) -> auto& { return p.lidar.voxel_plane; }, voxel_plane_fields());
+          .section("lidar_voxelplane", [](auto& p) -> auto& { return p.lidar.voxel_plane; }, voxel_plane_fields())
+          .section("bev", &P::bev, bev_predictor_fields());
   return f;
 }
 
@@ -292,6 +351,34 @@ const FieldList<ObservationDiagnostics>& ground_result_fields() {
   return f;
 }
 
+/// The BEV block (when BEVs were made).
+const FieldList<ObservationDiagnostics>& bev_result_fields() {
+  using D = ObservationDiagnostics;
+  static const FieldList<D> f =
+      FieldList<D>("bev")
+          .integers("views_used", &D::bev_views_used, "views that gave BEV columns")
+          .integers("views_brought", &D::bev_views_brought, "of them, views with a BEV file of their own")
+          .integer("columns", &D::bev_columns, 0, 1 << 30, "columns of the BEVs")
+          .custom(
+              "events",
+              [](nlohmann::ordered_json& j, const D& d) {
+                j["events"] = nlohmann::ordered_json::object();
+                for (const auto& [k, v] : d.bev_events) j["events"][k] = v;
+              },
+              [](ParamReader& r, D& d) {
+                nlohmann::json events;
+                r.read("events", events);
+                if (!events.is_object()) r.fail("events", "expected an object of counts");
+                d.bev_events.clear();
+                for (auto it = events.begin(); it != events.end(); ++it) {
+                  if (!it.value().is_number_integer()) r.fail("events." + it.key(), "expected an integer");
+                  d.bev_events[it.key()] = it.value().get<int>();
+                }
+              },
+              "{event: count}", "draw counts of the error model (window_as_wall, door_missed, ...)");
+  return f;
+}
+
 const FieldList<ObservationDiagnostics>& diagnostics_fields() {
   using D = ObservationDiagnostics;
   static const FieldList<D> f =
@@ -316,6 +403,8 @@ const FieldList<ObservationDiagnostics>& diagnostics_fields() {
           .number("band_half_height_m", &D::band_half_height_m, -kAny, kAny, "band actually used, m")
           .unsigned_integer("planes_total", &D::planes_total, "LiDAR path: planes extracted")
           .unsigned_integer("wall_planes", &D::wall_planes, "LiDAR path: planes kept as walls")
+          .section("bev", [](auto& d) -> auto& { return d; }, bev_result_fields())
+          .optional([](const D& d) { return !d.bev_views_used.empty() || d.bev_columns > 0; })
           .texts("warnings", &D::warnings, "degradations the caller should know about");
   return f;
 }

@@ -284,6 +284,17 @@ ObservationResult observe_scan(const Scan& scan, const ObservationParams& params
   } else {
     observe_lidar(scan, params, out);
   }
+  if (params.bev.enabled) {
+    const auto tb = Clock::now();
+    BevPredictionResult bev = predict_bev(scan, params.bev);
+    out.observation.bev = std::move(bev.bev);
+    out.diagnostics.bev_views_used = bev.views_used;
+    out.diagnostics.bev_views_brought = bev.views_brought;
+    out.diagnostics.bev_columns = bev.columns;
+    out.diagnostics.bev_events = bev.events;
+    for (std::string& w : bev.warnings) out.diagnostics.warnings.push_back(std::move(w));
+    out.stage_s["bev"] = seconds_since(tb);
+  }
   out.total_s = seconds_since(t0);
   return out;
 }

@@ -27,6 +27,7 @@
 #include "floorcast/core/observation.hpp"
 #include "floorcast/core/scan.hpp"
 #include "floorcast/core/types.hpp"
+#include "floorcast/observe/bev_predictor.hpp"
 #include "floorcast/observe/observe_planes.hpp"
 
 namespace floorcast {
@@ -198,6 +199,9 @@ struct ObservationParams {
   SliceParams slice;
   SegmentExtractionParams segments;
   LidarPathParams lidar;
+  /// The semantic BEV (off by default): a simulated predictor or the views' own BEVs
+  /// (bev_predictor.hpp), for the BEV matcher.
+  BevPredictorParams bev;
 };
 
 /// The field list of every observation-module parameter (core/fields.hpp): sections path,
@@ -372,6 +376,12 @@ struct ObservationDiagnostics {
   double band_half_height_m = 0.0;      ///< band actually used (after fallbacks)
   std::size_t planes_total = 0;         ///< LiDAR path
   std::size_t wall_planes = 0;          ///< LiDAR path
+  /// BEV (when params.bev.enabled): views that gave columns, of them with their own BEV, columns,
+  /// and the error model's draw counts.
+  std::vector<int> bev_views_used;
+  std::vector<int> bev_views_brought;
+  int bev_columns = 0;
+  std::map<std::string, int> bev_events;
   /// Degradations the caller should know about (no ground plane -> global scale 1, empty slice
   /// bands, every view dropped, ...). Nothing is dropped or defaulted without a line here.
   std::vector<std::string> warnings;
