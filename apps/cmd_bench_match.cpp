@@ -75,6 +75,26 @@ void print_ray(const std::string& D, const Json& r) {
   std::cout << "\n";
 }
 
+void print_bev(const std::string& variant, const Json& b) {
+  std::cout << std::fixed << std::setprecision(3) << "  bev (" << variant << "), " << b["directions"] << " directions, "
+            << b["orientations"] << " orientations: precompute " << num(b, "precompute_wall_s") << " s, "
+            << std::setprecision(1) << num(b, "precompute_mb") << " MB\n";
+  for (auto it = b.begin(); it != b.end(); ++it) {
+    if (it.key().rfind("fov_", 0) != 0) continue;
+    const Json& f = it.value();
+    std::cout << std::setprecision(4) << "    " << it.key().substr(4) << " deg (" << f["columns"]
+              << " columns): estimate + top-K, bounded " << num(f, "modes", "cpu_s") << " [" << num(f, "modes", "wall_s")
+              << "] (cells scored " << std::setprecision(1) << 100.0 * num(f, "search_counters", "cells_scored_share")
+              << "%), exhaustive " << std::setprecision(4) << num(f, "modes_exhaustive", "cpu_s") << " ["
+              << num(f, "modes_exhaustive", "wall_s") << "], identical " << f.value("bounded_modes_identical", 0);
+    if (f.contains("posterior")) {
+      std::cout << "; full posterior " << num(f, "posterior", "cpu_s") << " [" << num(f, "posterior", "wall_s") << "], "
+                << std::setprecision(1) << num(f, "posterior_mb") << " MB";
+    }
+    std::cout << "\n";
+  }
+}
+
 void register_bench_match(CLI::App& root) {
   CLI::App& bench = group(root, "bench", "Benchmarks (medians over repeats, same-run ratios)");
   struct Options {
@@ -107,6 +127,13 @@ void register_bench_match(CLI::App& root) {
   cmd->add_option("--ray-bits", o->params.ray_volume_bits, "Ray matcher distance volume bits (8 or 16)")
       ->capture_default_str()
       ->check(CLI::IsMember({8, 16}));
+  cmd->add_option("--bev-fov", o->params.bev_fov_deg,
+                  "BEV matcher: fields of view of its observations, degrees (360: full circle; none: --bev-fov 0)")
+      ->capture_default_str()
+      ->delimiter(',');
+  cmd->add_option("--bev-resolution", o->params.bev_resolution_m, "BEV matcher grid resolution, metres")
+      ->capture_default_str()
+      ->check(CLI::Range(0.02, 1.0));
   cmd->add_option("--equivalence", o->equivalence,
                   "Instead: compare the search's modes with the posterior's on N seeded observations per plan")
       ->check(CLI::Range(0, 100000));
@@ -120,6 +147,12 @@ void register_bench_match(CLI::App& root) {
       if (d > 0) rays.push_back(d);
     }
     o->params.ray_directions = rays;
+    std::vector<double> fovs;
+    for (const double f : o->params.bev_fov_deg) {
+      if (f < 0.0 || f > 360.0) throw InputError("--bev-fov: fields of view must be in (0, 360] (or 0 for none)");
+      if (f > 0.0) fovs.push_back(f);
+    }
+    o->params.bev_fov_deg = fovs;
     Json all = Json::object();
     for (const std::string& path : plans) {
       const FloorPlan plan = load_floor_plan(path);
@@ -155,6 +188,9 @@ void register_bench_match(CLI::App& root) {
                 << o->params.top_k << ")\n";
       if (j.contains("kernel")) print_kernel(j["kernel"]);
       for (const auto& [d, r] : j["ray"].items()) print_ray(d, r);
+      if (j.contains("bev")) {
+        for (const auto& [variant, b] : j["bev"].items()) print_bev(variant, b);
+      }
     }
     if (o->json) std::cout << (plans.size() == 1 ? all.begin().value() : all).dump(2) << "\n";
   });

@@ -2,6 +2,7 @@
 // estimate.json and posterior.png.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -19,6 +20,7 @@
 #include "floorcast/core/hash.hpp"
 #include "floorcast/scenarios/run_directory.hpp"
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/match/bev_matcher.hpp"
 #include "floorcast/match/estimate_record.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/match/ray_matcher.hpp"
@@ -44,7 +46,8 @@ struct LocalizationInput {
 /// Loads OBS: an observation JSON (`floorcast sim perfect` writes DIR/observation.json; the
 /// folder itself is accepted too), or a scan folder (DIR/scan.json, `floorcast sim scan`), which
 /// the observation module turns into 2D segments first.
-LocalizationInput load_localization_input(const std::string& path, const ObserveCliOptions& observe) {
+LocalizationInput load_localization_input(const std::string& path, const ObserveCliOptions& observe,
+                                          const std::function<void(ObservationParams&)>& adjust) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
@@ -52,7 +55,8 @@ LocalizationInput load_localization_input(const std::string& path, const Observe
     if (fs::exists(obs)) return {load_observation(obs.string()), "observation JSON", std::nullopt};
     if (fs::exists(fs::path(path) / "scan.json")) {
       const Scan scan = load_scan_for_observation(path, observe);
-      const ObservationParams params = observation_params_from_cli(observe, &scan);
+      ObservationParams params = observation_params_from_cli(observe, &scan);
+      if (adjust) adjust(params);
       const ObservationResult r = observe_scan(scan, params);
       return {observation_record(scan, path, r), "scan folder (observation module, " + r.diagnostics.path + ")",
               observation_diagnostics_json(params, r)};
@@ -61,6 +65,34 @@ LocalizationInput load_localization_input(const std::string& path, const Observe
   }
   if (!fs::exists(path, ec)) throw InputError(path + ": no such file or folder");
   return {load_observation(path), "observation JSON", std::nullopt};
+}
+
+/// A BEV brought as one .npy of shape (W, D, C) (a network's output for one image): C = 4
+/// (wall, window, door, empty) or 2 (occupied, empty); columns left to right over a pinhole
+/// camera's horizontal field of view hfov_deg centred on the observer's heading (360: W
+/// equiangular columns counter-clockwise from the heading); depth bins log-spaced over
+/// [min_depth_m, max_depth_m).
+LocalizationInput load_bev_npy(const std::string& path, double hfov_deg, double min_depth_m, double max_depth_m) {
+  const NpyArray a = read_npy(path);
+  if (a.shape.size() != 3 || (a.shape[2] != 4 && a.shape[2] != 2)) {
+    throw InputError(path + ": a BEV .npy must have shape (W, D, C) with C = 4 (wall, window, door, empty) or 2 "
+                            "(occupied, empty)");
+  }
+  const BevClasses classes = a.shape[2] == 4 ? BevClasses::kSemantic : BevClasses::kOccupancy;
+  // One reader of BEV files (scan folders' view BEVs): a pinhole of the given field of view.
+  CameraIntrinsics K;
+  K.width_px = static_cast<int>(std::max<std::size_t>(a.shape[0], 1));
+  K.fx_px = 0.5 * K.width_px / std::tan(0.5 * std::min(hfov_deg, 179.0) * kPi / 180.0);
+  K.cx_px = 0.5 * (K.width_px - 1);
+  BevPrediction b = read_view_bev(path, K, classes, min_depth_m, max_depth_m);
+  if (hfov_deg >= 360.0) b.column_azimuth_rad = full_circle_azimuths(b.num_columns());
+  LocalizationInput in;
+  in.record.observation.bev.push_back(std::move(b));
+  in.record.observation.max_range_m = max_depth_m;
+  in.record.source = "BEV " + path;
+  in.description = "BEV .npy (" + std::string(bev_classes_name(classes)) + ", " + std::to_string(a.shape[0]) +
+                   " columns over " + format_fixed(hfov_deg, 1) + " deg)";
+  return in;
 }
 
 /// What a path holds, for telling swapped arguments apart: "plan", "observation", "scan folder",
@@ -169,6 +201,7 @@ void register_localize(CLI::App& root) {
   struct Options {
     std::string plan, obs, matcher = "kernel", orientations, out;
     int rays = 0;
+    double bev_hfov_deg = 90.0;
     int top_k = 5;
     double range_m = SharedParams{}.range_m;
     std::string posterior = "none";
@@ -184,7 +217,7 @@ void register_localize(CLI::App& root) {
   cmd->add_option("PLAN", o->plan, "Floor-plan JSON")->required();
   cmd->add_option("OBS", o->obs,
                  "Observation JSON (from `floorcast sim perfect`), or its folder, or a scan folder (`floorcast sim "
-                 "scan`; the observation module runs first)")
+                 "scan`; the observation module runs first), or a BEV .npy of shape (W, D, C) for the bev matcher")
       ->required();
   cmd->add_option("--matcher", o->matcher, "Layout matcher")->capture_default_str()->check(CLI::IsMember(matcher_names()));
   cmd->add_option("--orientations", o->orientations, "Kernel matcher orientation candidates: palms, palms+ (default), dense")
@@ -197,6 +230,11 @@ void register_localize(CLI::App& root) {
   CLI::Option* range_opt = cmd->add_option("--range", o->range_m, "Matching range, metres (the matcher's max_range_m; PALMS+ 4.4: 10)")
                                ->capture_default_str()
                                ->check(CLI::Range(0.5, 60.0));
+  cmd->add_option("--bev-hfov-deg", o->bev_hfov_deg,
+                  "A BEV .npy as OBS: horizontal field of view its columns span, left to right (360: a full circle "
+                  "counter-clockwise from the heading)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 360.0));
   cmd->add_option("--top-k", o->top_k, "Modes to report (NMS 1 m, 30 deg)")->capture_default_str()->check(CLI::Range(1, 100));
   cmd->add_option("--posterior", o->posterior,
                   "Posterior volume written: none (estimate, modes and the max-over-heading heatmap only; memory "
@@ -231,11 +269,32 @@ void register_localize(CLI::App& root) {
     }
     const std::shared_ptr<const MatcherConfig> matcher_config = make_matcher_config(o->matcher, overrides, shared);
     (void)observation_params_from_cli(o->observe, nullptr);  // the observation module's, checked now
+    // The bev matcher's depth bins, which the BEV (predicted or brought) must share.
+    const bool bev = o->matcher == "bev";
+    BevMatcherParams bev_params;
+    if (bev) {
+      bev_params.apply_shared(shared);
+      bev_params.apply_overrides(overrides);
+    }
+    if (std::filesystem::path(o->obs).extension() == ".npy" && !bev) {
+      throw InputError(o->obs + ": a BEV .npy is an observation for the bev matcher only (--matcher bev)");
+    }
     const FloorPlan plan = load_floor_plan(o->plan);
     LocalizationInput input;
     {
       const Heartbeat hb("localize: reading the observation " + o->obs, o->quiet);
-      input = load_localization_input(o->obs, o->observe);
+      if (std::filesystem::path(o->obs).extension() == ".npy") {
+        input = load_bev_npy(o->obs, o->bev_hfov_deg, bev_params.min_depth_m, bev_params.max_range_m);
+      } else {
+        input = load_localization_input(o->obs, o->observe, [&](ObservationParams& p) {
+          if (!bev) return;
+          // A scan localized with the bev matcher: its BEV (brought, else predicted) on the matcher's bins.
+          p.bev.enabled = true;
+          p.bev.depth_bins = bev_params.depth_bins;
+          p.bev.min_depth_m = bev_params.min_depth_m;
+          p.bev.max_depth_m = bev_params.max_range_m;
+        });
+      }
     }
     // An observation made in another building (or another version of this plan) localizes
     // against the wrong map: say so, do not refuse (a plan may have been repaired since).
@@ -373,6 +432,12 @@ void register_localize(CLI::App& root) {
     write_png(png, img);
 
     if (!found) {
+      if (result.counters.count("bev_missing")) {
+        std::cout << matcher->name() << ": no pose: the observation has no BEV of the matcher's class set (scans: "
+                  << "simulate with `sim scan --semantics` or bring view BEVs; perfect observations: `sim perfect "
+                  << "--bev-columns 72`) -> " << o->out << "\n";
+        throw CommandExit{kExitNoPose};
+      }
       std::cout << matcher->name() << ": no pose (empty posterior: every cell scored 0) -> " << o->out << "\n";
       throw CommandExit{kExitNoPose};
     }

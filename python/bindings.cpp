@@ -270,7 +270,7 @@ PYBIND11_MODULE(_floorcast, m) {
         return "<floorcast.Scan " + s.scan.sensor + ": " + std::to_string(s.scan.views.size()) + " views>";
       });
   m.def("simulate_scan", [](const PyPlan& plan, const py::object& pose_deg, const std::string& sensor, const std::string& setting,
-                            std::uint64_t seed, bool rgb, bool doors_open, const py::object& params) {
+                            std::uint64_t seed, bool rgb, bool doors_open, const py::object& params, bool semantics) {
     const Pose2 pose = pose_from(pose_deg);
     ScanParams p = scan_preset(sensor);
     if (!parse_scan_setting(setting, p.setting)) throw InputError("setting \"" + setting + "\": expected full, partial or single");
@@ -286,7 +286,9 @@ PYBIND11_MODULE(_floorcast, m) {
     {
       py::gil_scoped_release release;
       const RayScene scene(extrude_plan(world));
-      sim = simulate_scan(scene, pose, p);
+      SimulationOptions so;
+      so.column_semantics = semantics;
+      sim = simulate_scan(scene, pose, p, so);
       if (rgb) {
         GlRenderer gl(scene.mesh(), p.geometry.width_px, p.geometry.height_px);
         render_scan_colour(gl, sim);
@@ -297,10 +299,11 @@ PYBIND11_MODULE(_floorcast, m) {
     out.truth = std::move(sim.truth);
     return out;
   }, py::arg("plan"), py::arg("pose"), py::arg("sensor") = "mono", py::arg("setting") = "full", py::arg("seed") = 0,
-     py::arg("rgb") = false, py::arg("doors_open") = false, py::arg("params") = py::none(),
+     py::arg("rgb") = false, py::arg("doors_open") = false, py::arg("params") = py::none(), py::arg("semantics") = false,
      "Simulates a rotating scan at pose (x_m, y_m, yaw_deg) with a sensor preset (perfect, lidar, mono, phone); "
      "rgb=True renders colour views (OpenGL, headless). params: nested dict of sensor overrides "
-     "(e.g. {'sensor': {'mono': {'scale_sigma_ln': 0.2}}}). Doors closed unless doors_open, as `floorcast sim scan`.");
+     "(e.g. {'sensor': {'mono': {'scale_sigma_ln': 0.2}}}). Doors closed unless doors_open, as `floorcast sim scan`. "
+     "semantics=True annotates every view with its column semantics (the BEV predictor's truth: observe(bev=...)).");
   m.def("read_depth", [](const std::string& path, double integer_unit_m) {
     DepthFileOptions o;
     o.integer_unit_m = integer_unit_m;
@@ -350,15 +353,36 @@ PYBIND11_MODULE(_floorcast, m) {
         return o.record.T_world_observer ? py::object(pose_dict(*o.record.T_world_observer)) : py::none();
       })
       .def_property_readonly("diagnostics", [](const PyObservation& o) { return to_python(o.diagnostics); })
+      .def_property_readonly("bev", [](const PyObservation& o) {
+        py::list l;
+        for (const BevPrediction& b : o.record.observation.bev) {
+          py::dict d;
+          d["classes"] = bev_classes_name(b.classes);
+          d["class_names"] = bev_class_names(b.classes);
+          d["depth_bins"] = b.bins.count;
+          d["min_depth_m"] = b.bins.min_m;
+          d["max_depth_m"] = b.bins.max_m;
+          d["column_azimuth_rad"] = py::array(py::cast(b.column_azimuth_rad));
+          py::array_t<float> p({static_cast<py::ssize_t>(b.num_columns()), static_cast<py::ssize_t>(b.bins.count),
+                                static_cast<py::ssize_t>(b.num_classes())});
+          std::copy(b.probabilities.begin(), b.probabilities.end(), p.mutable_data());
+          d["probabilities"] = p;
+          l.append(d);
+        }
+        return l;
+      }, "BEV predictions (semantic and/or occupancy): dicts with classes, depth bins, column_azimuth_rad (W) and "
+         "probabilities float32 (W, D, C)")
       .def("save", [](const PyObservation& o, const std::string& path) { save_observation(path, o.record); }, py::arg("path"))
       .def("__repr__", [](const PyObservation& o) {
         return "<floorcast.Observation: " + std::to_string(o.record.observation.segments_m.size()) + " segments>";
       });
-  m.def("perfect_observation", [](const PyPlan& plan, const py::object& pose_deg, int rays, double range_m, bool doors_open) {
+  m.def("perfect_observation", [](const PyPlan& plan, const py::object& pose_deg, int rays, double range_m, bool doors_open,
+                                  int bev_columns) {
     const Pose2 pose = pose_from(pose_deg);
     check_observer_pose(plan.plan, pose, plan.source);
     PerfectObservationParams p;
     p.num_rays = rays;
+    p.bev_columns = bev_columns;
     p.max_range_m = range_m;
     p.blocking.open_doors_block = !doors_open;
     const PerfectObserver observer(plan.plan, p);
@@ -371,11 +395,45 @@ PYBIND11_MODULE(_floorcast, m) {
     return o;
   }, py::arg("plan"), py::arg("pose"), py::arg("rays") = PerfectObservationParams{}.num_rays,
      py::arg("range_m") = PerfectObservationParams{}.max_range_m, py::arg("doors_open") = false,
-     "The exact visible wall surfaces within range (PALMS+ sec. 4.4 proxy; doors closed unless doors_open)");
+     py::arg("bev_columns") = PerfectObservationParams{}.bev_columns,
+     "The exact visible wall surfaces within range (PALMS+ sec. 4.4 proxy; doors closed unless doors_open); "
+     "bev_columns > 0 adds the perfect semantic and occupancy BEVs on that many equiangular columns");
+  m.def("bev_observation", [](const py::array& probabilities, double hfov_deg, double min_depth_m, double max_depth_m) {
+    const py::array_t<float, py::array::c_style | py::array::forcecast> a(probabilities);
+    if (a.ndim() != 3 || (a.shape(2) != 4 && a.shape(2) != 2)) {
+      throw InputError("bev_observation: probabilities must have shape (W, D, C) with C = 4 (wall, window, door, empty) "
+                       "or 2 (occupied, empty)");
+    }
+    BevPrediction b;
+    b.classes = a.shape(2) == 4 ? BevClasses::kSemantic : BevClasses::kOccupancy;
+    b.bins = {static_cast<int>(a.shape(1)), min_depth_m, max_depth_m};
+    const int W = static_cast<int>(a.shape(0));
+    if (hfov_deg >= 360.0) {
+      b.column_azimuth_rad = full_circle_azimuths(W);
+    } else {
+      const double t = std::tan(0.5 * hfov_deg * kPi / 180.0);
+      for (int w = 0; w < W; ++w) b.column_azimuth_rad.push_back(std::atan((1.0 - 2.0 * (w + 0.5) / W) * t));
+    }
+    b.probabilities.assign(a.data(), a.data() + a.size());
+    b.check("bev_observation");
+    PyObservation o;
+    o.record.observation.bev.push_back(std::move(b));
+    o.record.observation.max_range_m = max_depth_m;
+    o.record.source = "BEV";
+    return o;
+  }, py::arg("probabilities"), py::arg("hfov_deg") = 90.0, py::arg("min_depth_m") = 0.3, py::arg("max_depth_m") = 10.0,
+     "An observation from a BEV of your own (a network's softmax output), float (W, D, C): columns left to right over a "
+     "pinhole's horizontal field of view hfov_deg (360: counter-clockwise around the full circle), D log-spaced depth "
+     "bins over [min_depth_m, max_depth_m); for match(..., matcher='bev')");
   m.def("observe", [](const PyScan& scan, const std::optional<std::string>& path, const std::optional<std::string>& scale_alignment,
-                      const py::object& params) {
+                      const py::object& params, const std::optional<std::string>& bev) {
     ObservationParams p;
     if (!params.is_none()) apply_overrides(p, from_python(params));
+    if (bev) {
+      p.bev.enabled = true;
+      p.bev.preset = *bev;
+      p.bev.error = bev_error_preset(*bev);
+    }
     if (path) p.path = parse_observation_path(*path);
     else if (params.is_none() && scan.scan.sensor == "lidar") p.path = ObservationPath::kLidar;
     if (scale_alignment) p.scale.mode = parse_scale_alignment(*scale_alignment);
@@ -394,7 +452,10 @@ PYBIND11_MODULE(_floorcast, m) {
     o.diagnostics = {{"diagnostics", to_json(r.diagnostics)}, {"params", to_json(p)}, {"total_s", r.total_s}};
     return o;
   }, py::arg("scan"), py::arg("path") = py::none(), py::arg("scale_alignment") = py::none(), py::arg("params") = py::none(),
-     "The observation module: scan -> observed wall segments (path mono or lidar; scale alignment full, ground, none)");
+     py::arg("bev") = py::none(),
+     "The observation module: scan -> observed wall segments (path mono or lidar; scale alignment full, ground, none); "
+     "bev=PRESET also makes the semantic BEV for matcher 'bev' (the views' own BEVs, else the simulated predictor: "
+     "perfect, structured3d_good, structured3d_bad, custom_good, custom_bad; params {'bev': {...}} set its values)");
   m.def("load_observation", [](const std::string& path) {
     PyObservation o;
     o.record = load_observation(path);

@@ -16,7 +16,9 @@
 #include "floorcast/core/timing.hpp"
 #include "floorcast/match/kernel_matcher.hpp"
 #include "floorcast/match/plan_raster.hpp"
+#include "floorcast/match/bev_matcher.hpp"
 #include "floorcast/match/ray_matcher.hpp"
+#include "floorcast/observe/bev_predictor.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
 
 namespace floorcast {
@@ -286,6 +288,97 @@ nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams
     rays[std::to_string(D)] = r;
   }
   j["ray"] = rays;
+
+  // The BEV matcher, with and without semantics.
+  nlohmann::ordered_json bevs = nlohmann::ordered_json::object();
+  for (const bool semantics : {true, false}) {
+    if (params.bev_fov_deg.empty()) break;
+    BevMatcherParams bp;
+    bp.semantics = semantics;
+    bp.resolution_m = params.bev_resolution_m;
+    const auto t0 = Clock::now();
+    const BevMatcher bounded(plan, bp);
+    const double precompute_wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    BevMatcherParams ep = bp;
+    ep.search = BevSearch::kExhaustive;
+    const BevMatcher exhaustive(bounded, ep);  // shares the volume
+    const BevClasses classes = semantics ? BevClasses::kSemantic : BevClasses::kOccupancy;
+    const SemanticPlanLines lines = semantic_plan_lines(plan, classes, bp.blocking.cut_height_m);
+    const cv::Mat valid = matcher_valid_mask(plan, bounded.grid(), bp.blocking);
+    const std::vector<Pose2> poses = sample_valid_poses(valid, bounded.grid(), params.observations, params.seed);
+    // The truth along every 5 deg column, shaped by the predictor's structured3d_good spreads.
+    BevErrorModel shape = bev_error_preset("structured3d_good");
+    nlohmann::ordered_json b;
+    b["precompute_wall_s"] = precompute_wall;
+    b["precompute_mb"] = bounded.precompute_bytes() / 1e6;
+    b["valid_cells"] = bounded.volume().num_cells();
+    b["directions"] = bp.num_directions;
+    b["orientations"] = bp.num_orientations;
+    for (const double fov : params.bev_fov_deg) {
+      std::vector<Observation2D> observations;
+      for (const Pose2& pose : poses) {
+        BevPrediction pred;
+        pred.classes = classes;
+        pred.bins = bp.bins();
+        for (int w = 0; w < 72; ++w) {
+          const double az = wrap_angle_rad(2.0 * kPi * w / 72);
+          if (fov < 360.0 && std::abs(az) > 0.5 * fov * kPi / 180.0 + 1e-9) continue;
+          std::vector<BevColumnElement> els;
+          for (const SemanticHit& h : semantic_ray_hits(lines, pose.position_m(), pose.yaw_rad + az, bp.max_range_m)) {
+            BevColumnElement e;
+            e.truth = h.label;
+            e.range_m = h.range_m;
+            els.push_back(e);
+          }
+          const std::vector<float> col = predict_bev_column(els, classes, pred.bins, shape);
+          pred.column_azimuth_rad.push_back(az);
+          pred.probabilities.insert(pred.probabilities.end(), col.begin(), col.end());
+        }
+        Observation2D o;
+        o.bev.push_back(std::move(pred));
+        observations.push_back(std::move(o));
+      }
+      (void)bounded.match(observations.front(), MatchRequest::modes(params.top_k));
+      Series modes, modes_exhaustive, posterior;
+      std::vector<std::map<std::string, double>> stages, counters;
+      int same = 0;
+      for (const Observation2D& obs : observations) {
+        MatchResult a, e;
+        modes.add(measure([&] { a = bounded.match(obs, MatchRequest::modes(params.top_k)); }));
+        stages.push_back(a.stage_s);
+        counters.push_back(a.counters);
+        modes_exhaustive.add(measure([&] { e = exhaustive.match(obs, MatchRequest::modes(params.top_k)); }));
+        bool identical = a.modes.size() == e.modes.size();
+        for (std::size_t i = 0; identical && i < a.modes.size(); ++i) {
+          identical = a.modes[i].slice == e.modes[i].slice && a.modes[i].row == e.modes[i].row &&
+                      a.modes[i].col == e.modes[i].col && a.modes[i].score == e.modes[i].score;
+        }
+        same += identical;
+        if (params.posteriors) {
+          MatchRequest full;
+          full.top_k = params.top_k;
+          posterior.add(measure([&] { (void)bounded.match(obs, full); }));
+        }
+      }
+      nlohmann::ordered_json f;
+      f["columns"] = observations.front().bev.front().num_columns();
+      f["modes"] = modes.json();
+      f["modes_exhaustive"] = modes_exhaustive.json();
+      f["exhaustive_over_bounded"] = median_ratio(modes_exhaustive.cpu, modes.cpu);
+      f["bounded_modes_identical"] = same;
+      f["stages_cpu_s"] = to_json(median_of(stages));
+      f["search_counters"] = to_json(median_of(counters));
+      if (params.posteriors) {
+        f["posterior"] = posterior.json();
+        f["posterior_mb"] = static_cast<double>(bp.num_orientations) * bounded.grid().width_px * bounded.grid().height_px * 4.0 / 1e6;
+      }
+      std::ostringstream key;
+      key << fov;
+      b["fov_" + key.str()] = f;
+    }
+    bevs[semantics ? "semantic" : "occupancy"] = b;
+  }
+  if (!bevs.empty()) j["bev"] = bevs;
   return j;
 }
 

@@ -185,7 +185,9 @@ SimulatedScan ScenarioRunner::unit_scan(const WorkUnit& unit, int step) const {
   }
   const Impl::Building& building = d.buildings.at(static_cast<std::size_t>(unit.building));
   const Pose2& truth = building.poses.at(static_cast<std::size_t>(unit.point));
-  return simulate_scan(*building.scene, truth, Impl::unit_scan_params(cell, unit, step));
+  SimulationOptions options;
+  options.column_semantics = cell.observation.observe.bev.enabled;
+  return simulate_scan(*building.scene, truth, Impl::unit_scan_params(cell, unit, step), options);
 }
 
 const FloorPlan& ScenarioRunner::building_plan(int b) const { return impl_->buildings.at(static_cast<std::size_t>(b)).plan; }
@@ -222,6 +224,7 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
     Observation2D observation;
     bool ok = true;
     std::string failure;
+    bool bev_ok = true;  ///< the observation has a BEV (scans: the observation module made one)
   };
   auto observe_at = [&](const Pose2& pose, int step, OJson* info) {
     Observed o;
@@ -232,7 +235,10 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
       if (info) (*info)["source"] = "perfect";
     } else {
       const auto t0 = Clock::now();
-      const Scan scan = simulate_scan(*building.scene, pose, Impl::unit_scan_params(cell, unit, step)).scan;
+      // Column semantics (the BEV predictor's truth) only when the observation module makes a BEV.
+      SimulationOptions options;
+      options.column_semantics = cell.observation.observe.bev.enabled;
+      const Scan scan = simulate_scan(*building.scene, pose, Impl::unit_scan_params(cell, unit, step), options).scan;
       r.timings_s["simulate"] += seconds_since(t0);
       const ObservationResult obs = observe_scan(scan, cell.observation.observe);
       r.timings_s["observe"] += obs.total_s;
@@ -245,10 +251,13 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
         o.ok = false;
         o.failure = obs.diagnostics.warnings.empty() ? "no wall segments observed" : obs.diagnostics.warnings.front();
       }
+      // The BEV does not come from the wall segments: a bev matcher can run without them.
+      o.bev_ok = !o.observation.bev.empty();
     }
     return o;
   };
-  const Observed first = observe_at(r.truth, 0, &r.observation);
+  Observed first = observe_at(r.truth, 0, &r.observation);
+  if (cell.observation.source == ObservationSource::kPerfect) first.bev_ok = !first.observation.bev.empty();
   const Observation2D& observation = first.observation;
   r.observation_ok = first.ok;
   r.observation_failure = first.failure;
@@ -259,9 +268,12 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
   for (const MatcherSpec& m : cell.matchers) {
     MatcherOutcome o;
     o.label = m.label;
-    if (!r.observation_ok) {
+    // A BEV matcher needs the BEV, every other matcher the wall segments.
+    const bool uses_bev = m.config->name() == "bev";
+    if (uses_bev ? !first.bev_ok : !r.observation_ok) {
       o.ok = false;
-      o.failure = "observation failed: " + r.observation_failure;
+      o.failure = uses_bev ? "observation has no BEV (scans: observe_params.bev.enabled; perfect: observation.bev_columns)"
+                           : "observation failed: " + r.observation_failure;
       r.outcomes.push_back(o);
       continue;
     }
@@ -326,7 +338,7 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
   r.timings_s["match"] = match_total;
   if (cell.sequential) run_sequential(unit, r, [&](const Pose2& pose, int step) {
     const Observed o = observe_at(pose, step, nullptr);
-    return o.ok ? std::optional<Observation2D>(o.observation) : std::nullopt;
+    return o.ok || !o.observation.bev.empty() ? std::optional<Observation2D>(o.observation) : std::nullopt;
   });
   return r;
 }
@@ -386,11 +398,13 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
       oit = observations.emplace(step, observe(walk.steps[static_cast<std::size_t>(step)].T_world_body, step)).first;
     }
     if (!oit->second) return std::nullopt;  // a failed observation is no update
+    const MatcherSpec* spec = nullptr;
+    for (const MatcherSpec& m : cell.matchers) spec = m.label == matcher_label ? &m : spec;
+    // What this matcher needs: the BEV (bev), the wall segments (every other one).
+    if (spec->config->name() == "bev" ? oit->second->bev.empty() : oit->second->segments_m.empty()) return std::nullopt;
     const auto k = std::make_pair(matcher_label, step);
     auto pit = posteriors.find(k);
     if (pit == posteriors.end()) {
-      const MatcherSpec* spec = nullptr;
-      for (const MatcherSpec& m : cell.matchers) spec = m.label == matcher_label ? &m : spec;
       const auto tm = Clock::now();
       pit = posteriors.emplace(k, d.matchers.at(Impl::matcher_key(b, *spec))->match(*oit->second).posterior).first;
       r.timings_s["track_match"] += seconds_since(tm);

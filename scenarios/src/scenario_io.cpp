@@ -386,6 +386,7 @@ struct ObservationUser {
   double max_range_m = 10.0;  ///< default: the shared range
   bool doors_closed = true;   ///< default: the shared blocking
   int rays = PerfectObservationParams{}.num_rays;
+  int bev_columns = PerfectObservationParams{}.bev_columns;
   std::string sensor = "mono";
   OJson sensor_params = OJson::object();
   std::string setting = "full";
@@ -410,6 +411,9 @@ const FieldList<ObservationUser>& observation_user_fields() {
           .number("max_range_m", &O::max_range_m, 0.5, 1000.0, "perfect: visible geometry within this range, m")
           .flag("doors_closed", &O::doors_closed, "perfect: open doors occlude as if closed")
           .integer("rays", &O::rays, 4, 3600, "perfect: equiangular rays (F3Loc: 36)")
+          .integer("bev_columns", &O::bev_columns, 0, 3600,
+                   "perfect: equiangular columns of the perfect BEVs (the thesis' one-hot plan rendering, for the bev "
+                   "matcher); 0 = none")
           .choice("sensor", &O::sensor, name_choices(scan_preset_names()), "scan: the sensor preset")
           .json("sensor_params", &O::sensor_params, "scan: sensor parameter overrides")
           .choice("setting", &O::setting, name_choices(kSettings), "scan: views used (PALMS+ settings)")
@@ -438,11 +442,13 @@ ObservationSpec parse_observation(const OJson& obj, const Checker& chk, const st
   user.max_range_m = o.perfect.max_range_m;
   user.doors_closed = o.perfect.blocking.open_doors_block;
   user.rays = o.perfect.num_rays;
+  user.bev_columns = o.perfect.bev_columns;
   at_key(chk, path, [&] { observation_user_fields().read(user, Json(obj)); });
   o.source = user.source == "scan" ? ObservationSource::kScan : ObservationSource::kPerfect;
   o.perfect.max_range_m = user.max_range_m;
   o.perfect.blocking.open_doors_block = user.doors_closed;
   o.perfect.num_rays = user.rays;
+  o.perfect.bev_columns = user.bev_columns;
   // Scan: sensor preset, its overrides, the setting.
   at_key(chk, Checker::join(path, "sensor_params"), [&] {
     o.scan = scan_preset(user.sensor);
@@ -456,6 +462,7 @@ ObservationSpec parse_observation(const OJson& obj, const Checker& chk, const st
   o.observe.back_projection.mask_glass = user.mask_glass;
   o.observe.lidar.back_projection.mask_glass = user.mask_glass;
   o.observe.lidar.extractor = parse_plane_extractor(user.extractor);
+  o.observe.bev.max_depth_m = shared.range_m;  // the BEV's last bin edge: the shared range, as the bev matcher's
   at_key(chk, Checker::join(path, "observe_params"), [&] { apply_overrides(o.observe, user.observe_params); });
   o.seed = user.seed;
   if (resolved) *resolved = observation_user_fields().write(user);

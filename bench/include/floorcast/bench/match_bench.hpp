@@ -7,7 +7,11 @@
 //     size, the least an exhaustive FFT posterior can cost), with per-observation ratios and the
 //     modes of both compared (bench/modes_equivalence.hpp);
 //   - ray matcher per direction count: precompute time and memory, modes, max-over-yaw and
-//     full posterior.
+//     full posterior;
+//   - BEV matcher with and without semantics: precompute time and memory, the bounded estimate +
+//     top-K beside the exhaustive one (full posterior + top-K) per field of view (one perspective
+//     view, the full circle), on BEVs of the plan's truth at the sampled poses shaped by the
+//     predictor's structured3d_good spreads and masses (no class confusion).
 #pragma once
 
 #include <cstdint>
@@ -29,6 +33,9 @@ struct MatchBenchParams {
   std::vector<int> ray_directions = {36, 180};
   int ray_precompute_repeats = 1;
   int ray_volume_bits = 16;  ///< RayMatcherParams::volume_bits
+  /// BEV matcher: fields of view of its observations, degrees (360: the full circle; empty: skip).
+  std::vector<double> bev_fov_deg = {60.0, 360.0};
+  double bev_resolution_m = 0.1;  ///< BevMatcherParams::resolution_m
 };
 
 /// Medians and same-run ratios as JSON (keys documented in results/bench_match.md).
