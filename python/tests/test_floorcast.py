@@ -279,3 +279,26 @@ def test_posterior_outputs_none_npz_f16_top_k(out_dir):
     with open(os.path.join(runs["top-k"][0], "posterior_grid.json")) as f:
         grid = json.load(f)
     np.testing.assert_allclose(x, grid["origin_m"][0] + (index[:, 2] + 0.5) * grid["resolution_m"], atol=1e-4)
+
+
+def test_bev_matcher(plan):
+    """The semantic BEV matcher: perfect BEVs, a simulated predictor on a scan, a BEV of one's own."""
+    assert "bev" in fc.matcher_names()
+    pose = (2.35, 1.75, 30.0)
+    obs = fc.perfect_observation(plan, pose, doors_open=True, bev_columns=72)
+    assert [b["classes"] for b in obs.bev] == ["semantic", "occupancy"]
+    sem = obs.bev[0]
+    assert sem["probabilities"].shape == (72, 32, 4)
+    assert np.allclose(sem["probabilities"].sum(axis=2), 1.0)
+    r = fc.match(plan, obs, matcher="bev")
+    assert r.estimate["x_m"] == pytest.approx(pose[0], abs=0.15)
+    # A simulated scan with column semantics through the perfect predictor.
+    scan = fc.simulate_scan(plan, pose, sensor="perfect", setting="single", doors_open=True, semantics=True, params=SMALL)
+    o = fc.observe(scan, bev="perfect")
+    assert len(o.bev) == 2 and o.bev[0]["probabilities"].shape[0] > 5
+    # A BEV of one's own: the perfect one's columns, as a network would output them.
+    own = fc.bev_observation(sem["probabilities"], hfov_deg=360.0)
+    r2 = fc.match(plan, own, matcher="bev", params={"doors_closed": False})
+    assert r2.estimate["x_m"] == pytest.approx(pose[0], abs=0.15)
+    with pytest.raises(ValueError):
+        fc.bev_observation(np.zeros((4, 8, 3), np.float32))
