@@ -429,8 +429,18 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
     o.observations_used = used;
     o.record = track_record(run, walk.steps, 0);
     double total = 0.0;
-    for (const TrackRunStep& s : run.steps) {
+    for (std::size_t i = 0; i < run.steps.size(); ++i) {
+      const TrackRunStep& s = run.steps[i];
       o.estimate_xy_m.emplace_back(std::round(s.estimate.pose.x_m * 1e3) / 1e3, std::round(s.estimate.pose.y_m * 1e3) / 1e3);
+      if (!s.estimate.modes.empty()) {
+        // The position error of each of the belief's peaks at this step (steps before the first
+        // with peaks: empty lists).
+        const WalkStep& truth = walk.steps[static_cast<std::size_t>(s.step)];
+        std::vector<double> errors;
+        for (const Pose2& m : s.estimate.modes) errors.push_back((m.position_m() - truth.T_world_body.position_m()).norm());
+        o.mode_position_error_m.resize(i);
+        o.mode_position_error_m.push_back(std::move(errors));
+      }
       total += s.time_s;
     }
     r.timings_s["track"] += total;

@@ -141,7 +141,30 @@ const FieldList<TrackOutcome>& track_outcome_fields() {
                   t.estimate_xy_m.emplace_back(p[0].get<double>(), p[1].get<double>());
                 }
               },
-              "[[x, y], ...]", "estimated position per step, m (rounded to 1 mm; absent in older runs)");
+              "[[x, y], ...]", "estimated position per step, m (rounded to 1 mm; absent in older runs)")
+          .custom(
+              "mode_position_error_m",
+              [](OJson& j, const T& t) {
+                if (!t.mode_position_error_m.empty()) j["mode_position_error_m"] = t.mode_position_error_m;
+              },
+              [](ParamReader& r, T& t) {
+                if (!r.optional("mode_position_error_m")) return;
+                Json modes;
+                r.read("mode_position_error_m", modes);
+                if (!modes.is_array()) r.fail("mode_position_error_m", "expected an array of arrays of numbers");
+                for (std::size_t i = 0; i < modes.size(); ++i) {
+                  const std::string key = "mode_position_error_m[" + std::to_string(i) + "]";
+                  if (!modes[i].is_array()) r.fail(key, "expected an array of numbers");
+                  std::vector<double> step;
+                  for (const Json& v : modes[i]) {
+                    if (!v.is_number()) r.fail(key, "expected numbers");
+                    step.push_back(v.get<double>());
+                  }
+                  t.mode_position_error_m.push_back(std::move(step));
+                }
+              },
+              "[[error, ...], ...]",
+              "per step, the position error of each of the belief's peaks, best first, m (trackers reporting modes only)");
   return f;
 }
 

@@ -193,6 +193,30 @@ TEST(HistogramFilter, UpdateAndEstimate) {
   EXPECT_NEAR(f.estimate().pose.x_m, 14.05, 1e-6);
 }
 
+// The belief's peaks (the thesis' 1 m x 1 m x 30 deg maximum filter) come with the estimate when
+// asked for: best first, the estimate among them, separated peaks kept apart.
+TEST(HistogramFilter, ReportsTheBeliefsPeaks) {
+  const FloorPlan plan = hall();
+  HistogramFilterParams p;
+  p.init = BeliefInit::kUniform;
+  p.measurement_floor = 0.0;
+  p.modes = 3;
+  HistogramFilter f(plan, p);
+  f.initialise(delta_posterior(f.grid(), 36, {}), OdometryStep{});
+  f.update(delta_posterior(f.grid(), 36, {{18, {14.05, 3.05}}, {4, {4.05, 6.05}}}));
+  const TrackEstimate e = f.estimate();
+  ASSERT_EQ(e.modes.size(), 2u);
+  EXPECT_NEAR(e.modes[0].x_m, e.pose.x_m, 1e-9);
+  EXPECT_NEAR(e.modes[0].y_m, e.pose.y_m, 1e-9);
+  const Pose2& other = e.modes[0].x_m > 10.0 ? e.modes[1] : e.modes[0];
+  EXPECT_NEAR(other.x_m, 4.05, 1e-6);
+  EXPECT_NEAR(other.y_m, 6.05, 1e-6);
+  p.modes = 0;
+  HistogramFilter g(plan, p);
+  g.initialise(delta_posterior(g.grid(), 36, {{18, {14.05, 3.05}}}), OdometryStep{});
+  EXPECT_TRUE(g.estimate().modes.empty());
+}
+
 /// Two rooms split by a wall at x = 10 (no door).
 FloorPlan two_rooms() {
   FloorPlan p = hall();

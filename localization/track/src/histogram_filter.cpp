@@ -105,7 +105,9 @@ const FieldList<HistogramFilterParams>& HistogramFilterParams::fields() {
           .number("support_radius_m", &P::support_radius_m, 0.0, 100.0, "support window radius, m (success: 1 m)")
           .number("support_yaw_deg", &P::support_yaw_deg, 0.0, 180.0, "support window half-width in heading, deg (success: 30)")
           .number("orientation_mass", &P::orientation_mass, 0.0, 1.0, "stage 1: the best +-1 orientation bins hold this much")
-          .number("converged_mass", &P::converged_mass, 0.0, 1.0, "converged: the support (mass in the window around the estimate) reaches this");
+          .number("converged_mass", &P::converged_mass, 0.0, 1.0, "converged: the support (mass in the window around the estimate) reaches this")
+          .integer("modes", &P::modes, 0, 100,
+                   "peaks of the belief reported with every estimate (the thesis' 1 m x 1 m x 30 deg maximum filter); 0 = none");
   return f;
 }
 
@@ -581,6 +583,15 @@ TrackEstimate HistogramFilter::estimate() const {
   if (lost_) {
     e.support = 0.0;
     e.stage = 0;
+  }
+  if (params_.modes > 0) {
+    // The thesis' 5 x 5 x 3 filter on its 0.2 m, 10 deg grid: 1 m x 1 m x 30 deg.
+    const int D = params_.num_orientations;
+    const int half_cells = std::max(0, static_cast<int>(std::floor((1.0 / grid_.resolution_m_per_px - 1.0) / 2.0 + 1e-9)));
+    const int half_slices = std::max(0, static_cast<int>(std::floor((30.0 * D / 360.0 - 1.0) / 2.0 + 1e-9)));
+    for (const PoseHypothesis& h : belief().maximum_filter_peaks(params_.modes, half_cells, half_slices)) {
+      e.modes.push_back({h.x_m, h.y_m, h.yaw_rad});
+    }
   }
   return e;
 }

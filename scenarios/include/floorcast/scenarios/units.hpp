@@ -63,6 +63,9 @@ struct TrackOutcome {
   /// The estimated position per step (as record), for trajectory figures; empty in runs made
   /// before it was kept.
   std::vector<Vec2> estimate_xy_m;
+  /// Per step, the position errors of the tracker's modes (TrackEstimate::modes, best first);
+  /// empty when the tracker reports none.
+  std::vector<std::vector<double>> mode_position_error_m;
 };
 
 struct UnitResult {

@@ -82,6 +82,10 @@ struct HistogramFilterParams {
   /// neighbours hold orientation_mass of the belief.
   double orientation_mass = 0.8;
   double converged_mass = 0.5;
+  /// Peaks of the belief reported with every estimate (TrackEstimate::modes; 0 = none): the
+  /// thesis' maximum filter of 1 m x 1 m x 30 deg (seed paper 004, sec. 5.3;
+  /// Posterior::maximum_filter_peaks), ranked by belief.
+  int modes = 0;
 
   /// The field list (core/fields.hpp): keys, ranges, docs; to_json and apply_overrides use it.
   static const FieldList<HistogramFilterParams>& fields();

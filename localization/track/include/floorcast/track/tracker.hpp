@@ -53,6 +53,9 @@ struct TrackEstimate {
   /// True when the last update found no support at all (every hypothesis zeroed): the tracker
   /// kept its prior instead and says so, never inventing a pose.
   bool degenerate = false;
+  /// The belief's best peaks, best first, when the tracker was asked for them (histogram filter:
+  /// `modes` > 0; the thesis' top-K over frames, Fig. 5.7); empty otherwise.
+  std::vector<Pose2> modes;
 };
 
 class Tracker {
