@@ -74,6 +74,7 @@ void register_track(CLI::App& root) {
     if (!o->init.empty()) tracker_overrides["init"] = o->init;
     if (o->filter == "pf" && !tracker_overrides.contains("seed")) tracker_overrides["seed"] = o->seed;
     // The walk's stated odometry error (walk.json odometry_uncertainty), --param odometry={...} keys on top.
+    const WalkRecord walk = load_walk(o->walk);
     tracker_overrides = with_odometry(tracker_overrides, walk.odometry_uncertainty);
     nlohmann::json matcher_overrides = nlohmann::json::object();
     for (const std::string& p : o->matcher_params) add_override(matcher_overrides, p, "--matcher-param");
@@ -87,7 +88,6 @@ void register_track(CLI::App& root) {
     const std::shared_ptr<const TrackerConfig> tracker_config = make_tracker_config(o->filter, tracker_overrides);
     (void)observation_params_from_cli(o->observe, nullptr);  // the observation module's, checked now
     const FloorPlan plan = load_floor_plan(o->plan);
-    const WalkRecord walk = load_walk(o->walk);
     if (walk.observations.empty()) throw InputError(o->walk + ": the walk has no observation to start from");
     const std::unique_ptr<Matcher> matcher = matcher_config->build(plan);
     const std::unique_ptr<Tracker> tracker = tracker_config->build(plan);

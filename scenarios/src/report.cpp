@@ -423,7 +423,7 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
       // "Converged" is each tracker's own (PALMS' two stages are a particle-filter notion).
       md << "\nConverged means:";
       for (const TrackerSpec& t : cell.sequential->trackers) {
-        md << " " << t.label << ", " << describe_convergence(t.tracker, t.parameters) << ";";
+        md << " " << t.label << ", " << describe_convergence(t.config->name(), t.config->parameters()) << ";";
       }
       md << "\n";
       if (scenario.buildings.size() > 1) {

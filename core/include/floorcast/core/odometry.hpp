@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/types.hpp"
 
 namespace floorcast {
