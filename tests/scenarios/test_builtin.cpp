@@ -37,7 +37,7 @@ std::vector<std::string> split_pointer(const std::string& p) {
 TEST(BuiltinScenarios, EveryShippedScenarioLoadsAndResolves) {
   const std::set<std::string> expected = {"quickstart", "perfect_observation", "full_system",
                                           "scale_ablation", "sensor_sweep", "gate", "gate_sequential",
-                                          "sequential"};
+                                          "sequential", "paper_4_4", "paper_4_4_protocol", "paper_4_4_combinations"};
   std::set<std::string> found;
   for (const auto& entry : fs::directory_iterator(kRoot + "/scenarios")) {
     if (entry.path().extension() != ".yaml") continue;

@@ -1,0 +1,110 @@
+#!/usr/bin/env python3
+"""Runs the PALMS+ sec. 4.4 ingredient study (issue 20; results/paper_4_4.md).
+
+scenarios/paper_4_4.yaml (one matcher label per paper-faithful ingredient) and
+scenarios/paper_4_4_protocol.yaml (where the 10 m range applies) and
+scenarios/paper_4_4_combinations.yaml (F3Loc's code with the strongest ingredients) on the calibrated generated
+buildings as written, and on the real development plans (imported by scripts/import_realplans.sh)
+with the same matchers; plus the transitional-space definitions (transitional with 0.5 m and
+1.0 m clearance, uniform) on the protocol's matchers. Every run is an ordinary run directory
+(resumable: run the same command again). The large real levels are run one per directory (one of
+them alone holds ~5 GB of matcher precomputation); paper_4_4_report.py pools them.
+
+Usage: scripts/paper_4_4.py --plans out/realplans [--out out/paper_4_4] [--bin build/bin/floorcast]
+       [--only generated,real_small,real_large,protocol,regions,combinations]
+"""
+import argparse
+import os
+import subprocess
+import sys
+import time
+
+REAL_SMALL = ["tum_studitum_L1", "tum_studitum_L2", "rwth_plt_L0", "rwth_plt_L1", "spbstu_no3_L2", "spbstu_no3_L4"]
+REAL_LARGE = ["spbstu_main_L0", "spbstu_main_L1", "spbstu_main_L2", "grenoble_mall_L-1", "grenoble_mall_L0",
+              "grenoble_mall_L1"]
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def with_buildings(text, files, count=None, sampling=None):
+    """The scenario text with its buildings (and optionally its sampling line) replaced."""
+    head, rest = text.split("buildings:\n", 1)
+    _, tail = rest.split("sampling:", 1)
+    sampling_line = "sampling:" + tail.split("\n", 1)[0]
+    tail = tail.split("\n", 1)[1]
+    if sampling is not None:
+        sampling_line = "sampling: " + sampling
+    elif count is not None:
+        sampling_line = sampling_line.replace("count: 40", "count: %d" % count)
+    blist = "".join("  - %s\n" % f for f in files)
+    return head + "buildings:\n" + blist + sampling_line + "\n" + tail
+
+
+def without_sweep(text):
+    """The scenario text without its sweep (its first cell's settings are the defaults)."""
+    head, rest = text.split("sweep:\n", 1)
+    tail = rest[rest.index("scoring:"):]
+    return head + tail
+
+
+def run(binary, yaml_text, name, out):
+    path = os.path.join(out, "scenarios", name + ".yaml")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        f.write(yaml_text)
+    d = os.path.join(out, name)
+    if os.path.exists(os.path.join(d, "summary.json")):
+        print("%s: done already" % name, flush=True)
+        return
+    t0 = time.time()
+    r = subprocess.run([binary, "run", path, "-o", d, "--quiet"], cwd=ROOT)
+    if r.returncode != 0:
+        sys.exit("%s: floorcast run failed (%d)" % (name, r.returncode))
+    print("%s: %.0f s" % (name, time.time() - t0), flush=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--plans", required=True, help="folder of the imported real plans (scripts/import_realplans.sh)")
+    ap.add_argument("--out", default="out/paper_4_4")
+    ap.add_argument("--bin", default="build/bin/floorcast")
+    ap.add_argument("--points", type=int, default=20, help="observation points per real level (default 20)")
+    ap.add_argument("--only", default="generated,real_small,real_large,protocol,regions,combinations")
+    a = ap.parse_args()
+    binary = os.path.abspath(a.bin)
+    out = os.path.abspath(a.out)
+    plans = os.path.abspath(a.plans)
+    only = set(a.only.split(","))
+    ingredients = open(os.path.join(ROOT, "scenarios", "paper_4_4.yaml")).read()
+    protocol = open(os.path.join(ROOT, "scenarios", "paper_4_4_protocol.yaml")).read()
+    combinations = open(os.path.join(ROOT, "scenarios", "paper_4_4_combinations.yaml")).read()
+    small = [os.path.join(plans, p + ".json") for p in REAL_SMALL]
+    for f in small + [os.path.join(plans, p + ".json") for p in REAL_LARGE]:
+        if not os.path.exists(f):
+            sys.exit("missing %s: import the real plans first (scripts/import_realplans.sh)" % f)
+    generated = ["floorplans/buildings/office_calibrated.json", "floorplans/buildings/angled_calibrated.json",
+                 "floorplans/buildings/campus_calibrated.json"]
+    if "generated" in only:
+        run(binary, ingredients, "generated", out)
+    if "real_small" in only:
+        run(binary, with_buildings(ingredients, small, count=a.points), "real_small", out)
+    if "real_large" in only:
+        for p in REAL_LARGE:
+            run(binary, with_buildings(ingredients, [os.path.join(plans, p + ".json")], count=a.points),
+                "real_large_" + p, out)
+    if "protocol" in only:
+        run(binary, protocol, "generated_protocol", out)
+        run(binary, with_buildings(protocol, small, count=a.points), "real_small_protocol", out)
+    if "regions" in only:
+        base = without_sweep(protocol)
+        for name, sampling in [("clear1", "{count: 40, seed: 1, clearance_m: 1.0}"),
+                               ("uniform", "{count: 40, seed: 1, clearance_m: 0.5, region: uniform}")]:
+            run(binary, with_buildings(base, generated, sampling=sampling), "generated_region_" + name, out)
+            run(binary, with_buildings(base, small, sampling=sampling.replace("count: 40", "count: %d" % a.points)),
+                "real_small_region_" + name, out)
+    if "combinations" in only:
+        run(binary, combinations, "generated_combinations", out)
+        run(binary, with_buildings(combinations, small, count=a.points), "real_small_combinations", out)
+
+
+if __name__ == "__main__":
+    main()
