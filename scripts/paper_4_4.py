@@ -11,7 +11,8 @@ with the same matchers; plus the transitional-space definitions (transitional wi
 of them alone holds ~5 GB of matcher precomputation); paper_4_4_report.py pools them.
 
 Usage: scripts/paper_4_4.py --plans out/realplans [--out out/paper_4_4] [--bin build/bin/floorcast]
-       [--only generated,real_small,real_large,protocol,regions,combinations]
+       [--jobs N] [--only generated,real_small,real_large,protocol,regions,combinations]
+The parts run in the order --only names them; OUT/commit.txt records the source commit of each run.
 """
 import argparse
 import os
@@ -47,7 +48,15 @@ def without_sweep(text):
     return head + tail
 
 
-def run(binary, yaml_text, name, out):
+def source_commit():
+    """HEAD of the source tree, with "-dirty" when it has uncommitted changes to tracked files."""
+    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True).stdout.strip()
+    dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=ROOT, capture_output=True,
+                           text=True).stdout.strip()
+    return (head or "unknown") + ("-dirty" if dirty else "")
+
+
+def run(binary, yaml_text, name, out, jobs):
     path = os.path.join(out, "scenarios", name + ".yaml")
     os.makedirs(os.path.dirname(path), exist_ok=True)
     with open(path, "w") as f:
@@ -57,9 +66,14 @@ def run(binary, yaml_text, name, out):
         print("%s: done already" % name, flush=True)
         return
     t0 = time.time()
-    r = subprocess.run([binary, "run", path, "-o", d, "--quiet"], cwd=ROOT)
+    cmd = [binary, "run", path, "-o", d, "--quiet"]
+    if jobs:
+        cmd += ["--jobs", str(jobs)]
+    r = subprocess.run(cmd, cwd=ROOT)
     if r.returncode != 0:
         sys.exit("%s: floorcast run failed (%d)" % (name, r.returncode))
+    with open(os.path.join(out, "commit.txt"), "a") as f:
+        f.write("%s %s\n" % (name, source_commit()))
     print("%s: %.0f s" % (name, time.time() - t0), flush=True)
 
 
@@ -69,12 +83,14 @@ def main():
     ap.add_argument("--out", default="out/paper_4_4")
     ap.add_argument("--bin", default="build/bin/floorcast")
     ap.add_argument("--points", type=int, default=20, help="observation points per real level (default 20)")
-    ap.add_argument("--only", default="generated,real_small,real_large,protocol,regions,combinations")
+    ap.add_argument("--jobs", type=int, default=0, help="concurrent work units per run (default: all cores)")
+    ap.add_argument("--only", default="generated,real_small,real_large,protocol,regions,combinations",
+                    help="parts to run, in this order")
     a = ap.parse_args()
     binary = os.path.abspath(a.bin)
     out = os.path.abspath(a.out)
     plans = os.path.abspath(a.plans)
-    only = set(a.only.split(","))
+    only = a.only.split(",")
     ingredients = open(os.path.join(ROOT, "scenarios", "paper_4_4.yaml")).read()
     protocol = open(os.path.join(ROOT, "scenarios", "paper_4_4_protocol.yaml")).read()
     combinations = open(os.path.join(ROOT, "scenarios", "paper_4_4_combinations.yaml")).read()
@@ -84,27 +100,32 @@ def main():
             sys.exit("missing %s: import the real plans first (scripts/import_realplans.sh)" % f)
     generated = ["floorplans/buildings/office_calibrated.json", "floorplans/buildings/angled_calibrated.json",
                  "floorplans/buildings/campus_calibrated.json"]
-    if "generated" in only:
-        run(binary, ingredients, "generated", out)
-    if "real_small" in only:
-        run(binary, with_buildings(ingredients, small, count=a.points), "real_small", out)
-    if "real_large" in only:
-        for p in REAL_LARGE:
-            run(binary, with_buildings(ingredients, [os.path.join(plans, p + ".json")], count=a.points),
-                "real_large_" + p, out)
-    if "protocol" in only:
-        run(binary, protocol, "generated_protocol", out)
-        run(binary, with_buildings(protocol, small, count=a.points), "real_small_protocol", out)
-    if "regions" in only:
+
+    def regions():
         base = without_sweep(protocol)
         for name, sampling in [("clear1", "{count: 30, seed: 1, clearance_m: 1.0}"),
                                ("uniform", "{count: 30, seed: 1, clearance_m: 0.5, region: uniform}")]:
-            run(binary, with_buildings(base, generated, sampling=sampling), "generated_region_" + name, out)
+            run(binary, with_buildings(base, generated, sampling=sampling), "generated_region_" + name, out, a.jobs)
             run(binary, with_buildings(base, small, sampling=sampling.replace("count: 30", "count: %d" % a.points)),
-                "real_small_region_" + name, out)
-    if "combinations" in only:
-        run(binary, combinations, "generated_combinations", out)
-        run(binary, with_buildings(combinations, small, count=a.points), "real_small_combinations", out)
+                "real_small_region_" + name, out, a.jobs)
+
+    parts = {
+        "generated": lambda: run(binary, ingredients, "generated", out, a.jobs),
+        "real_small": lambda: run(binary, with_buildings(ingredients, small, count=a.points), "real_small", out, a.jobs),
+        "real_large": lambda: [run(binary, with_buildings(ingredients, [os.path.join(plans, p + ".json")], count=a.points),
+                                   "real_large_" + p, out, a.jobs) for p in REAL_LARGE],
+        "protocol": lambda: (run(binary, protocol, "generated_protocol", out, a.jobs),
+                             run(binary, with_buildings(protocol, small, count=a.points), "real_small_protocol", out,
+                                 a.jobs)),
+        "regions": regions,
+        "combinations": lambda: (run(binary, combinations, "generated_combinations", out, a.jobs),
+                                 run(binary, with_buildings(combinations, small, count=a.points),
+                                     "real_small_combinations", out, a.jobs)),
+    }
+    for part in only:
+        if part not in parts:
+            sys.exit("--only: unknown part %r (known: %s)" % (part, ", ".join(parts)))
+        parts[part]()
 
 
 if __name__ == "__main__":
