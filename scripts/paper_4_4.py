@@ -2,7 +2,8 @@
 """Runs the PALMS+ sec. 4.4 ingredient study (issue 20; results/paper_4_4.md).
 
 scenarios/paper_4_4.yaml (one matcher label per paper-faithful ingredient) and
-scenarios/paper_4_4_protocol.yaml (where the 10 m range applies) and
+scenarios/paper_4_4_protocol.yaml (where the 10 m range applies; its cells 1 and 2 as runs of their
+own, paired with the ingredient run's points by `floorcast compare-runs`) and
 scenarios/paper_4_4_combinations.yaml (F3Loc's code with the strongest ingredients) on the calibrated generated
 buildings as written, and on the real development plans (imported by scripts/import_realplans.sh)
 with the same matchers; plus the transitional-space definitions (transitional with 0.5 m and
@@ -15,10 +16,13 @@ Usage: scripts/paper_4_4.py --plans out/realplans [--out out/paper_4_4] [--bin b
 The parts run in the order --only names them; OUT/commit.txt records the source commit of each run.
 """
 import argparse
+import copy
 import os
 import subprocess
 import sys
 import time
+
+import yaml
 
 REAL_SMALL = ["tum_studitum_L1", "tum_studitum_L2", "rwth_plt_L0", "rwth_plt_L1", "spbstu_no3_L2", "spbstu_no3_L4"]
 # Two of the six large levels (one of each building): each costs ~5 GB and several CPU minutes of
@@ -28,32 +32,40 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def with_buildings(text, files, count=None, sampling=None):
-    """The scenario text with its buildings (and optionally its sampling line) replaced."""
-    head, rest = text.split("buildings:\n", 1)
-    _, tail = rest.split("sampling:", 1)
-    sampling_line = "sampling:" + tail.split("\n", 1)[0]
-    tail = tail.split("\n", 1)[1]
+    """The scenario text with its buildings (and optionally its point count or its whole sampling
+    block) replaced; the description says which buildings."""
+    scenario = yaml.safe_load(text)
+    scenario["buildings"] = list(files)
     if sampling is not None:
-        sampling_line = "sampling: " + sampling
+        scenario["sampling"] = sampling
     elif count is not None:
-        sampling_line = sampling_line.replace("count: 30", "count: %d" % count)
-    blist = "".join("  - %s\n" % f for f in files)
-    return head + "buildings:\n" + blist + sampling_line + "\n" + tail
+        scenario["sampling"]["count"] = count
+    names = ", ".join(os.path.splitext(os.path.basename(f))[0] for f in files)
+    scenario["description"] = scenario["description"].split(", on the calibrated")[0].rstrip(".") + "; on " + names + "."
+    return yaml.safe_dump(scenario, sort_keys=False, width=1000)
 
 
-def without_sweep(text):
-    """The scenario text without its sweep (its first cell's settings are the defaults)."""
-    head, rest = text.split("sweep:\n", 1)
-    tail = rest[rest.index("scoring:"):]
-    return head + tail
-
-
-def source_commit():
-    """HEAD of the source tree, with "-dirty" when it has uncommitted changes to tracked files."""
-    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True).stdout.strip()
-    dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=ROOT, capture_output=True,
-                           text=True).stdout.strip()
-    return (head or "unknown") + ("-dirty" if dirty else "")
+def sweep_cells(text):
+    """The scenario's sweep cells as single-cell scenario texts (cell k: the k-th value of every
+    swept key applied, no sweep). Each runs as a run of its own, so its units keep the ids of the
+    ingredient run's units and `floorcast compare-runs` pairs them point by point."""
+    scenario = yaml.safe_load(text)
+    sweep = scenario.pop("sweep")
+    if len(sweep) != 1:
+        sys.exit("sweep_cells: one sweep axis expected, %d found" % len(sweep))
+    axis = sweep[0]
+    n = len(next(iter(axis.values())))
+    cells = []
+    for k in range(n):
+        s = copy.deepcopy(scenario)
+        for key, values in axis.items():
+            node = s
+            parts = key.split(".")
+            for part in parts[:-1]:
+                node = node[part]
+            node[parts[-1]] = values[k]
+        cells.append(yaml.safe_dump(s, sort_keys=False, width=1000))
+    return cells
 
 
 def run(binary, yaml_text, name, out, jobs):
@@ -101,12 +113,19 @@ def main():
     generated = ["floorplans/buildings/office_calibrated.json", "floorplans/buildings/angled_calibrated.json",
                  "floorplans/buildings/campus_calibrated.json"]
 
+    def protocol_cells():
+        # Cell 0 (10 m on both sides) is the ingredient run's defaults: only cells 1 and 2 run.
+        for k, name in ((1, "obs_only"), (2, "f3loc_eval")):
+            cell = sweep_cells(protocol)[k]
+            run(binary, cell, "generated_protocol_" + name, out, a.jobs)
+            run(binary, with_buildings(cell, small, count=a.points), "real_small_protocol_" + name, out, a.jobs)
+
     def regions():
-        base = without_sweep(protocol)
-        for name, sampling in [("clear1", "{count: 30, seed: 1, clearance_m: 1.0}"),
-                               ("uniform", "{count: 30, seed: 1, clearance_m: 0.5, region: uniform}")]:
+        base = sweep_cells(protocol)[0]
+        for name, sampling in [("clear1", {"count": 30, "seed": 1, "clearance_m": 1.0}),
+                               ("uniform", {"count": 30, "seed": 1, "clearance_m": 0.5, "region": "uniform"})]:
             run(binary, with_buildings(base, generated, sampling=sampling), "generated_region_" + name, out, a.jobs)
-            run(binary, with_buildings(base, small, sampling=sampling.replace("count: 30", "count: %d" % a.points)),
+            run(binary, with_buildings(base, small, sampling=dict(sampling, count=a.points)),
                 "real_small_region_" + name, out, a.jobs)
 
     parts = {
@@ -114,9 +133,7 @@ def main():
         "real_small": lambda: run(binary, with_buildings(ingredients, small, count=a.points), "real_small", out, a.jobs),
         "real_large": lambda: [run(binary, with_buildings(ingredients, [os.path.join(plans, p + ".json")], count=a.points),
                                    "real_large_" + p, out, a.jobs) for p in REAL_LARGE],
-        "protocol": lambda: (run(binary, protocol, "generated_protocol", out, a.jobs),
-                             run(binary, with_buildings(protocol, small, count=a.points), "real_small_protocol", out,
-                                 a.jobs)),
+        "protocol": protocol_cells,
         "regions": regions,
         "combinations": lambda: (run(binary, combinations, "generated_combinations", out, a.jobs),
                                  run(binary, with_buildings(combinations, small, count=a.points),
