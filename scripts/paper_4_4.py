@@ -45,6 +45,14 @@ def with_buildings(text, files, count=None, sampling=None):
     return yaml.safe_dump(scenario, sort_keys=False, width=1000)
 
 
+def source_commit():
+    """HEAD of the source tree, with "-dirty" when it has uncommitted changes to tracked files."""
+    head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True).stdout.strip()
+    dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=ROOT, capture_output=True,
+                           text=True).stdout.strip()
+    return (head or "unknown") + ("-dirty" if dirty else "")
+
+
 def sweep_cells(text):
     """The scenario's sweep cells as single-cell scenario texts (cell k: the k-th value of every
     swept key applied, no sweep). Each runs as a run of its own, so its units keep the ids of the
