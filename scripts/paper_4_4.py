@@ -103,6 +103,7 @@ def main():
     ap.add_argument("--out", default="out/paper_4_4")
     ap.add_argument("--bin", default="build/bin/floorcast")
     ap.add_argument("--points", type=int, default=20, help="observation points per real level (default 20)")
+    ap.add_argument("--large", default=",".join(REAL_LARGE), help="large real levels to run (default: %(default)s)")
     ap.add_argument("--jobs", type=int, default=0, help="concurrent work units per run (default: all cores)")
     ap.add_argument("--only", default="generated,real_small,real_large,protocol,regions,combinations",
                     help="parts to run, in this order")
@@ -115,7 +116,8 @@ def main():
     protocol = open(os.path.join(ROOT, "scenarios", "paper_4_4_protocol.yaml")).read()
     combinations = open(os.path.join(ROOT, "scenarios", "paper_4_4_combinations.yaml")).read()
     small = [os.path.join(plans, p + ".json") for p in REAL_SMALL]
-    for f in small + [os.path.join(plans, p + ".json") for p in REAL_LARGE]:
+    large = [p for p in a.large.split(",") if p]
+    for f in small + [os.path.join(plans, p + ".json") for p in large]:
         if not os.path.exists(f):
             sys.exit("missing %s: import the real plans first (scripts/import_realplans.sh)" % f)
     generated = ["floorplans/buildings/office_calibrated.json", "floorplans/buildings/angled_calibrated.json",
@@ -140,7 +142,7 @@ def main():
         "generated": lambda: run(binary, ingredients, "generated", out, a.jobs),
         "real_small": lambda: run(binary, with_buildings(ingredients, small, count=a.points), "real_small", out, a.jobs),
         "real_large": lambda: [run(binary, with_buildings(ingredients, [os.path.join(plans, p + ".json")], count=a.points),
-                                   "real_large_" + p, out, a.jobs) for p in REAL_LARGE],
+                                   "real_large_" + p, out, a.jobs) for p in large],
         "protocol": protocol_cells,
         "regions": regions,
         "combinations": lambda: (run(binary, combinations, "generated_combinations", out, a.jobs),
