@@ -86,6 +86,7 @@ def run(binary, yaml_text, name, out, jobs):
         print("%s: done already" % name, flush=True)
         return
     t0 = time.time()
+    commit = source_commit()  # the source the binary is expected to match, taken as the run starts
     cmd = [binary, "run", path, "-o", d, "--quiet"]
     if jobs:
         cmd += ["--jobs", str(jobs)]
@@ -93,7 +94,7 @@ def run(binary, yaml_text, name, out, jobs):
     if r.returncode != 0:
         sys.exit("%s: floorcast run failed (%d)" % (name, r.returncode))
     with open(os.path.join(out, "commit.txt"), "a") as f:
-        f.write("%s %s\n" % (name, source_commit()))
+        f.write("%s %s\n" % (name, commit))
     print("%s: %.0f s" % (name, time.time() - t0), flush=True)
 
 

@@ -9,7 +9,7 @@ script:
     of a cell). A run summarised by an older floorcast has no `paired` block: the run is re-summarised
     from its units by `floorcast merge RUN -o OUT/summaries/NAME` (no unit is recomputed);
   - the protocol's range cells (runs of their own) against the ingredient run on the same points:
-    `floorcast compare-runs BASE CELL --any-configuration --json OUT/summaries/NAME.json`.
+    `floorcast compare-runs CELL BASE --json OUT/summaries/NAME.json`.
 
 The twin table asks of every miss whether the building itself hides the answer: floorcast's
 perfect observer (Python bindings) renders the view from the estimated pose and from the truth
@@ -90,9 +90,10 @@ def cross(out, base, other, binary):
     path = os.path.join(out, "summaries", "%s__vs__%s.json" % (other, base))
     if not os.path.exists(path):
         os.makedirs(os.path.dirname(path), exist_ok=True)
-        # Exit 1 = "the runs differ", which they do by construction.
-        floorcast(binary, ["compare-runs", os.path.join(out, other), os.path.join(out, base), "--any-configuration",
-                           "--json", path], ok_codes=(0, 1))
+        # Exit 1 = "the runs differ", which they do by construction (other configurations: each run's
+        # units are read with its own scenario and compared on the points both hold).
+        floorcast(binary, ["compare-runs", os.path.join(out, other), os.path.join(out, base), "--json", path],
+                  ok_codes=(0, 1))
     return json.load(open(path))
 
 
@@ -112,9 +113,9 @@ def pair(s, a, b):
 def orient(e, swap):
     """(difference, ci, only_a, only_b, p) with A and B swapped when `swap`."""
     d, ci = e["difference"], e["ci95"]
-    if swap:
-        return (-d if d is not None else None, [-ci[1], -ci[0]] if ci else None, e["only_b"], e["only_a"],
-                e["p_value"])
+    if swap:  # (+ 0.0: no "-0.0")
+        return (-d + 0.0 if d is not None else None, [-ci[1] + 0.0, -ci[0] + 0.0] if ci else None, e["only_b"],
+                e["only_a"], e["p_value"])
     return (d, ci, e["only_a"], e["only_b"], e["p_value"])
 
 
@@ -180,7 +181,8 @@ def ingredient_table(sets):
         row = ["**%s** (base)" % base, "floorcast's defaults"]
         row += [fmt_rate(s, base) for _, s in sets]
         out.append("| " + " | ".join(row) + " |")
-        for l in labels(sets[0][1]):
+        present = labels(sets[0][1])
+        for l in [k for k in FOLLOWS if k in present] + sorted(k for k in present if k not in FOLLOWS):
             if l == base or not l.startswith(base):
                 continue
             row = [l, FOLLOWS.get(l, "")]
@@ -232,8 +234,8 @@ def combination_table(out_dir, binary):
 
 
 def regions_table(out_dir, binary):
-    rows = ["| set | sampling | points | kernel | ray (36) | ray (180) | ray180 - ray | kernel - ray |",
-            "|---|---|---|---|---|---|---|---|"]
+    rows = ["| set | sampling | points | kernel | kernel_authors | ray (36) | ray_f3loc_code | ray (180) | ray180 - ray | "
+            "kernel - ray |", "|---|---|---|---|---|---|---|---|---|---|"]
     for set_title, base in (("generated", "generated"), ("real small", "real_small")):
         for samp, name in (("transitional, 0.5 m clearance (the study's)", base),
                            ("transitional, 1.0 m clearance", base + "_region_clear1"),
@@ -241,8 +243,9 @@ def regions_table(out_dir, binary):
             s = summary(out_dir, name, binary)
             if s is None:
                 continue
-            rows.append("| %s | %s | %d | %s | %s | %s | %s | %s |" % (
-                set_title, samp, rate(s, "kernel")[2], fmt_rate(s, "kernel"), fmt_rate(s, "ray"), fmt_rate(s, "ray180"),
+            rows.append("| %s | %s | %d | %s | %s | %s | %s | %s | %s | %s |" % (
+                set_title, samp, rate(s, "kernel")[2], fmt_rate(s, "kernel"), pct(rate(s, "kernel_authors")[0]),
+                fmt_rate(s, "ray"), pct(rate(s, "ray_f3loc_code")[0]), fmt_rate(s, "ray180"),
                 fmt_pair(pair(s, "ray180", "ray")), fmt_pair(pair(s, "kernel", "ray"))))
     return rows
 
@@ -338,8 +341,7 @@ def main():
     lines += protocol_table(out, binary)
     comb = combination_table(out, binary)
     if comb:
-        lines += ["", "## Combinations (F3Loc's code with the strongest ingredients), paired against the default ray",
-                  ""] + comb
+        lines += ["", "## Combinations of the strongest ingredients, paired against the default ray matcher", ""] + comb
     lines += ["", "## Where the points are (different points per row: compare within a row)", ""]
     lines += regions_table(out, binary)
     lines += ["", "## Misses that the building itself hides (twins)", ""]
