@@ -119,6 +119,10 @@ def orient(e, swap):
     return (d, ci, e["only_a"], e["only_b"], e["p_value"])
 
 
+def md_row(cells):
+    return "| " + " | ".join(cells) + " |"
+
+
 def pct(x):
     return "-" if x is None else "%.1f" % (100.0 * x)
 
@@ -180,7 +184,7 @@ def ingredient_table(sets):
     for base in ("kernel", "ray"):
         row = ["**%s** (base)" % base, "floorcast's defaults"]
         row += [fmt_rate(s, base) for _, s in sets]
-        out.append("| " + " | ".join(row) + " |")
+        out.append(md_row(row))
         present = labels(sets[0][1])
         for l in [k for k in FOLLOWS if k in present] + sorted(k for k in present if k not in FOLLOWS):
             if l == base or not l.startswith(base):
@@ -188,7 +192,7 @@ def ingredient_table(sets):
             row = [l, FOLLOWS.get(l, "")]
             for _, s in sets:
                 row.append("%s: %s" % (pct(rate(s, l)[0]), fmt_pair(pair(s, l, base))))
-            out.append("| " + " | ".join(row) + " |")
+            out.append(md_row(row))
     return out
 
 
@@ -210,7 +214,7 @@ def protocol_table(out_dir, binary):
                 n = e["count"]
                 ok = e[CRIT]["both"] + e[CRIT]["only_a"]
                 row.append("%.1f: %s" % (100.0 * ok / n, fmt_pair(orient(e[CRIT], False))))
-            rows.append("| " + " | ".join(row) + " |")
+            rows.append(md_row(row))
     return rows
 
 
@@ -229,7 +233,7 @@ def combination_table(out_dir, binary):
             if l != "ray":
                 t += "; " + fmt_pair(pair(s, l, "ray"))
             row.append(t)
-        rows.append("| " + " | ".join(row) + " |")
+        rows.append(md_row(row))
     return rows
 
 
@@ -243,10 +247,10 @@ def regions_table(out_dir, binary):
             s = summary(out_dir, name, binary)
             if s is None:
                 continue
-            rows.append("| %s | %s | %d | %s | %s | %s | %s | %s | %s | %s |" % (
-                set_title, samp, rate(s, "kernel")[2], fmt_rate(s, "kernel"), pct(rate(s, "kernel_authors")[0]),
-                fmt_rate(s, "ray"), pct(rate(s, "ray_f3loc_code")[0]), fmt_rate(s, "ray180"),
-                fmt_pair(pair(s, "ray180", "ray")), fmt_pair(pair(s, "kernel", "ray"))))
+            rows.append(md_row([set_title, samp, str(rate(s, "kernel")[2]), fmt_rate(s, "kernel"),
+                                pct(rate(s, "kernel_authors")[0]), fmt_rate(s, "ray"),
+                                pct(rate(s, "ray_f3loc_code")[0]), fmt_rate(s, "ray180"),
+                                fmt_pair(pair(s, "ray180", "ray")), fmt_pair(pair(s, "kernel", "ray"))]))
     return rows
 
 
