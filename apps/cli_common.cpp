@@ -1,14 +1,10 @@
 #include "cli_common.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cstring>
 #include "floorcast/core/json_text.hpp"
 #include "floorcast/core/limits.hpp"
+#include "floorcast/core/process.hpp"
+#include "floorcast/match/external.hpp"
 
 #include <unistd.h>
 
@@ -110,6 +106,9 @@ int run_cli(int argc, char** argv) {
   } catch (const CommandExit& e) {
     return e.code;
   } catch (const InputError& e) {
+    std::cerr << "floorcast: error: " << e.what() << "\n";
+    return kExitUsage;
+  } catch (const ExternalMethodError& e) {  // a user's matcher (program, module) misbehaved: its input, not ours
     std::cerr << "floorcast: error: " << e.what() << "\n";
     return kExitUsage;
   } catch (const std::exception& e) {
@@ -289,35 +288,21 @@ void write_json(const std::string& path, const nlohmann::ordered_json& json) {
 
 ChildCost run_child(const std::string& exe, const std::vector<std::string>& args, const std::string& stdout_path,
                     const std::string& what) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, stdout_path.empty() ? "/dev/null" : stdout_path.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-  std::vector<std::string> storage;
-  storage.push_back(exe);
-  storage.insert(storage.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : storage) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const auto t0 = std::chrono::steady_clock::now();
-  const int err = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), ::environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (err != 0) throw InputError(what + ": cannot run " + exe + ": " + std::strerror(err));
-  int status = 0;
-  rusage usage{};
-  if (wait4(pid, &status, 0, &usage) != pid) throw InputError(what + ": lost the child running " + exe);
-  const auto t1 = std::chrono::steady_clock::now();
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+  std::vector<std::string> argv{exe};
+  argv.insert(argv.end(), args.begin(), args.end());
+  ProcessOptions options;
+  options.stdout_path = stdout_path;
+  const ProcessResult r = run_process(argv, options);
+  if (!r.started) throw InputError(what + ": cannot run " + exe + ": " + r.error);
+  if (!r.ok()) {
     std::string cmd = exe;
     for (const std::string& a : args) cmd += " " + a;
-    throw InputError(what + ": `" + cmd + "` did not exit with status 0");
+    throw InputError(what + ": `" + cmd + "` did not exit with status 0 (it " + r.describe(0.0) + ")");
   }
   ChildCost c;
-  c.cpu_s = usage.ru_utime.tv_sec + usage.ru_utime.tv_usec * 1e-6 + usage.ru_stime.tv_sec + usage.ru_stime.tv_usec * 1e-6;
-  c.wall_s = std::chrono::duration<double>(t1 - t0).count();
-  c.max_rss_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  c.cpu_s = r.cpu_s;
+  c.wall_s = r.wall_s;
+  c.max_rss_mb = r.max_rss_mb;
   return c;
 }
 

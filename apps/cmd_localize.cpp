@@ -219,7 +219,7 @@ void register_localize(CLI::App& root) {
                  "Observation JSON (from `floorcast sim perfect`), or its folder, or a scan folder (`floorcast sim "
                  "scan`; the observation module runs first), or a BEV .npy of shape (W, D, C) for the bev matcher")
       ->required();
-  cmd->add_option("--matcher", o->matcher, "Layout matcher")->capture_default_str()->check(CLI::IsMember(matcher_names()));
+  cmd->add_option("--matcher", o->matcher, "Layout matcher (built in, registered, or a module floorcast_matcher_NAME.so)")->capture_default_str();
   cmd->add_option("--orientations", o->orientations, "Kernel matcher orientation candidates: palms, palms+ (default), dense")
       ->check(CLI::IsMember({"palms", "palms+", "dense"}));
   cmd->add_option("--rays", o->rays, "Ray matcher: equiangular rays = volume directions (default 36)")

@@ -48,8 +48,9 @@ void register_track(CLI::App& root) {
       ->capture_default_str()
       ->check(CLI::IsMember({"pf", "hist"}));
   cmd->add_option("--init", o->init, "pf: palms (default), proportional, uniform, uniform-ori; hist: posterior, uniform");
-  cmd->add_option("--matcher", o->matcher, "Matcher turning observations into posteriors (default: kernel for pf, ray for hist)")
-      ->check(CLI::IsMember(matcher_names()));
+  cmd->add_option("--matcher", o->matcher,
+                  "Matcher turning observations into posteriors (default: kernel for pf, ray for hist; a module "
+                  "floorcast_matcher_NAME.so is found by name)");
   CLI::Option* tracker_param = cmd->add_option(
       "--tracker-param", o->params, "Tracker parameter override KEY=VALUE (repeatable; keys as in metrics.json's tracker_parameters)");
   add_deprecated_option(*cmd, "--param", tracker_param, o->params);

@@ -7,10 +7,12 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <set>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -18,6 +20,7 @@
 #include "floorcast/scenarios/driver.hpp"
 #include "floorcast/core/depth_io.hpp"
 #include "floorcast/core/file_io.hpp"
+#include "floorcast/core/format.hpp"
 #include "floorcast/core/hash.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/core/observation_io.hpp"
@@ -25,6 +28,8 @@
 #include "floorcast/floorplans/generate.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/floorplans/render.hpp"
+#include "floorcast/floorplans/raster.hpp"
+#include "floorcast/match/external.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/observe/observation_module.hpp"
 #include "floorcast/scenarios/scenario.hpp"
@@ -68,6 +73,41 @@ py::array mat_to_array(const cv::Mat& m, bool bgr_to_rgb = false) {
     for (std::size_t i = 0; i < m.total(); ++i) std::swap(dst[3 * i], dst[3 * i + 2]);
   }
   return out;
+}
+
+/// A numpy view of an image's own pixels (no copy): edits change the image. The view keeps the
+/// pixels alive (a cv::Mat header sharing them) even when the image is later replaced. Colour
+/// images are stored BGR; rgb_order gives an RGB view of them (negative channel stride).
+py::array mat_view(const cv::Mat& m, bool rgb_order = false) {
+  if (m.empty()) return py::array();
+  py::dtype dt;
+  switch (m.depth()) {
+    case CV_8U: dt = py::dtype::of<std::uint8_t>(); break;
+    case CV_16U: dt = py::dtype::of<std::uint16_t>(); break;
+    case CV_32F: dt = py::dtype::of<float>(); break;
+    case CV_64F: dt = py::dtype::of<double>(); break;
+    default: throw InputError("cannot view an image of OpenCV type " + std::to_string(m.type()) + " from numpy");
+  }
+  auto* keep = new cv::Mat(m);
+  py::capsule base(keep, [](void* p) { delete static_cast<cv::Mat*>(p); });
+  const auto e = static_cast<py::ssize_t>(m.elemSize1());
+  std::vector<py::ssize_t> shape{m.rows, m.cols}, strides{static_cast<py::ssize_t>(m.step[0]), static_cast<py::ssize_t>(m.elemSize())};
+  std::uint8_t* data = keep->data;
+  if (m.channels() > 1) {
+    shape.push_back(m.channels());
+    strides.push_back(e);
+    if (rgb_order && m.channels() == 3) {
+      data += 2 * e;
+      strides.back() = -e;
+    }
+  }
+  return py::array(dt, shape, strides, data, base);
+}
+
+/// A read-only copy: in-place edits raise instead of being lost.
+py::array read_only(py::array a) {
+  a.attr("setflags")(py::arg("write") = false);
+  return a;
 }
 
 cv::Mat array_to_mat(const py::array& a, const std::string& what, int want_depth, int want_channels, bool rgb_to_bgr = false) {
@@ -162,6 +202,11 @@ py::dict hypothesis_dict(const PoseHypothesis& h, const std::optional<Pose2>& tr
 
 py::dict grid_dict(const GridSpec& g, const std::vector<double>& yaw_rad) {
   py::dict d;
+  // The keys of the external-matcher protocol (match/external.hpp), then conveniences.
+  d["origin_x_m"] = g.origin_x_m;
+  d["origin_y_m"] = g.origin_y_m;
+  d["width_px"] = g.width_px;
+  d["height_px"] = g.height_px;
   d["origin_m"] = py::make_tuple(g.origin_x_m, g.origin_y_m);
   d["resolution_m"] = g.resolution_m_per_px;
   d["shape"] = py::make_tuple(static_cast<int>(yaw_rad.size()), g.height_px, g.width_px);
@@ -172,6 +217,244 @@ py::dict grid_dict(const GridSpec& g, const std::vector<double>& yaw_rad) {
   d["yaw_deg"] = deg;
   return d;
 }
+
+struct PyBuiltMatcher {
+  std::shared_ptr<const Matcher> matcher;
+};
+
+/// One observation through a built matcher: the full posterior, its argmax and top-K modes.
+PyMatch match_once(const Matcher& matcher, const PyObservation& obs, int top_k) {
+  PyMatch r;
+  {
+    py::gil_scoped_release release;
+    MatchRequest request;
+    request.top_k = std::max(1, top_k);
+    MatchResult res;
+    try {
+      res = matcher.match(obs.record.observation, request);
+    } catch (const ExternalMethodError& e) {
+      throw InputError(e.what());
+    }
+    r.posterior = std::move(res.posterior);
+    r.top_k = std::move(res.modes);
+    r.match_s = res.match_s;
+    r.precompute_s = matcher.precompute_s();
+    r.parameters = matcher.parameters();
+    r.matcher = matcher.name();
+  }
+  r.best = r.top_k.empty() ? PoseHypothesis{} : r.top_k.front();
+  r.truth = obs.record.T_world_observer;
+  return r;
+}
+
+GridSpec grid_from_dict(const py::dict& d) {
+  const nlohmann::json j = from_python(d);
+  GridSpec g;
+  try {
+    g.origin_x_m = j.at("origin_x_m").get<double>();
+    g.origin_y_m = j.at("origin_y_m").get<double>();
+    g.resolution_m_per_px = j.at("resolution_m").get<double>();
+    g.width_px = j.at("width_px").get<int>();
+    g.height_px = j.at("height_px").get<int>();
+  } catch (const nlohmann::json::exception&) {
+    throw InputError("grid: expected a dict with origin_x_m, origin_y_m, resolution_m, width_px, height_px (posterior_grid())");
+  }
+  if (!(g.resolution_m_per_px > 0.0) || g.width_px < 1 || g.height_px < 1) throw InputError("grid: empty or without resolution");
+  check_raster_budget(g, kPlanRasterBytesPerCell, "plan rasters");
+  return g;
+}
+
+// ---- own methods: matchers written in Python, registered under a name ----
+
+/// What floorcast.register_matcher got. Python objects are released with the GIL held, and not at
+/// all once the interpreter is finalising (the registry is cleared at exit, see __init__.py).
+struct PyMethod {
+  std::string name;
+  py::object prepare, match;
+  nlohmann::json defaults = nlohmann::json::object();  ///< the method's own parameters
+  PosteriorGridParams grid;                            ///< the shared grid's defaults
+  std::string version;
+  ~PyMethod() {
+    if (!Py_IsInitialized()) {
+      (void)prepare.release();
+      (void)match.release();
+      return;
+    }
+    py::gil_scoped_acquire gil;
+    prepare = py::object();
+    match = py::object();
+  }
+};
+
+std::string python_error(const std::string& who, py::error_already_set& e) {
+  std::string text = e.what();
+  return who + ": " + text;
+}
+
+ExternalMatchOutput output_from_python(const py::object& r, const PosteriorGrid& grid, const std::string& who) {
+  ExternalMatchOutput out;
+  if (py::isinstance<py::array>(r)) {
+    const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(r);
+    if (!a) throw ExternalMethodError(who + ": match() returned an array that is not numeric");
+    std::string shape = "(";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) shape += (i ? ", " : "") + std::to_string(a.shape(i));
+    shape += ")";
+    const std::string want = "(" + std::to_string(grid.yaw_rad.size()) + ", " + std::to_string(grid.grid.height_px) + ", " +
+                             std::to_string(grid.grid.width_px) + ")";
+    if (a.ndim() != 3 || a.shape(0) != static_cast<py::ssize_t>(grid.yaw_rad.size()) || a.shape(1) != grid.grid.height_px ||
+        a.shape(2) != grid.grid.width_px)
+      throw ExternalMethodError(who + ": match() returned an array of shape " + shape + "; the grid (yaw, y, x) is " + want);
+    out.has_posterior = true;
+    out.grid = grid;
+    const std::size_t plane = static_cast<std::size_t>(grid.grid.height_px) * static_cast<std::size_t>(grid.grid.width_px);
+    for (std::size_t s = 0; s < grid.yaw_rad.size(); ++s) {
+      cv::Mat m(grid.grid.height_px, grid.grid.width_px, CV_32F);
+      std::memcpy(m.data, a.data() + s * plane, plane * sizeof(float));
+      out.scores.push_back(m);
+    }
+    return out;
+  }
+  if (py::isinstance<py::list>(r) || py::isinstance<py::tuple>(r)) {
+    std::size_t i = 0;
+    for (const py::handle& h : r) {
+      const std::string where = who + ": match() pose " + std::to_string(i++);
+      if (!py::isinstance<py::dict>(h)) throw ExternalMethodError(where + ": expected a dict {x_m, y_m, yaw_deg, score}");
+      const py::dict d = py::reinterpret_borrow<py::dict>(h);
+      PoseHypothesis p;
+      double* fields[] = {&p.x_m, &p.y_m, &p.yaw_rad, &p.score};
+      const char* keys[] = {"x_m", "y_m", "yaw_deg", "score"};
+      for (int k = 0; k < 4; ++k) {
+        if (!d.contains(keys[k])) throw ExternalMethodError(where + ": missing \"" + std::string(keys[k]) + "\"");
+        try {
+          *fields[k] = d[keys[k]].cast<double>();
+        } catch (const py::cast_error&) {
+          throw ExternalMethodError(where + ": \"" + std::string(keys[k]) + "\" is not a number");
+        }
+      }
+      p.yaw_rad = deg_to_rad(p.yaw_rad);
+      out.poses.push_back(p);
+    }
+    return out;
+  }
+  throw ExternalMethodError(who + ": match() returned " + py::str(py::type::of(r)).cast<std::string>() +
+                            "; expected a numpy array (yaw, y, x) on the grid or a list of pose dicts");
+}
+
+class PyMatcher final : public Matcher {
+ public:
+  PyMatcher(std::shared_ptr<const PyMethod> method, const FloorPlan& plan, PosteriorGrid grid, nlohmann::json params,
+            nlohmann::ordered_json parameters)
+      : method_(std::move(method)), grid_(std::move(grid)), params_(std::move(params)), parameters_(std::move(parameters)),
+        who_("python matcher \"" + method_->name + "\"") {
+    const auto t0 = std::chrono::steady_clock::now();
+    py::gil_scoped_acquire gil;
+    try {
+      state_ = method_->prepare.is_none()
+                   ? py::object(py::none())
+                   : method_->prepare(PyPlan{plan, "scenario plan " + plan.name}, grid_dict(grid_.grid, grid_.yaw_rad),
+                                      to_python(nlohmann::ordered_json(params_)));
+    } catch (py::error_already_set& e) {
+      throw InputError(python_error(who_ + ": prepare() failed", e));
+    }
+    precompute_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  ~PyMatcher() override {
+    if (!Py_IsInitialized()) {
+      (void)state_.release();
+      return;
+    }
+    py::gil_scoped_acquire gil;
+    state_ = py::object();
+  }
+  std::string name() const override { return method_->name; }
+  nlohmann::ordered_json parameters() const override { return parameters_; }
+  double precompute_s() const override { return precompute_s_; }
+  std::size_t precompute_bytes() const override { return 0; }
+  BlockingOptions blocking() const override { return closed_door_map(); }
+  MatchResult match(const Observation2D& observation, const MatchRequest& request) const override {
+    const auto t0 = std::chrono::steady_clock::now();
+    ExternalMatchOutput out;
+    {
+      py::gil_scoped_acquire gil;
+      PyObservation o;
+      o.record.observation = observation;
+      o.record.source = "floorcast";
+      try {
+        const py::object r = method_->match(state_, o);
+        out = output_from_python(r, grid_, who_);
+      } catch (py::error_already_set& e) {
+        throw ExternalMethodError(python_error(who_ + ": match() raised", e));
+      }
+    }
+    MatchResult res = finish_external_output(std::move(out), grid_, request, who_);
+    res.match_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+  }
+  using Matcher::match;
+
+ private:
+  std::shared_ptr<const PyMethod> method_;
+  PosteriorGrid grid_;
+  nlohmann::json params_;
+  nlohmann::ordered_json parameters_;
+  std::string who_;
+  py::object state_;
+  double precompute_s_ = 0.0;
+};
+
+/// A registered Python method's configuration: the grid keys, then the method's own parameters.
+class PyMatcherConfig final : public MatcherConfig {
+ public:
+  PyMatcherConfig(std::shared_ptr<const PyMethod> method, const nlohmann::json& overrides) : method_(std::move(method)) {
+    grid_ = method_->grid;
+    params_ = method_->defaults;
+    const std::string who = "matcher " + method_->name;
+    if (!overrides.is_object()) throw ParameterError(who + ": parameters must be a mapping", "");
+    // The grid's keys through their field list; the method's own keys checked against the kinds
+    // of their defaults.
+    nlohmann::json grid_overrides = nlohmann::json::object();
+    std::vector<std::string> grid_keys;
+    for (const FieldInfo& f : PosteriorGridParams::fields().describe()) grid_keys.push_back(f.key);
+    for (auto it = overrides.begin(); it != overrides.end(); ++it) {
+      const std::string& k = it.key();
+      const nlohmann::json& v = it.value();
+      if (std::find(grid_keys.begin(), grid_keys.end(), k) != grid_keys.end()) {
+        grid_overrides[k] = v;
+      } else if (params_.contains(k)) {
+        const nlohmann::json& d = params_.at(k);
+        const bool same_kind = (d.is_number() && v.is_number()) || d.type() == v.type() || d.is_null();
+        if (!same_kind)
+          throw ParameterError(who + ": parameter \"" + k + "\": expected " + std::string(d.type_name()) + " like its default " +
+                                   d.dump() + ", got " + v.dump(),
+                               k);
+        params_[k] = v;
+      } else {
+        std::string known;
+        for (const std::string& g : grid_keys) known += (known.empty() ? "" : ", ") + g;
+        for (auto p = params_.begin(); p != params_.end(); ++p) known += ", " + p.key();
+        throw ParameterError(who + ": unknown parameter \"" + k + "\" (known: " + known + ")", k);
+      }
+    }
+    PosteriorGridParams::fields().read(grid_, grid_overrides);
+  }
+  std::string name() const override { return method_->name; }
+  nlohmann::ordered_json parameters() const override {
+    nlohmann::ordered_json j;
+    j["version"] = method_->version;
+    PosteriorGridParams::fields().write_into(j, grid_);
+    for (auto it = params_.begin(); it != params_.end(); ++it) j[it.key()] = it.value();
+    return j;
+  }
+  std::unique_ptr<Matcher> build(const FloorPlan& plan) const override {
+    PosteriorGrid grid = grid_.make(plan);
+    return std::make_unique<PyMatcher>(method_, plan, std::move(grid), params_, parameters());
+  }
+
+ private:
+  std::shared_ptr<const PyMethod> method_;
+  PosteriorGridParams grid_;
+  nlohmann::json params_;
+};
 
 }  // namespace
 }  // namespace floorcast
@@ -199,6 +482,26 @@ PYBIND11_MODULE(_floorcast, m) {
         return d;
       }, "Counts, bounding box (xmin, ymin, xmax, ymax) and hash")
       .def("to_json", [](const PyPlan& p) { return floor_plan_to_json(p.plan); }, "The plan in floorcast's JSON format")
+      .def("rasters", [](const PyPlan& p, const py::dict& grid, bool doors_closed) {
+        const GridSpec g = grid_from_dict(grid);
+        BlockingOptions blocking = closed_door_map();
+        blocking.open_doors_block = doors_closed;
+        cv::Mat occupancy, valid, distance;
+        {
+          py::gil_scoped_release release;
+          occupancy = rasterize_occupancy(p.plan, g, blocking);
+          valid = valid_area_mask(p.plan, g);
+          distance = distance_to_blocked_m(occupancy, g);
+        }
+        py::dict d;
+        d["occupancy"] = mat_to_array(occupancy);
+        d["valid"] = mat_to_array(valid);
+        d["distance_m"] = mat_to_array(distance);
+        return d;
+      }, py::arg("grid"), py::arg("doors_closed") = true,
+         "Rasters of the plan on a grid dict (posterior_grid(), or the grid a registered matcher's prepare() gets): "
+         "occupancy uint8 (255 = blocked: walls, closed doors, glass), valid uint8 (255 = free floor inside), "
+         "distance_m float32 (metres to the nearest blocked cell); rows are y (row 0 = lowest y)")
       .def("render", [](const PyPlan& p, double px_per_m) {
         RenderOptions o;
         o.px_per_m = px_per_m;
@@ -215,7 +518,7 @@ PYBIND11_MODULE(_floorcast, m) {
 
   // ---- scans ----
   py::class_<DepthView>(m, "View", "One view of a scan: depth, optional colour and masks, intrinsics, pose")
-      .def_property("depth", [](const DepthView& v) { return mat_to_array(v.depth_m); },
+      .def_property("depth", [](const DepthView& v) { return mat_view(v.depth_m); },
                     [](DepthView& v, const py::object& o) {
                       if (o.is_none()) {  // no depth: a colour-only view (depth made elsewhere)
                         v.depth_m.release();
@@ -229,14 +532,20 @@ PYBIND11_MODULE(_floorcast, m) {
                       v.depth_m = d;
                       v.glass_mask.release();
                       v.confidence.release();
-                    }, "float32 (H, W) z-depth in metres, 0 = no return (settable: bring your own depth; None removes it)")
-      .def_property("rgb", [](const DepthView& v) { return mat_to_array(v.rgb, true); },
+                    }, "float32 (H, W) z-depth in metres, 0 = no return: a view of the scan's own depth, so "
+                       "in-place edits (view.depth[mask] = 0) change the scan; assigning an array replaces it (bring "
+                       "your own depth; None removes it)")
+      .def_property("rgb", [](const DepthView& v) { return mat_view(v.rgb, true); },
                     [](DepthView& v, const py::array& a) { v.rgb = array_to_mat(a, "rgb", CV_8U, 3, true); },
-                    "uint8 (H, W, 3) RGB colour image, or an empty array")
-      .def_property_readonly("glass_mask", [](const DepthView& v) { return mat_to_array(v.glass_mask); })
-      .def_property_readonly("confidence", [](const DepthView& v) { return mat_to_array(v.confidence); })
+                    "uint8 (H, W, 3) RGB colour image (a view of the scan's pixels: in-place edits change it), or an "
+                    "empty array")
+      .def_property_readonly("glass_mask", [](const DepthView& v) { return mat_view(v.glass_mask); },
+                             "uint8 (H, W) simulated glass mask (a view: in-place edits change the scan)")
+      .def_property_readonly("confidence", [](const DepthView& v) { return mat_view(v.confidence); },
+                             "uint8 (H, W) depth confidence (a view: in-place edits change the scan)")
       .def_property_readonly("view_index", [](const DepthView& v) { return v.view_index; })
       .def_property_readonly("intrinsics", [](const DepthView& v) {
+        // Read-only: editing a copy would be silently lost.
         py::dict d;
         d["width_px"] = v.intrinsics.width_px;
         d["height_px"] = v.intrinsics.height_px;
@@ -244,11 +553,12 @@ PYBIND11_MODULE(_floorcast, m) {
         d["fy_px"] = v.intrinsics.fy_px;
         d["cx_px"] = v.intrinsics.cx_px;
         d["cy_px"] = v.intrinsics.cy_px;
-        return d;
-      })
-      .def_property("T_scan_camera", [](const DepthView& v) { return matrix4(v.T_scan_camera); },
+        return py::module_::import("types").attr("MappingProxyType")(d);
+      }, "read-only mapping: width_px, height_px, fx_px, fy_px, cx_px, cy_px")
+      .def_property("T_scan_camera", [](const DepthView& v) { return read_only(matrix4(v.T_scan_camera)); },
                     [](DepthView& v, const py::array& a) { v.T_scan_camera = isometry(a); },
-                    "4x4 camera pose in the scan frame (OpenCV camera: x right, y down, z forward)");
+                    "4x4 camera pose in the scan frame (OpenCV camera: x right, y down, z forward); read-only array, "
+                    "assign a whole new matrix to change it");
   py::class_<PyScan>(m, "Scan", "A rotating scan: views (depth, colour, intrinsics, poses) and, when simulated, its truth")
       .def_property_readonly("views", [](PyScan& s) {
         py::list l;
@@ -345,9 +655,11 @@ PYBIND11_MODULE(_floorcast, m) {
           v(i, 2) = s.b_m.x();
           v(i, 3) = s.b_m.y();
         }
-        return a;
-      }, "float64 (N, 4): ax, ay, bx, by")
-      .def_property_readonly("ray_ranges", [](const PyObservation& o) { return py::array(py::cast(o.record.observation.ray_ranges_m)); })
+        return read_only(a);
+      }, "float64 (N, 4): ax, ay, bx, by (read-only)")
+      .def_property_readonly("ray_ranges", [](const PyObservation& o) {
+        return read_only(py::array(py::cast(o.record.observation.ray_ranges_m)));
+      }, "float64 (R,) ranges of equiangular rays (read-only)")
       .def_property_readonly("max_range_m", [](const PyObservation& o) { return o.record.observation.max_range_m; })
       .def_property_readonly("truth", [](const PyObservation& o) -> py::object {
         return o.record.T_world_observer ? py::object(pose_dict(*o.record.T_world_observer)) : py::none();
@@ -511,26 +823,89 @@ PYBIND11_MODULE(_floorcast, m) {
         write_npy(path, {static_cast<std::size_t>(r.posterior.num_slices()), static_cast<std::size_t>(g.height_px),
                          static_cast<std::size_t>(g.width_px)}, values);
       }, py::arg("path"));
-  m.def("matcher_names", &matcher_names);
+  m.def("matcher_names", &matcher_names, "Built-in matchers and those registered with register_matcher");
+  py::class_<PyBuiltMatcher>(m, "Matcher",
+                             "A matcher built once for a plan (its per-plan preparation runs here), matched as often as "
+                             "needed: Matcher(plan, 'kernel').match(observation)")
+      .def(py::init([](const PyPlan& plan, const std::string& name, const py::object& params) {
+             const nlohmann::json overrides = from_python(params);
+             py::gil_scoped_release release;
+             return PyBuiltMatcher{std::shared_ptr<const Matcher>(make_matcher(name, plan.plan, overrides))};
+           }),
+           py::arg("plan"), py::arg("name") = "kernel", py::arg("params") = py::none())
+      .def("match", [](const PyBuiltMatcher& m, const PyObservation& obs, int top_k) { return match_once(*m.matcher, obs, top_k); },
+           py::arg("observation"), py::arg("top_k") = 5, "The posterior and the estimate of one observation")
+      .def_property_readonly("name", [](const PyBuiltMatcher& m) { return m.matcher->name(); })
+      .def_property_readonly("parameters", [](const PyBuiltMatcher& m) { return to_python(m.matcher->parameters()); })
+      .def_property_readonly("precompute_s", [](const PyBuiltMatcher& m) { return m.matcher->precompute_s(); })
+      .def("__repr__", [](const PyBuiltMatcher& m) { return "<floorcast.Matcher " + m.matcher->name() + ">"; });
   m.def("match", [](const PyPlan& plan, const PyObservation& obs, const std::string& matcher, const py::object& params, int top_k) {
-    PyMatch r;
     const nlohmann::json overrides = from_python(params);
+    std::unique_ptr<Matcher> mt;
     {
       py::gil_scoped_release release;
-      const std::unique_ptr<Matcher> mt = make_matcher(matcher, plan.plan, overrides);
-      MatchResult res = mt->match(obs.record.observation);
-      r.posterior = std::move(res.posterior);
-      r.match_s = res.match_s;
-      r.precompute_s = mt->precompute_s();
-      r.parameters = mt->parameters();
-      r.matcher = mt->name();
+      mt = make_matcher(matcher, plan.plan, overrides);
     }
-    r.best = r.posterior.argmax();
-    r.top_k = r.posterior.top_k(top_k, 1.0, kPi / 6.0);
-    r.truth = obs.record.T_world_observer;
-    return r;
+    return match_once(*mt, obs, top_k);
   }, py::arg("plan"), py::arg("observation"), py::arg("matcher") = "kernel", py::arg("params") = py::none(),
-     py::arg("top_k") = 5, "Runs a layout matcher (kernel, ray, ...) on an observation");
+     py::arg("top_k") = 5,
+     "Builds a matcher (kernel, ray, a registered one, ...) and runs it on one observation; to match several "
+     "observations build it once with Matcher(plan, name) instead");
+
+  // ---- own methods ----
+  // Names registered from Python, released at interpreter exit (__init__.py) while Python objects
+  // can still be dropped.
+  static std::set<std::string> python_matchers;
+  m.def("register_matcher", [](const std::string& name, const py::object& match, const py::object& prepare,
+                               const py::object& params, double resolution_m, int yaw_bins, double grid_margin_m,
+                               const std::string& version) {
+    if (!PyCallable_Check(match.ptr())) throw InputError("register_matcher(\"" + name + "\"): match must be callable");
+    if (!prepare.is_none() && !PyCallable_Check(prepare.ptr()))
+      throw InputError("register_matcher(\"" + name + "\"): prepare must be callable or None");
+    auto method = std::make_shared<PyMethod>();
+    method->name = name;
+    method->prepare = prepare;
+    method->match = match;
+    method->defaults = from_python(params);
+    if (!method->defaults.is_object()) throw InputError("register_matcher(\"" + name + "\"): params must be a dict");
+    for (const char* reserved : {"resolution_m", "yaw_bins", "grid_margin_m", "version"})
+      if (method->defaults.contains(reserved))
+        throw InputError("register_matcher(\"" + name + "\"): \"" + reserved + "\" is a registration argument, not a params key");
+    method->grid.resolution_m = resolution_m;
+    method->grid.yaw_bins = yaw_bins;
+    method->grid.grid_margin_m = grid_margin_m;
+    PosteriorGridParams::fields().validate(method->grid);
+    method->version = version;
+    // Checked now, so a bad grid argument fails here rather than in a scenario.
+    (void)PyMatcherConfig(method, nlohmann::json::object());
+    std::shared_ptr<const PyMethod> shared = method;
+    register_matcher(name, [shared](const nlohmann::json& overrides, const SharedParams&) {
+      return std::make_shared<PyMatcherConfig>(shared, overrides);
+    });
+    python_matchers.insert(name);
+  }, py::arg("name"), py::kw_only(), py::arg("match"), py::arg("prepare") = py::none(), py::arg("params") = py::none(),
+     py::arg("resolution_m") = 0.1, py::arg("yaw_bins") = 36, py::arg("grid_margin_m") = 1.0, py::arg("version") = "1",
+     "Registers a matcher written in Python under `name`, for scenarios (`matcher: NAME`), Matcher(), track() and "
+     "everything else that builds matchers by name.\n\n"
+     "prepare(plan, grid, params) -> state runs once per building (grid: the shared posterior grid, a dict with "
+     "origin_x_m, origin_y_m, resolution_m, width_px, height_px, yaw_deg); match(state, observation) runs once per "
+     "observation and returns float scores (yaw, y, x) on that grid (>= 0, higher = better) or a list of pose dicts "
+     "{x_m, y_m, yaw_deg, score} (best first; [] = no pose). params: the method's parameters with their defaults "
+     "(a scenario overrides them by key). version: part of the configuration hash; change it when the code changes, "
+     "so a resumed run never mixes results of two versions. Exceptions and malformed results are reported per unit.");
+  m.def("unregister_matcher", [](const std::string& name) {
+    python_matchers.erase(name);
+    return unregister_matcher(name);
+  }, py::arg("name"));
+  m.def("_unregister_python_matchers", [] {
+    for (const std::string& n : python_matchers) unregister_matcher(n);
+    python_matchers.clear();
+  });
+  m.def("posterior_grid", [](const PyPlan& plan, double resolution_m, int yaw_bins, double grid_margin_m) {
+    const PosteriorGrid g = shared_posterior_grid(plan.plan, resolution_m, yaw_bins, grid_margin_m);
+    return grid_dict(g.grid, g.yaw_rad);
+  }, py::arg("plan"), py::arg("resolution_m") = 0.1, py::arg("yaw_bins") = 36, py::arg("grid_margin_m") = 1.0,
+     "The shared posterior grid of a plan (what registered and external matchers return scores on)");
 
   // ---- scenarios ----
   m.def("run_scenario", [](const std::string& path, const std::string& out, int jobs, bool quiet, const std::string& shard) -> py::object {
@@ -554,7 +929,8 @@ PYBIND11_MODULE(_floorcast, m) {
     return py::module_::import("json").attr("loads")(read_text_file(summary));
   }, py::arg("scenario"), py::arg("out"), py::arg("jobs") = 0, py::arg("quiet") = true, py::arg("shard") = "0/1",
      "Runs a scenario file (or shard \"I/N\" of it) into run directory `out` (resumable) and returns its summary.json "
-     "as a dict (None for a shard: combine the shards with merge_runs)");
+     "as a dict (None for a shard: combine the shards with merge_runs). Matchers registered with register_matcher "
+     "can be named in it.");
   m.def("merge_runs", [](const std::vector<std::string>& inputs, const std::string& out, bool quiet) {
     {
       py::gil_scoped_release release;

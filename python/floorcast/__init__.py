@@ -9,8 +9,19 @@
     result.estimate       # {'x_m': ..., 'y_m': ..., 'yaw_deg': ..., 'score': ..., 'status': 'ok', ...}
 
 Bring your own depth: replace each view's depth by your network's (float32 metres, shape (H, W))
-before observing: ``scan.views[k].depth = my_net(scan.views[k].rgb)``.
+before observing: ``scan.views[k].depth = my_net(scan.views[k].rgb)`` (views are the scan's own
+pixels: in-place edits such as ``scan.views[k].depth[mask] = 0`` change the scan too).
+
+Your own matcher, scored by the same engine as kernel and ray (examples/own_matchers/):
+
+    def prepare(plan, grid, params):          # once per building
+        return plan.rasters(grid)["distance_m"]
+    def match(distance, observation):         # once per observation
+        return scores                         # float (yaw, y, x) on grid, or [{x_m, y_m, yaw_deg, score}]
+    fc.register_matcher("mine", prepare=prepare, match=match, params={"sigma_m": 0.2})
+    fc.run_scenario("my_scenario.yaml", "runs/mine")   # matchers: {mine: {matcher: mine}, kernel: ...}
 """
+import atexit as _atexit
 import os as _os
 
 
@@ -37,3 +48,7 @@ _find_data_dir()
 
 from ._floorcast import *  # noqa: E402,F401,F403
 from ._floorcast import __version__  # noqa: E402,F401
+from ._floorcast import _unregister_python_matchers  # noqa: E402
+
+# Matchers registered from Python hold Python functions: drop them while the interpreter still runs.
+_atexit.register(_unregister_python_matchers)

@@ -20,7 +20,7 @@ std::vector<ParameterSet> parameter_sets() {
                  "scenario `observation: {observe_params: {SECTION: {KEY: VALUE}}}`; `floorcast observe --observe-params "
                  "FILE`",
                  observation_fields().describe(ObservationParams{})});
-  for (const std::string& name : matcher_names()) {
+  for (const std::string& name : builtin_matcher_names()) {
     out.push_back({"matcher " + name,
                    "scenario `matchers: {LABEL: {matcher: " + name + ", KEY: VALUE}}`; `floorcast localize --matcher " +
                        name + " --param KEY=VALUE`",

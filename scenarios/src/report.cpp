@@ -66,6 +66,18 @@ OJson summary_json(const Summary& s) {
   return j;
 }
 
+/// A message on one Markdown line: newlines become " / ", backticks quotes, at most max_chars.
+std::string one_line(const std::string& text, std::size_t max_chars) {
+  std::string out;
+  for (char c : text) {
+    if (c == '\n') out += " / ";
+    else if (c == '`') out += '\'';
+    else if (c != '\r') out += c;
+  }
+  if (out.size() > max_chars) out = out.substr(0, max_chars) + "...";
+  return out;
+}
+
 OJson interval_json(const PairedDifference& d) {
   return d.has_ci ? OJson::array({finite_or_null(d.ci_low), finite_or_null(d.ci_high)}) : OJson(nullptr);
 }
@@ -299,8 +311,30 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
       for (const MatcherOutcome& o : u->outcomes) no_pose[o.label] += o.ok ? 0 : 1;
     }
     OJson npj = OJson::object();
+    // Errors of misbehaving (external) methods: misses apart from empty posteriors, with the
+    // first message, so a broken method never passes for a weak one.
+    std::map<std::string, int> errors;
+    std::map<std::string, std::string> first_error;
+    for (const UnitResult* u : cell_units) {
+      for (const MatcherOutcome& o : u->outcomes) {
+        if (!o.error) continue;
+        ++errors[o.label];
+        --no_pose[o.label];
+        if (!first_error.count(o.label)) first_error[o.label] = u->unit.id + ": " + o.failure;
+      }
+      for (const TrackOutcome& t : u->tracks) {
+        if (!t.error) continue;
+        ++errors[t.label];
+        if (!first_error.count(t.label)) first_error[t.label] = u->unit.id + ": " + t.failure;
+      }
+    }
     for (const std::string& label : labels) npj[label] = no_pose[label];
     cj["no_pose"] = npj;
+    if (!errors.empty()) {
+      OJson ej = OJson::object();
+      for (const auto& [label, n] : errors) ej[label] = {{"units", n}, {"first", first_error[label]}};
+      cj["errors"] = ej;
+    }
     sum["cells"].push_back(cj);
 
     // Markdown: the PALMS+ Table 1 layout for this cell.
@@ -355,6 +389,10 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
                                           "median_position_error_m", "median error (m)", "points");
     }
     if (failed_obs > 0) md << "\n" << failed_obs << " observation(s) failed and count as misses.\n";
+    for (const auto& [label, n] : errors) {
+      md << "\n**Errors:** " << label << " misbehaved on " << n << " of " << cell_units.size()
+         << " units (counted as misses; a resumed run runs them again). First: `" << one_line(first_error[label], 300) << "`\n";
+    }
     bool any_no_pose = false;
     for (const auto& [label, n] : no_pose) any_no_pose = any_no_pose || n > 0;
     if (any_no_pose) {

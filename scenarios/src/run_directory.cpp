@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <set>
 
+#include "floorcast/core/file_io.hpp"
 #include "floorcast/core/hash.hpp"
 #include "floorcast/core/json_text.hpp"
 #include "floorcast/floorplans/io.hpp"
@@ -199,7 +200,12 @@ std::string RunDirectory::unit_path(const Scenario&, const WorkUnit& unit) const
 }
 
 bool RunDirectory::has_unit(const Scenario& scenario, const WorkUnit& unit) const {
-  return fs::is_regular_file(unit_path(scenario, unit));
+  const std::string path = unit_path(scenario, unit);
+  if (!fs::is_regular_file(path)) return false;
+  // A unit where a method misbehaved (an external method's error) is run again.
+  const std::string text = read_text_file(path);
+  if (text.find("\"error\"") == std::string::npos) return true;
+  return !unit_has_errors(unit_from_json(nlohmann::json::parse(text), path));
 }
 
 void RunDirectory::write_unit(const Scenario& scenario, const UnitResult& result) const {

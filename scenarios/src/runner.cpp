@@ -21,6 +21,7 @@
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/floorplans/raster.hpp"
 #include "floorcast/scenarios/sampling.hpp"
+#include "floorcast/match/external.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/eval/heatmap.hpp"
 #include "floorcast/observe/observation_module.hpp"
@@ -286,7 +287,20 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
     const bool heatmap = images && unit.point < s.output.heatmaps;
     MatchRequest request = MatchRequest::modes(s.scoring.top_k, 1.0, 30.0 * kPi / 180.0);
     if (heatmap) request.output = MatchOutput::kPosterior;
-    const MatchResult mr = matcher.match(input, request);
+    MatchResult mr;
+    const auto tm = Clock::now();
+    try {
+      mr = matcher.match(input, request);
+    } catch (const ExternalMethodError& e) {
+      // A misbehaving external method: an error for this unit and method, the run goes on.
+      o.ok = false;
+      o.error = true;
+      o.failure = std::string("error: ") + e.what();
+      o.match_s = seconds_since(tm);
+      match_total += o.match_s;
+      r.outcomes.push_back(o);
+      continue;
+    }
     o.match_s = mr.match_s;
     match_total += mr.match_s;
     if (!mr.has_pose()) {
@@ -391,6 +405,7 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
   // posteriors each tracker's matcher makes of them, computed once per (matcher, step).
   std::map<int, std::optional<Observation2D>> observations;
   std::map<std::pair<std::string, int>, Posterior> posteriors;
+  std::map<std::pair<std::string, int>, std::string> posterior_errors;  // an external matcher's error
   auto posterior = [&](const std::string& matcher_label, int step) -> std::optional<Posterior> {
     if (std::find(scheduled.begin(), scheduled.end(), step) == scheduled.end()) return std::nullopt;
     auto oit = observations.find(step);
@@ -403,10 +418,17 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
     // What this matcher needs: the BEV (bev), the wall segments (every other one).
     if (spec->config->name() == "bev" ? oit->second->bev.empty() : oit->second->segments_m.empty()) return std::nullopt;
     const auto k = std::make_pair(matcher_label, step);
+    if (posterior_errors.count(k)) return std::nullopt;
     auto pit = posteriors.find(k);
     if (pit == posteriors.end()) {
       const auto tm = Clock::now();
-      pit = posteriors.emplace(k, d.matchers.at(Impl::matcher_key(b, *spec))->match(*oit->second).posterior).first;
+      try {
+        pit = posteriors.emplace(k, d.matchers.at(Impl::matcher_key(b, *spec))->match(*oit->second).posterior).first;
+      } catch (const ExternalMethodError& e) {
+        posterior_errors[k] = "error: matcher " + matcher_label + " at step " + std::to_string(step) + ": " + e.what();
+        r.timings_s["track_match"] += seconds_since(tm);
+        return std::nullopt;
+      }
       r.timings_s["track_match"] += seconds_since(tm);
     }
     return pit->second;
@@ -428,6 +450,16 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
     o.failure = run.failure;
     o.observations_used = used;
     o.record = track_record(run, walk.steps, 0);
+    // An external matcher's error anywhere along the walk makes the track an error (its
+    // observations were missing), scored as a failure and run again on resume.
+    for (const auto& [k, why] : posterior_errors) {
+      if (k.first != t.matcher) continue;
+      o.error = true;
+      o.started = false;
+      o.failure = why;
+      o.record.failed = true;
+      break;
+    }
     double total = 0.0;
     for (std::size_t i = 0; i < run.steps.size(); ++i) {
       const TrackRunStep& s = run.steps[i];

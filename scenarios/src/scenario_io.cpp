@@ -481,7 +481,14 @@ OJson stage_parameters(const ObservationSpec& o) {
   return j;
 }
 
-std::vector<MatcherSpec> parse_matchers(const OJson& obj, const Checker& chk, const SharedParams& shared) {
+/// The scenario's folder and the source tree, where relative file names are looked up (empty for
+/// a resolved scenario, whose names are absolute already).
+struct FileBases {
+  std::string base_dir, source_root;
+};
+
+std::vector<MatcherSpec> parse_matchers(const OJson& obj, const Checker& chk, const SharedParams& shared,
+                                        const FileBases& files = {}) {
   if (!obj.is_object() || obj.empty()) chk.fail("matchers", "must be a non-empty mapping label -> {matcher: NAME, ...parameters}");
   std::vector<MatcherSpec> out;
   for (auto it = obj.begin(); it != obj.end(); ++it) {
@@ -495,6 +502,16 @@ std::vector<MatcherSpec> parse_matchers(const OJson& obj, const Checker& chk, co
     Json overrides = Json::object();
     for (auto p = it.value().begin(); p != it.value().end(); ++p)
       if (p.key() != "matcher") overrides[p.key()] = p.value();
+    // An external program's files (its script, a model) are found like building files: an element
+    // of `command` naming an existing file relative to the scenario's folder or the source tree
+    // becomes its absolute path, so the run works from any working directory.
+    if (name == "external" && !files.base_dir.empty() && overrides.contains("command") && overrides["command"].is_array()) {
+      for (Json& e : overrides["command"]) {
+        if (!e.is_string() || e.get<std::string>().empty() || fs::path(e.get<std::string>()).is_absolute()) continue;
+        const std::string found = find_file(e.get<std::string>(), files.base_dir, files.source_root);
+        if (!found.empty()) e = found;
+      }
+    }
     try {
       m.config = make_matcher_config(name, overrides, shared);
     } catch (const ParameterError& e) {
@@ -848,7 +865,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
   (void)parse_observation(base_observation, chk, "observation", s.shared, nullptr);  // validates the base
   if (!root.contains("matchers")) chk.fail("matchers", "missing required key");
   const OJson base_matchers = root.at("matchers");
-  (void)parse_sequential(root, chk, parse_matchers(base_matchers, chk, s.shared));
+  (void)parse_sequential(root, chk, parse_matchers(base_matchers, chk, s.shared, {base_dir, source_root}));
 
   std::vector<Axis> axes;
   if (root.contains("sweep")) axes = parse_sweep(root.at("sweep"), chk, base_matchers);
@@ -901,7 +918,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
       OJson resolved_observation;
       cell.observation = parse_observation(tree["observation"], chk, "observation", s.shared, &resolved_observation);
       resolved_observations.push_back(std::move(resolved_observation));
-      cell.matchers = parse_matchers(tree["matchers"], chk, s.shared);
+      cell.matchers = parse_matchers(tree["matchers"], chk, s.shared, {base_dir, source_root});
       cell.sequential = parse_sequential(tree, chk, cell.matchers);
     } catch (const InputError& e) {
       throw InputError(std::string(e.what()) + where);
@@ -960,6 +977,21 @@ std::string scenario_hash(const Json& resolved) {
       if (!b.is_object()) continue;
       b.erase("file");
       b.erase("rooms");
+    }
+  }
+  // An external program's files count by name (the absolute paths the loader resolved them to
+  // become their file names); its `version` says when its answers change.
+  if (h.is_object() && h.contains("cells") && h["cells"].is_array()) {
+    for (Json& c : h["cells"]) {
+      if (!c.is_object() || !c.contains("matchers") || !c["matchers"].is_object()) continue;
+      for (auto& [label, m] : c["matchers"].items()) {
+        (void)label;
+        if (!m.is_object() || m.value("matcher", std::string()) != "external" || !m.contains("command") ||
+            !m["command"].is_array())
+          continue;
+        for (Json& e : m["command"])
+          if (e.is_string() && fs::path(e.get<std::string>()).is_absolute()) e = fs::path(e.get<std::string>()).filename().string();
+      }
     }
   }
   return hex64(fnv1a64(h.dump()));

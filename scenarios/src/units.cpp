@@ -99,6 +99,8 @@ const FieldList<MatcherOutcome>& matcher_outcome_fields() {
           .flag("ok", &M::ok, "false: no estimate (reason in failure)")
           .text("failure", &M::failure, "why there is no estimate")
           .optional([](const M& m) { return !m.ok; })
+          .flag("error", &M::error, "true: the method itself misbehaved (an external method; run again on resume)")
+          .optional([](const M& m) { return m.error; })
           .section("estimate", &M::estimate, pose_estimate_fields())
           .optional([](const M& m) { return m.ok; })
           .list("top_k", &M::top_k, pose_estimate_fields())
@@ -113,7 +115,9 @@ const FieldList<TrackOutcome>& track_outcome_fields() {
           .text("label", &T::label, "the tracker's label in the scenario")
           .flag("started", &T::started, "false: no track (reason in failure)")
           .text("failure", &T::failure, "why there is no track")
-          .optional([](const T& t) { return !t.started; })
+          .optional([](const T& t) { return !t.started || t.error; })
+          .flag("error", &T::error, "true: the tracker or its matcher misbehaved (an external method; run again on resume)")
+          .optional([](const T& t) { return t.error; })
           .integer("observations_used", &T::observations_used, 0, 1 << 30, "observations whose posteriors were applied")
           .series("t_s", [](auto& t) -> auto& { return t.record.t_s; }, "time per step, s")
           .series("distance_m", [](auto& t) -> auto& { return t.record.distance_m; }, "distance walked since the start, m")
@@ -229,6 +233,14 @@ UnitResult unit_from_json(const Json& j, const std::string& source) {
   unit_fields().read_record(r, j, source);
   for (TrackOutcome& t : r.tracks) t.record.failed = !t.started;
   return r;
+}
+
+bool unit_has_errors(const UnitResult& r) {
+  for (const MatcherOutcome& o : r.outcomes)
+    if (o.error) return true;
+  for (const TrackOutcome& t : r.tracks)
+    if (t.error) return true;
+  return false;
 }
 
 OJson strip_timings(OJson unit_json) {

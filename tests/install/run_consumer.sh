@@ -41,4 +41,18 @@ if [ ! -s "$work/rgb/view_000_rgb.png" ]; then
   echo "FAILED: the installed floorcast wrote no colour view (floorcast_gl.so not found beside it?)" >&2
   exit 1
 fi
+# A matcher in its own module (examples/own_matchers/module), built against the installed headers
+# and found by name by the installed CLI (FLOORCAST_MODULE_DIR), localizes a perfect observation.
+cmake -S "$source_dir/examples/own_matchers/module" -B "$work/module" -DCMAKE_PREFIX_PATH="$work/prefix" \
+  -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$work/module" -j2 >/dev/null
+plan="$work/prefix/share/floorcast/floorplans/buildings/two_rooms.json"
+(cd "$work" && "$work/prefix/bin/floorcast" sim perfect "$plan" --pose 2.3,1.7,35 --doors-open -o "$work/obs" >/dev/null)
+loc=$(cd "$work" && FLOORCAST_MODULE_DIR="$work/module" "$work/prefix/bin/floorcast" localize "$plan" "$work/obs" \
+  --matcher chamfer_cpp -o "$work/loc")
+echo "$loc"
+if ! echo "$loc" | grep -Eq "chamfer_cpp: x 2\.[0-9]+ m, y 1\.[0-9]+ m"; then
+  echo "FAILED: the installed CLI did not localize with the module matcher chamfer_cpp" >&2
+  exit 1
+fi
 echo "installed package ok"

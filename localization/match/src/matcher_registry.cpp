@@ -7,7 +7,9 @@
 #include <algorithm>
 
 #include "floorcast/match/bev_matcher.hpp"
+#include "floorcast/match/external.hpp"
 #include "floorcast/match/kernel_matcher.hpp"
+#include "floorcast/match/matcher_module.hpp"
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/match/ray_matcher.hpp"
 
@@ -57,34 +59,54 @@ constexpr Entry kMatchers[] = {
     {"kernel", &parse<KernelMatcherParams, KernelMatcher>, &describe<KernelMatcherParams>},
     {"ray", &parse<RayMatcherParams, RayMatcher>, &describe<RayMatcherParams>},
     {"bev", &parse<BevMatcherParams, BevMatcher>, &describe<BevMatcherParams>},
+    {"external", &parse<ExternalProgramParams, ExternalProgramMatcher>, &describe<ExternalProgramParams>},
 };
 
-const Entry& find(const std::string& name) {
+const Entry* find_builtin(const std::string& name) {
   for (const Entry& e : kMatchers) {
-    if (name == e.name) return e;
+    if (name == e.name) return &e;
   }
+  return nullptr;
+}
+
+[[noreturn]] void unknown_matcher(const std::string& name) {
   std::string known;
   for (const std::string& n : matcher_names()) known += (known.empty() ? "" : ", ") + n;
-  throw InputError("unknown matcher \"" + name + "\" (known: " + known + ")");
+  throw InputError("unknown matcher \"" + name + "\" (known: " + known + "; and no module " +
+                   matcher_module::module_name(name) + ".so in $FLOORCAST_MODULE_DIR, beside floorcast or on the loader's path)");
 }
 
 }  // namespace
 
 std::shared_ptr<const MatcherConfig> make_matcher_config(const std::string& name, const nlohmann::json& overrides,
                                                          const SharedParams& shared) {
-  const Entry& e = find(name);
-  return e.parse(e.name, overrides, shared);
+  if (const Entry* e = find_builtin(name)) return e->parse(e->name, overrides, shared);
+  // Registered at run time (Python, tests), or a module floorcast_matcher_<name>.so.
+  if (const MatcherConfigParser p = find_external_matcher(name)) return p(overrides, shared);
+  unknown_matcher(name);
 }
 
-std::vector<FieldInfo> matcher_parameter_fields(const std::string& name) { return find(name).describe(); }
+std::vector<FieldInfo> matcher_parameter_fields(const std::string& name) {
+  if (const Entry* e = find_builtin(name)) return e->describe();
+  if (find_external_matcher(name))
+    throw InputError("matcher \"" + name + "\" comes from outside floorcast: its parameters are its own (see its documentation)");
+  unknown_matcher(name);
+}
 
 std::unique_ptr<Matcher> make_matcher(const std::string& name, const FloorPlan& plan, const nlohmann::json& overrides) {
   return make_matcher_config(name, overrides)->build(plan);
 }
 
-std::vector<std::string> matcher_names() {
+std::vector<std::string> builtin_matcher_names() {
   std::vector<std::string> names;
   for (const Entry& e : kMatchers) names.emplace_back(e.name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::vector<std::string> matcher_names() {
+  std::vector<std::string> names = builtin_matcher_names();
+  for (const std::string& n : registered_matcher_names()) names.push_back(n);
   std::sort(names.begin(), names.end());
   return names;
 }

@@ -45,6 +45,8 @@ class RunDirectory {
   nlohmann::json read_resolved_config() const;
 
   std::string unit_path(const Scenario& scenario, const WorkUnit& unit) const;
+  /// True when the unit's result is on disk and no method errored in it (unit_has_errors): a
+  /// resumed run runs such units again (an external method fixed in between).
   bool has_unit(const Scenario& scenario, const WorkUnit& unit) const;
   /// Atomic (temporary file + rename): a killed run never leaves a half-written unit.
   void write_unit(const Scenario& scenario, const UnitResult& result) const;

@@ -158,7 +158,8 @@ struct Scenario {
 
 /// The hash identifying a resolved configuration: over its content only. Building plan and rooms
 /// files count by the hash of their bytes (file_hash, rooms_hash), never by their path, so the
-/// same scenario gives the same hash in another checkout, folder or installation.
+/// same scenario gives the same hash in another checkout, folder or installation; an external
+/// matcher program's files count by file name (its `version` by content, match/external.hpp).
 std::string scenario_hash(const nlohmann::json& resolved);
 
 /// The keys of the scenario blocks sampling, observation, scoring and output with their

@@ -46,6 +46,9 @@ struct MatcherOutcome {
   std::string label;
   bool ok = true;              ///< false: the method produced no estimate (reason in `failure`)
   std::string failure;
+  /// The method misbehaved (an external method raised, crashed, hung or answered malformed;
+  /// match/external.hpp): scored as a miss, counted apart, and run again when the run resumes.
+  bool error = false;
   PoseEstimate estimate;       ///< argmax
   std::vector<PoseEstimate> top_k;
   double match_s = 0.0;        ///< timing (excluded from result comparisons)
@@ -56,6 +59,9 @@ struct TrackOutcome {
   std::string label;
   bool started = true;          ///< false: no track (reason in `failure`), scored as a failure
   std::string failure;
+  /// The tracker or its matcher misbehaved (an external method's error; `failure` says which and
+  /// where): scored as a failure, counted apart, run again when the run resumes.
+  bool error = false;
   int observations_used = 0;
   /// Per step from the initial observation to the end of the walk (record.time_per_step_s is
   /// timing, kept under "timings" in files).
@@ -89,5 +95,8 @@ struct UnitResult {
 nlohmann::ordered_json unit_to_json(const UnitResult& result);
 UnitResult unit_from_json(const nlohmann::json& json, const std::string& source);
 nlohmann::ordered_json strip_timings(nlohmann::ordered_json unit_json);
+
+/// Whether a unit result holds an error of a method (MatcherOutcome/TrackOutcome::error).
+bool unit_has_errors(const UnitResult& result);
 
 }  // namespace floorcast

@@ -117,11 +117,16 @@ std::unique_ptr<Matcher> make_matcher(const std::string& name, const FloorPlan& 
                                       const nlohmann::json& overrides = nlohmann::json::object());
 
 /// Every parameter of matcher `name` with its default (shared quantities at their defaults), key,
-/// type, range and meaning (from its field list): `floorcast params` and docs/parameters.md.
+/// type, range and meaning (from its field list): `floorcast params` and docs/parameters.md. For a
+/// built-in matcher only (one from outside floorcast: InputError).
 std::vector<FieldInfo> matcher_parameter_fields(const std::string& name);
 
-/// Names of all registered matchers, sorted ("kernel", "ray").
+/// Names of all matchers known in this process, sorted: the built-in ones ("external", "kernel",
+/// "ray") and those registered at run time (match/external.hpp; modules are found by name when
+/// first named and are not listed).
 std::vector<std::string> matcher_names();
+/// The built-in matchers only.
+std::vector<std::string> builtin_matcher_names();
 
 /// A matcher configuration under a label (e.g. "ray180" = ray with 180 directions), so
 /// comparisons can run several configurations of one matcher.
