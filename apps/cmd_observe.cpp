@@ -39,7 +39,8 @@ void add_observation_options(CLI::App& cmd, ObserveCliOptions& o) {
   cmd.add_option("--depth-dir", o.depth_dir,
                  "Bring your own depth: one depth map per view made elsewhere (a depth network run offline) replaces "
                  "the scan's depth; .npy/.tif/.exr in metres or 16-bit .png in millimetres, named after the view's "
-                 "colour image (view_000_rgb.npy), view_000.EXT or view_000_depth.EXT")
+                 "colour image (view_000_rgb.npy), view_000.EXT or view_000_depth.EXT; `track`: one such folder per "
+                 "observation, DIR/observations/step_NNNN as in the walk folder, or DIR/step_NNNN")
       ->check(CLI::ExistingDirectory);
   cmd.add_option("--depth-kind", o.depth_kind, "What the --depth-dir maps measure: z (depth along the optical axis) or range (distance from the camera)")
       ->capture_default_str()

@@ -7,29 +7,19 @@
 
 #include "cli_common.hpp"
 #include "floorcast/core/json_text.hpp"
-#include "floorcast/core/hash.hpp"
 #include "floorcast/core/image_io.hpp"
 #include "floorcast/core/math.hpp"
-#include "floorcast/core/observation_io.hpp"
 #include "floorcast/core/random.hpp"
 #include "floorcast/eval/plot.hpp"
 #include "floorcast/eval/trajectory_plot.hpp"
 #include "floorcast/floorplans/io.hpp"
-#include "floorcast/sim/mesh.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
-#include "floorcast/sim/ray_scene.hpp"
-#include "floorcast/sim/scan_io.hpp"
 #include "floorcast/sim/scan_sim.hpp"
 #include "floorcast/sim/walk_io.hpp"
+#include "floorcast/sim/walk_sim.hpp"
 
 namespace floorcast::cli {
 namespace {
-
-std::string step_folder(int step) {
-  std::ostringstream s;
-  s << "observations/step_" << std::setw(4) << std::setfill('0') << step;
-  return s.str();
-}
 
 void register_sim_walk(CLI::App& root) {
   struct Options {
@@ -41,6 +31,7 @@ void register_sim_walk(CLI::App& root) {
     int rays = PerfectObservationParams{}.num_rays;
     double range_m = 0.0;  ///< 0: not given
     bool doors_open = false;
+    bool rgb = false;
     std::uint64_t seed = 1;
     std::string walk_params, odometry_params;
   };
@@ -75,6 +66,10 @@ void register_sim_walk(CLI::App& root) {
                   "Observation range, metres (perfect observations: default 10; scans: default the preset's maximum range)")
       ->check(CLI::Range(0.01, 1e4));
   cmd->add_flag("--doors-open", o->doors_open, "Perfect observations: open doors stay open (default: all closed)");
+  cmd->add_flag("--rgb", o->rgb,
+                "Scans: also render every view of every observation in colour (OpenGL through OSMesa, headless) from "
+                "its true camera pose: view_NNN_rgb.png, for a depth network (then `track --depth-dir`); with "
+                "--setting single, F3Loc's one forward view per observation");
   cmd->add_option("--walk-params", o->walk_params, "JSON object of walk parameter overrides (keys of walk.json walk_params)");
   cmd->add_option("--odometry-params", o->odometry_params, "JSON object of odometry parameter overrides");
   cmd->add_option("--seed", o->seed, "Random seed (walk, odometry, sensor noise)")->capture_default_str();
@@ -95,55 +90,29 @@ void register_sim_walk(CLI::App& root) {
       op.apply_overrides(j);
     }
     op.apply_overrides({{"model", o->odometry}});
-    const Pose2 start = is_random_pose(o->start) ? random_start_pose(plan, wp) : parse_pose(o->start, "--pose");
-
-    WalkRecord rec;
-    rec.walk = simulate_walk(plan, start, wp);
-    rec.odometry_params = op;
-    rec.odometry_uncertainty = odometry_uncertainty(op);
-    rec.odometry = simulate_odometry(rec.walk, op);
-    rec.schedule = {!o->no_initial, o->scan_every, o->scan_every_m};
-    rec.plan_name = plan.name;
-    rec.plan_hash = hex64(plan_hash(plan));
-    ensure_directory(o->out);
-
-    const std::vector<int> steps = schedule_observations(rec.walk, rec.schedule);
-    if (o->sensor == "perfect") {
-      PerfectObservationParams pp;
-      pp.num_rays = o->rays;
-      if (o->range_m > 0.0) pp.max_range_m = o->range_m;
-      pp.blocking.open_doors_block = !o->doors_open;
-      rec.observation_settings = {{"source", "perfect"}, {"perfect_observer", pp.to_json()}};
-      const PerfectObserver observer(plan, pp);
-      for (int s : steps) {
-        const Pose2& truth = rec.walk.steps[static_cast<std::size_t>(s)].T_world_body;
-        ObservationRecord obs;
-        obs.observation = observer.observe(truth);
-        obs.source = "perfect";
-        obs.T_world_observer = truth;
-        obs.metadata["step"] = std::to_string(s);
-        const std::string rel = step_folder(s);
-        ensure_directory(o->out + "/" + rel);
-        save_observation(o->out + "/" + rel + "/observation.json", obs);
-        rec.observations.push_back({s, "perfect", rel});
-      }
-    } else {
-      ScanParams sp = scan_preset(o->sensor);
-      parse_scan_setting(o->setting, sp.setting);
-      if (o->range_m > 0.0) sp.sensor.max_range_m = o->range_m;
-      validate_scan_params(sp);
-      rec.observation_settings = {{"source", "scan"}, {"sensor", scan_params_to_json(sp)}};
-      const RayScene scene(extrude_plan(plan));
-      for (int s : steps) {
-        const Pose2& truth = rec.walk.steps[static_cast<std::size_t>(s)].T_world_body;
-        ScanParams p = sp;
-        p.seed = mix64(o->seed ^ mix64(0x5ca9ULL + static_cast<std::uint64_t>(s)));
-        const std::string rel = step_folder(s);
-        save_simulated_scan(o->out + "/" + rel, simulate_scan(scene, truth, p));
-        rec.observations.push_back({s, "scan", rel});
-      }
+    if (o->rgb && o->sensor == "perfect") {
+      throw InputError("--rgb renders the views of simulated scans: give a sensor preset (--sensor mono, phone, lidar, ...)");
     }
-    save_walk(o->out, rec);
+    WalkSimulationOptions so;
+    so.walk = wp;
+    so.odometry = op;
+    so.schedule = {!o->no_initial, o->scan_every, o->scan_every_m};
+    if (!is_random_pose(o->start)) so.start = parse_pose(o->start, "--pose");
+    so.perfect = o->sensor == "perfect";
+    so.perfect_params.num_rays = o->rays;
+    if (o->range_m > 0.0) so.perfect_params.max_range_m = o->range_m;
+    so.perfect_params.blocking.open_doors_block = !o->doors_open;
+    if (!so.perfect) {
+      so.scan = scan_preset(o->sensor);
+      parse_scan_setting(o->setting, so.scan.setting);
+      if (o->range_m > 0.0) so.scan.sensor.max_range_m = o->range_m;
+    }
+    so.scan_seed = o->seed;
+    so.rgb = o->rgb;
+    const SimulatedWalkFolder written = write_simulated_walk(plan, so, o->out);
+    const WalkRecord& rec = written.record;
+    const std::vector<int>& steps = written.observation_steps;
+    const Pose2 start = rec.walk.steps.front().T_world_body;
 
     // The picture: true path, odometry, start, observations.
     std::vector<Vec2> truth, odom, observed;
@@ -168,7 +137,8 @@ void register_sim_walk(CLI::App& root) {
               << sm.pauses << " pauses, " << std::setprecision(0) << 100.0 * sm.transitional_share
               << "% in transitional space, longest straight " << std::setprecision(1) << sm.longest_straight_m
               << " m) from " << format_pose(start) << "; odometry " << o->odometry << " ends " << std::setprecision(2)
-              << drift << " m off; " << steps.size() << " observations (" << o->sensor << ") -> " << o->out << "\n";
+              << drift << " m off; " << steps.size() << " observations (" << o->sensor << (o->rgb ? ", colour views" : "")
+              << ") -> " << o->out << "\n";
   });
 }
 

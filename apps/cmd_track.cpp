@@ -1,6 +1,7 @@
 // `floorcast track PLAN WALK_DIR ...`: sequential localization of a walk folder (`sim walk`, or a
 // recording in the same layout): the first observation's posterior starts a tracker (PALMS
-// particle filter or F3Loc histogram filter), the odometry moves it, later observations update it.
+// particle filter or F3Loc histogram filter), the odometry moves it, later observations update it
+// (scenarios/walk_tracking.hpp; --depth-dir: the scans' depth made elsewhere).
 // Writes estimate.tum, errors.csv, metrics.json and track.png.
 #include <chrono>
 #include <filesystem>
@@ -11,7 +12,7 @@
 
 #include "cli_common.hpp"
 #include "floorcast/scenarios/run_directory.hpp"
-#include "floorcast/scenarios/track_scoring.hpp"
+#include "floorcast/scenarios/walk_tracking.hpp"
 #include "floorcast/core/format.hpp"
 #include "floorcast/core/image_io.hpp"
 #include "floorcast/core/math.hpp"
@@ -65,10 +66,6 @@ void register_track(CLI::App& root) {
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
   cmd->callback([o, range_opt] {
     refuse_output_inside_inputs(o->out, {o->walk});
-    if (!o->observe.depth_dir.empty()) {
-      throw InputError("--depth-dir applies to one scan (observe, localize); a walk's scans keep their depth maps in "
-                       "their own folders");
-    }
     // Every parameter is parsed, typed and checked before any work.
     nlohmann::json tracker_overrides = nlohmann::json::object();
     for (const std::string& p : o->params) add_override(tracker_overrides, p, "--tracker-param");
@@ -93,28 +90,23 @@ void register_track(CLI::App& root) {
     const std::unique_ptr<Matcher> matcher = matcher_config->build(plan);
     const std::unique_ptr<Tracker> tracker = tracker_config->build(plan);
 
-    // Observations by step: perfect observation files, or scan folders through the observation module.
-    std::map<int, const WalkObservation*> by_step;
-    for (const WalkObservation& w : walk.observations) by_step[w.step] = &w;
-    auto observation_at = [&](const WalkObservation& w) {
-      const std::string path = o->walk + "/" + w.path;
-      if (w.kind == "perfect") return load_observation(path + "/observation.json").observation;
-      const Scan scan = load_scan(path);
-      return observe_scan(scan, observation_params_from_cli(o->observe, &scan)).observation;
-    };
-    const int first = by_step.begin()->first;
-    int updates = 0;
+    // Every observation through the observation module (scans, with --depth-dir their depth made
+    // elsewhere) and the matcher, the tracker along the odometry (scenarios/walk_tracking.hpp).
+    WalkTrackingOptions options;
+    options.observation_params = [o](const Scan& scan) { return observation_params_from_cli(o->observe, &scan); };
+    options.depth_dir = o->observe.depth_dir;
+    options.depth_file.kind = parse_depth_kind(o->observe.depth_kind);
+    options.depth_file.integer_unit_m = o->observe.depth_unit_m;
     ProgressMeter progress("observations", o->quiet);
     const auto t_start = std::chrono::steady_clock::now();
-    const TrackRun run = run_tracker(*tracker, walk.odometry.steps, first, [&](int step) -> std::optional<Posterior> {
-      auto it = by_step.find(step);
-      if (it == by_step.end()) return std::nullopt;
-      ++updates;
-      std::optional<Posterior> post = matcher->match(observation_at(*it->second)).posterior;
-      progress.update(static_cast<std::size_t>(updates), by_step.size(),
-                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
-      return post;
-    });
+    options.progress = [&](std::size_t done, std::size_t total) {
+      progress.update(done, total, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
+    };
+    const WalkTrack track = track_walk_folder(o->walk, walk, *matcher, *tracker, options);
+    for (const std::string& n : track.notes) std::cerr << "floorcast: " << n << "\n";
+    const TrackRun& run = track.run;
+    const int first = track.first_step;
+    const int updates = track.observations_used;
     ensure_directory(o->out);
     if (!run.started) {
       std::cout << tracker->name() << ": no track: " << run.failure << "\n";
@@ -123,7 +115,7 @@ void register_track(CLI::App& root) {
     }
 
     // Errors against the truth, the estimate trajectory, metrics.
-    const SequentialRecord rec = track_record(run, walk.walk.steps, first);
+    const SequentialRecord& rec = track.record;
     std::vector<StampedPose> estimate;
     std::string csv = "step,t_s,distance_m,est_x_m,est_y_m,est_yaw_deg,truth_x_m,truth_y_m,truth_yaw_deg,position_error_m,"
                       "yaw_error_deg,stage,support,updated,degenerate,time_s\n";
@@ -139,36 +131,25 @@ void register_track(CLI::App& root) {
                     s.estimate.support, s.updated ? 1 : 0, s.estimate.degenerate ? 1 : 0, s.time_s);
       csv += buf;
     }
-    const SequentialScoring scoring;
-    const SequentialOutcome out = score_track(rec, scoring);
+    const SequentialScoring& scoring = options.scoring;
+    const SequentialOutcome& out = track.outcome;
     save_tum(o->out + "/estimate.tum", estimate, "floorcast track: " + tracker->name() + " estimate");
     write_text_file_atomic(o->out + "/errors.csv", csv);
-    auto num = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
     nlohmann::ordered_json m;
     m["started"] = true;
     m["tracker"] = tracker->name();
     m["matcher"] = matcher->name();
-    m["steps"] = run.steps.size();
-    m["observations_used"] = updates;
-    m["rmse_m"] = num(out.rmse_m);
-    m["rmse_last_m"] = num(out.rmse_last_m);
-    m["end_error_m"] = num(out.end_error_m);
-    for (std::size_t k = 0; k < scoring.success_thresholds_m.size(); ++k) {
-      m["success_" + threshold_name(scoring.success_thresholds_m[k])] = static_cast<bool>(out.success[k]);
-    }
-    m["converged"] = out.converged;
-    m["converged_means"] = describe_convergence(o->filter, tracker->parameters());
-    m["convergence_time_s"] = num(out.convergence_time_s);
-    m["convergence_distance_m"] = num(out.convergence_distance_m);
-    m["stage1_time_s"] = num(out.stage1_time_s);
-    m["stage1_distance_m"] = num(out.stage1_distance_m);
-    m["within_1m_after_convergence"] = num(out.within_after_convergence);
-    m["time_per_step_s"] = rec.time_per_step_s;
-    m["init_s"] = run.init_s;
+    const nlohmann::ordered_json metrics = walk_track_metrics(track, scoring, *tracker);
+    for (auto it = metrics.begin(); it != metrics.end(); ++it) m[it.key()] = it.value();
     m["tracker_parameters"] = tracker->parameters();
     m["matcher_parameters"] = matcher->parameters();
     m["walk"] = o->walk;
     m["plan"] = o->plan;
+    if (!options.depth_dir.empty()) {
+      m["depth_dir"] = options.depth_dir;
+      m["depth_kind"] = o->observe.depth_kind;
+    }
+    if (!track.notes.empty()) m["notes"] = track.notes;
     write_json(o->out + "/metrics.json", m);
 
     // The picture: truth, odometry, estimate; final particles; where it converged.

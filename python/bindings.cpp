@@ -33,11 +33,15 @@
 #include "floorcast/match/matcher.hpp"
 #include "floorcast/observe/observation_module.hpp"
 #include "floorcast/scenarios/scenario.hpp"
+#include "floorcast/scenarios/walk_tracking.hpp"
 #include "floorcast/sim/gl_renderer.hpp"
 #include "floorcast/sim/mesh.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
 #include "floorcast/sim/scan_io.hpp"
 #include "floorcast/sim/scan_sim.hpp"
+#include "floorcast/sim/walk_io.hpp"
+#include "floorcast/sim/walk_sim.hpp"
+#include "floorcast/track/tracker.hpp"
 
 namespace py = pybind11;
 using floorcast::InputError;
@@ -175,6 +179,38 @@ struct PyObservation {
   ObservationRecord record;
   nlohmann::ordered_json diagnostics;
 };
+
+struct PyWalk {
+  WalkRecord record;
+  std::string dir;
+};
+
+struct PyTrack {
+  WalkTrack track;
+  std::string tracker, matcher, failure;
+  nlohmann::ordered_json tracker_parameters, matcher_parameters, metrics;
+  std::vector<Pose2> truth;  ///< per track step
+};
+
+/// A column of per-step values as a numpy array.
+template <class T>
+py::array_t<T> column(const std::vector<T>& v) {
+  py::array_t<T> a(static_cast<py::ssize_t>(v.size()));
+  if (!v.empty()) std::memcpy(a.mutable_data(), v.data(), v.size() * sizeof(T));
+  return a;
+}
+
+/// Poses as float64 (N, 3): x_m, y_m, yaw_deg.
+py::array_t<double> poses_array(const std::vector<Pose2>& poses) {
+  py::array_t<double> a({static_cast<py::ssize_t>(poses.size()), py::ssize_t{3}});
+  auto v = a.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    v(i, 0) = poses[i].x_m;
+    v(i, 1) = poses[i].y_m;
+    v(i, 2) = rad_to_deg(poses[i].yaw_rad);
+  }
+  return a;
+}
 
 struct PyMatch {
   Posterior posterior;
@@ -906,6 +942,208 @@ PYBIND11_MODULE(_floorcast, m) {
     return grid_dict(g.grid, g.yaw_rad);
   }, py::arg("plan"), py::arg("resolution_m") = 0.1, py::arg("yaw_bins") = 36, py::arg("grid_margin_m") = 1.0,
      "The shared posterior grid of a plan (what registered and external matchers return scores on)");
+
+  // ---- walks and tracking ----
+  py::class_<PyWalk>(m, "Walk",
+                     "A walk folder (`floorcast sim walk`, sim_walk, or a recording in its layout): truth, odometry and "
+                     "the observations on its schedule")
+      .def_property_readonly("dir", [](const PyWalk& w) { return w.dir; })
+      .def_property_readonly("t_s", [](const PyWalk& w) {
+        std::vector<double> t;
+        for (const WalkStep& s : w.record.walk.steps) t.push_back(s.t_s);
+        return column(t);
+      }, "float64 (N,) time of every step, s")
+      .def_property_readonly("truth", [](const PyWalk& w) {
+        std::vector<Pose2> p;
+        for (const WalkStep& s : w.record.walk.steps) p.push_back(s.T_world_body);
+        return poses_array(p);
+      }, "float64 (N, 3) true pose of every step: x_m, y_m, yaw_deg")
+      .def_property_readonly("odometry", [](const PyWalk& w) { return poses_array(w.record.odometry.poses); },
+                             "float64 (N, 3) the odometry's increments chained from the true start pose (the odometry frame "
+                             "aligned with the world at the start, as evo aligns the first pose): x_m, y_m, yaw_deg")
+      .def_property_readonly("observations", [](const PyWalk& w) {
+        py::list l;
+        for (const WalkObservation& o : w.record.observations) {
+          py::dict d;
+          d["step"] = o.step;
+          d["kind"] = o.kind;
+          d["path"] = (std::filesystem::path(w.dir) / o.path).string();
+          l.append(d);
+        }
+        return l;
+      }, "The scheduled observations: [{step, kind ('scan' or 'perfect'), path (its folder)}]; a scan folder holds "
+         "view_NNN_rgb.png when simulated with rgb=True")
+      .def_property_readonly("summary", [](const PyWalk& w) {
+        return to_python(walk_summary_fields().write(w.record.walk.summary));
+      }, "length_m, duration_s, speed_mps, pauses, ... of the walk")
+      .def_property_readonly("plan_name", [](const PyWalk& w) { return w.record.plan_name; })
+      .def("scan", [](const PyWalk& w, std::size_t i, bool rgb) {
+        if (i >= w.record.observations.size()) throw py::index_error("observation index out of range");
+        const WalkObservation& o = w.record.observations[i];
+        if (o.kind != "scan") throw InputError("observation " + std::to_string(i) + " is a " + o.kind + " observation, not a scan");
+        const std::string dir = (std::filesystem::path(w.dir) / o.path).string();
+        ScanLoadOptions lo;
+        lo.load_rgb = rgb;
+        PyScan out;
+        out.scan = load_scan(dir, lo);
+        if (auto sim = load_simulation_record(dir, out.scan.views.size())) out.truth = sim->truth;
+        return out;
+      }, py::arg("index"), py::arg("rgb") = true, "The scan of observation `index` (its views: depth, colour, poses)")
+      .def("__len__", [](const PyWalk& w) { return w.record.walk.steps.size(); })
+      .def("__repr__", [](const PyWalk& w) {
+        return "<floorcast.Walk " + w.dir + ": " + std::to_string(w.record.walk.steps.size()) + " steps, " +
+               std::to_string(w.record.observations.size()) + " observations>";
+      });
+  m.def("load_walk", [](const std::string& dir) { return PyWalk{load_walk(dir), dir}; }, py::arg("dir"),
+        "Reads a walk folder (strict: errors name the file, element and reason)");
+  m.def("sim_walk", [](const PyPlan& plan, const std::string& out, int steps, const py::object& start, const std::string& sensor,
+                       const std::string& setting, bool rgb, bool initial, int scan_every, double scan_every_m,
+                       const std::string& odometry, std::uint64_t seed, const std::optional<double>& range_m, int rays,
+                       bool doors_open, const py::object& walk_params, const py::object& odometry_params) {
+    WalkSimulationOptions o;
+    o.walk.steps = steps;
+    o.walk.seed = seed;
+    if (!walk_params.is_none()) o.walk.apply_overrides(from_python(walk_params));
+    o.odometry.seed = mix64(seed ^ 0x0d0e7e11ULL);  // as `floorcast sim walk --seed`
+    if (!odometry_params.is_none()) o.odometry.apply_overrides(from_python(odometry_params));
+    o.odometry.apply_overrides({{"model", odometry}});
+    o.schedule = {initial, scan_every, scan_every_m};
+    if (!start.is_none()) o.start = pose_from(start);
+    o.perfect = sensor == "perfect";
+    o.perfect_params.num_rays = rays;
+    if (range_m) o.perfect_params.max_range_m = *range_m;
+    o.perfect_params.blocking.open_doors_block = !doors_open;
+    if (!o.perfect) {
+      o.scan = scan_preset(sensor);
+      if (!parse_scan_setting(setting, o.scan.setting)) throw InputError("setting \"" + setting + "\": expected full, partial or single");
+      if (range_m) o.scan.sensor.max_range_m = *range_m;
+    }
+    o.scan_seed = seed;
+    o.rgb = rgb;
+    {
+      py::gil_scoped_release release;
+      (void)write_simulated_walk(plan.plan, o, out);
+    }
+    return PyWalk{load_walk(out), out};
+  }, py::arg("plan"), py::arg("out"), py::kw_only(), py::arg("steps") = WalkParams{}.steps, py::arg("start") = py::none(),
+     py::arg("sensor") = "perfect", py::arg("setting") = "full", py::arg("rgb") = false, py::arg("initial") = true,
+     py::arg("scan_every") = 0, py::arg("scan_every_m") = 0.0, py::arg("odometry") = "vio", py::arg("seed") = 1,
+     py::arg("range_m") = py::none(), py::arg("rays") = PerfectObservationParams{}.num_rays, py::arg("doors_open") = false,
+     py::arg("walk_params") = py::none(), py::arg("odometry_params") = py::none(),
+     "Simulates a walk into the walk folder `out`, as `floorcast sim walk` (same seed, same bytes): start "
+     "(x_m, y_m, yaw_deg) or None (seeded random start), odometry exact | vio | pdr, observations at the start "
+     "(initial) and every scan_every steps / scan_every_m metres; sensor 'perfect' or a scan preset (setting full | "
+     "partial | single); rgb=True renders every view in colour for a depth network. Returns the Walk.");
+  py::class_<PyTrack>(m, "TrackResult", "A tracker's run along a walk: per-step errors as numpy arrays, metrics as a dict")
+      .def_property_readonly("started", [](const PyTrack& t) { return t.track.run.started; })
+      .def_property_readonly("failure", [](const PyTrack& t) { return t.failure; }, "why the tracker did not start ('' when it did)")
+      .def_property_readonly("tracker", [](const PyTrack& t) { return t.tracker; })
+      .def_property_readonly("matcher", [](const PyTrack& t) { return t.matcher; })
+      .def_property_readonly("first_step", [](const PyTrack& t) { return t.track.first_step; })
+      .def_property_readonly("observations_used", [](const PyTrack& t) { return t.track.observations_used; })
+      .def_property_readonly("step", [](const PyTrack& t) {
+        std::vector<int> v;
+        for (const TrackRunStep& s : t.track.run.steps) v.push_back(s.step);
+        return column(v);
+      }, "int (N,) walk step of every track step (from first_step to the end)")
+      .def_property_readonly("t_s", [](const PyTrack& t) { return column(t.track.record.t_s); })
+      .def_property_readonly("distance_m", [](const PyTrack& t) { return column(t.track.record.distance_m); },
+                             "float64 (N,) distance walked since the tracker started, m")
+      .def_property_readonly("position_error_m", [](const PyTrack& t) { return column(t.track.record.position_error_m); })
+      .def_property_readonly("yaw_error_deg", [](const PyTrack& t) { return column(t.track.record.yaw_error_deg); })
+      .def_property_readonly("stage", [](const PyTrack& t) { return column(t.track.record.stage); },
+                             "int (N,) convergence stage per step")
+      .def_property_readonly("updated", [](const PyTrack& t) {
+        std::vector<std::uint8_t> v;
+        for (const TrackRunStep& s : t.track.run.steps) v.push_back(s.updated ? 1 : 0);
+        return column(v).attr("astype")("bool");
+      }, "bool (N,) an observation's posterior was applied at this step")
+      .def_property_readonly("estimate", [](const PyTrack& t) {
+        std::vector<Pose2> p;
+        for (const TrackRunStep& s : t.track.run.steps) p.push_back(s.estimate.pose);
+        return poses_array(p);
+      }, "float64 (N, 3) estimated pose per step: x_m, y_m, yaw_deg")
+      .def_property_readonly("truth", [](const PyTrack& t) { return poses_array(t.truth); },
+                             "float64 (N, 3) true pose per step: x_m, y_m, yaw_deg")
+      .def_property_readonly("metrics", [](const PyTrack& t) { return to_python(t.metrics); },
+                             "rmse_m, rmse_last_m, end_error_m, success_1m, success_0.5m, converged, ... (as metrics.json "
+                             "of `floorcast track`)")
+      .def_property_readonly("tracker_parameters", [](const PyTrack& t) { return to_python(t.tracker_parameters); })
+      .def_property_readonly("matcher_parameters", [](const PyTrack& t) { return to_python(t.matcher_parameters); })
+      .def_property_readonly("notes", [](const PyTrack& t) { return t.track.notes; },
+                             "depth maps repaired, observations without walls (no update)")
+      .def("__repr__", [](const PyTrack& t) {
+        if (!t.track.run.started) return "<floorcast.TrackResult " + t.tracker + ": no track: " + t.failure + ">";
+        return "<floorcast.TrackResult " + t.tracker + " (" + t.matcher + "): " + std::to_string(t.track.run.steps.size()) +
+               " steps, RMSE " + format_fixed(t.track.outcome.rmse_m, 2) + " m>";
+      });
+  m.def("track", [](const PyPlan& plan, const py::object& walk_arg, const std::string& tracker_name, const py::object& matcher_arg,
+                    const py::object& tracker_params, const py::object& matcher_params, const std::optional<std::string>& depth_dir,
+                    const std::string& depth_kind, double depth_unit_m, const py::object& observe_params, std::uint64_t seed,
+                    const std::optional<double>& range_m) {
+    PyWalk walk = py::isinstance<PyWalk>(walk_arg) ? walk_arg.cast<PyWalk>()
+                                                   : PyWalk{load_walk(walk_arg.cast<std::string>()), walk_arg.cast<std::string>()};
+    // Every parameter parsed and checked before any work, as `floorcast track`.
+    nlohmann::json tracker_overrides = from_python(tracker_params);
+    if (tracker_name == "pf" && !tracker_overrides.contains("seed")) tracker_overrides["seed"] = seed;
+    // The walk's stated odometry error (walk.json odometry_uncertainty), params' odometry keys on top.
+    tracker_overrides = with_odometry(tracker_overrides, walk.record.odometry_uncertainty);
+    const std::shared_ptr<const TrackerConfig> tracker_config = make_tracker_config(tracker_name, tracker_overrides);
+    std::shared_ptr<const Matcher> matcher;
+    if (py::isinstance<PyBuiltMatcher>(matcher_arg)) {
+      if (!matcher_params.is_none()) throw InputError("track: matcher_params go with a matcher name; this matcher is built already");
+      matcher = matcher_arg.cast<const PyBuiltMatcher&>().matcher;
+    } else {
+      const std::string name = matcher_arg.is_none() ? (tracker_name == "hist" ? "ray" : "kernel") : matcher_arg.cast<std::string>();
+      SharedParams shared;
+      if (range_m) shared.range_m = *range_m;
+      const auto config = make_matcher_config(name, from_python(matcher_params), shared);
+      py::gil_scoped_release release;
+      matcher = config->build(plan.plan);
+    }
+    ObservationParams base;
+    const nlohmann::json observe_overrides = from_python(observe_params);
+    apply_overrides(base, observe_overrides);
+    WalkTrackingOptions options;
+    options.observation_params = [base, path_given = observe_overrides.contains("path")](const Scan& scan) {
+      ObservationParams p = base;
+      if (!path_given && scan.sensor == "lidar") p.path = ObservationPath::kLidar;  // the path follows the sensor
+      return p;
+    };
+    if (depth_dir) options.depth_dir = *depth_dir;
+    options.depth_file.kind = parse_depth_kind(depth_kind);
+    options.depth_file.integer_unit_m = depth_unit_m;
+    PyTrack out;
+    const std::unique_ptr<Tracker> tracker = tracker_config->build(plan.plan);
+    {
+      py::gil_scoped_release release;
+      try {
+        out.track = track_walk_folder(walk.dir, walk.record, *matcher, *tracker, options);
+      } catch (const ExternalMethodError& e) {
+        throw InputError(e.what());
+      }
+    }
+    out.tracker = tracker->name();
+    out.matcher = matcher->name();
+    out.failure = out.track.run.started ? std::string() : out.track.run.failure;
+    out.tracker_parameters = tracker->parameters();
+    out.matcher_parameters = matcher->parameters();
+    if (out.track.run.started) {
+      out.metrics = walk_track_metrics(out.track, options.scoring, *tracker);
+      for (const TrackRunStep& s : out.track.run.steps)
+        out.truth.push_back(walk.record.walk.steps.at(static_cast<std::size_t>(s.step)).T_world_body);
+    } else {
+      out.metrics = {{"started", false}, {"failure", out.failure}};
+    }
+    return out;
+  }, py::arg("plan"), py::arg("walk"), py::kw_only(), py::arg("tracker") = "pf", py::arg("matcher") = py::none(),
+     py::arg("tracker_params") = py::none(), py::arg("matcher_params") = py::none(), py::arg("depth_dir") = py::none(),
+     py::arg("depth_kind") = "z", py::arg("depth_unit_m") = 0.001, py::arg("observe_params") = py::none(),
+     py::arg("seed") = 1, py::arg("range_m") = py::none(),
+     "Sequential localization of a walk (a Walk or its folder), as `floorcast track`: tracker pf | hist (params: "
+     "their parameters), matcher a name (kernel, ray, one registered with register_matcher, a module) or a Matcher "
+     "built once; depth_dir: depth maps made elsewhere for every scan observation (DEPTH_DIR/observations/step_NNNN "
+     "or DEPTH_DIR/step_NNNN, named as for load_scan). Returns a TrackResult (per-step errors as numpy, metrics).");
 
   // ---- scenarios ----
   m.def("run_scenario", [](const std::string& path, const std::string& out, int jobs, bool quiet, const std::string& shard) -> py::object {

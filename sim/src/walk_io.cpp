@@ -13,15 +13,8 @@
 #include "floorcast/core/trajectory_io.hpp"
 
 namespace floorcast {
-namespace {
 
-using OJson = nlohmann::ordered_json;
-constexpr int kWalkFormatVersion = 1;
-const char* const kCsvHeader =
-    "step,t_s,moving,x_m,y_m,yaw_rad,step_length_m,odom_moving,odom_dx_m,odom_dy_m,odom_dyaw_rad,odom_x_m,odom_y_m,"
-    "odom_yaw_rad,observation";
-
-const FieldList<WalkSummary>& summary_fields() {
+const FieldList<WalkSummary>& walk_summary_fields() {
   using S = WalkSummary;
   static const FieldList<S> f =
       FieldList<S>("walk summary")
@@ -36,6 +29,15 @@ const FieldList<WalkSummary>& summary_fields() {
           .number("longest_straight_m", &S::longest_straight_m, 0.0, 1e9, "longest stretch without turning 20 deg, m");
   return f;
 }
+
+namespace {
+
+using OJson = nlohmann::ordered_json;
+constexpr int kWalkFormatVersion = 1;
+const char* const kCsvHeader =
+    "step,t_s,moving,x_m,y_m,yaw_rad,step_length_m,odom_moving,odom_dx_m,odom_dy_m,odom_dyaw_rad,odom_x_m,odom_y_m,"
+    "odom_yaw_rad,observation";
+
 
 const FieldList<WalkObservation>& observation_fields() {
   using O = WalkObservation;
@@ -122,7 +124,7 @@ const FieldList<WalkRecord>& walk_json_fields() {
               "object", "the odometry's error as trackers should assume it (absent: derived from odometry_params)")
           .section("schedule", &R::schedule, schedule_fields())
           .json("observation_settings", &R::observation_settings, "sensor preset, perfect-observer parameters, ...")
-          .section("summary", [](auto& r) -> auto& { return r.walk.summary; }, summary_fields())
+          .section("summary", [](auto& r) -> auto& { return r.walk.summary; }, walk_summary_fields())
           .list("observations", &R::observations, observation_fields())
           .custom(
               "route_m",

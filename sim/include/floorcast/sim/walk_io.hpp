@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "floorcast/core/fields.hpp"
 #include "floorcast/sim/odometry.hpp"
 #include "floorcast/sim/walk.hpp"
 
@@ -50,6 +51,9 @@ struct WalkRecord {
 /// Writes walk.json, truth.tum, odometry.tum and steps.csv into `dir` (created if missing). The
 /// observations themselves are written by the caller into their `path`s.
 void save_walk(const std::string& dir, const WalkRecord& record);
+
+/// walk.json's "summary" (length_m, duration_s, speed_mps, ...).
+const FieldList<WalkSummary>& walk_summary_fields();
 
 /// Reads a walk folder (strict; errors name the file, element and reason).
 WalkRecord load_walk(const std::string& dir);
