@@ -20,6 +20,7 @@
 #include "floorcast/track/histogram_filter.hpp"
 #include "floorcast/track/particle_filter.hpp"
 #include "../floorplans_import/import_test_util.hpp"
+#include "../match/match_test_plans.hpp"
 
 namespace floorcast {
 namespace {
@@ -149,14 +150,7 @@ INSTANTIATE_TEST_SUITE_P(Trackers, StartedAtTheTruth,
 FloorPlan symmetric_corridor() {
   FloorPlan p;
   p.name = "corridor";
-  auto wall = [](const char* id, double ax, double ay, double bx, double by) {
-    Wall w;
-    w.id = id;
-    w.a_m = {ax, ay};
-    w.b_m = {bx, by};
-    w.thickness_m = 0.1;
-    return w;
-  };
+  using test::wall;
   p.walls = {wall("s", 0, 0, 24, 0), wall("e", 24, 0, 24, 2.4), wall("n", 24, 2.4, 0, 2.4), wall("w", 0, 2.4, 0, 0)};
   return p;
 }
