@@ -2,8 +2,9 @@
 # Do walks whose initial single-shot estimate is right stay right? (issue 20's check; numbers in
 # results/sequential.md). For each seed: `floorcast sim walk PLAN --seed S` (a perfect initial
 # scan, then no observation), `floorcast track` with the given filter; a walk "starts right" when
-# the tracker's step-0 estimate (the matcher's mode) is within 1 m of the truth, and "stays right"
-# when its last estimate is within 1.5 m. Prints one line per walk and the counts.
+# the tracker's step-0 estimate is within 1 m of the truth (hist: the belief's argmax, i.e. the ray
+# matcher's single-shot mode; pf: the mean of all particles, rarely right before convergence), and
+# "stays right" when its last estimate is within 1.5 m. Prints one line per walk and the counts.
 #
 #   scripts/track_keeps_right.sh [-p PLAN] [-s "1 2 ..."] [-n STEPS] [-f hist|pf] [-o OUT] [-- TRACKER_PARAM ...]
 #   e.g. scripts/track_keeps_right.sh -- motion_noise=fixed     (the papers' fixed noise)
