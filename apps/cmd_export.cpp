@@ -49,7 +49,8 @@ void register_export(CLI::App& root) {
       meter.update(done, total, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     });
     for (const std::string& n : r.notes) std::cerr << "note: " << n << "\n";
-    std::cout << "export: " << r.scans << " scans, " << r.images << " images -> " << o->out << " (layout in "
+    std::cout << "export: " << r.scans << " scans" << (r.walk_scans ? " (+" + std::to_string(r.walk_scans) + " along walks)" : "")
+              << ", " << r.images << " images -> " << o->out << " (layout in "
               << o->out << "/README.md)\n";
   });
 }

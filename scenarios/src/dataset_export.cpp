@@ -271,8 +271,7 @@ DatasetExportReport export_scenario_dataset(const Scenario& scenario_in, const s
             depth_gt.push_back(f.depth_m);
           }
         }
-        const std::string scan_name = "p" + padded(static_cast<std::size_t>(point), 4);
-        const fs::path sdir = root / "scans" / scan_name;
+        const fs::path sdir = fs::path(out_dir) / unit_scan_folder(scenario, unit, 0);
         save_simulated_scan(sdir.string(), sim);
         OJson intr = OJson::array();
         std::string rgb_txt = "# timestamp filename (view index as timestamp)\n";
@@ -346,6 +345,23 @@ DatasetExportReport export_scenario_dataset(const Scenario& scenario_in, const s
         write_text_file_atomic((sdir / "truth.json").string(), truth.dump(2) + "\n");
         scan_poses.push_back({static_cast<double>(point), sim.truth.T_world_scan});
         ++report.scans;
+        // Walks (sequential cells): the scans at the later scheduled steps, as floorcast scan
+        // folders with their colour views (what observation.depth_dir's depth maps are made from).
+        for (int step : runner.unit_observation_steps(unit)) {
+          if (step == 0) continue;
+          SimulatedScan at = runner.unit_scan(unit, step);
+          at.truth.plan_hash = plan_hash_hex;
+          if (gl) {
+            const Eigen::Isometry3d T_ws = scan_frame_in_world(at.truth.T_world_scan, at.truth.camera_height_m);
+            for (std::size_t k = 0; k < at.scan.views.size(); ++k) {
+              at.scan.views[k].rgb = gl->render(T_ws * at.truth.T_scan_camera_true[k], at.scan.views[k].intrinsics,
+                                                std::max(1e-3, 0.5 * at.params.sensor.min_range_m), 1000.0)
+                                         .bgr;
+            }
+          }
+          save_simulated_scan((fs::path(out_dir) / unit_scan_folder(scenario, unit, step)).string(), at);
+          ++report.walk_scans;
+        }
         ++done;
         if (progress) progress(done, total);
       }
@@ -373,7 +389,9 @@ DatasetExportReport export_scenario_dataset(const Scenario& scenario_in, const s
          << "| `rgb/NNNNN-l.png` | F3Loc GridSeqDataset: scan NNNNN, frame l = 0..2 the sources (the views beside the reference in rotation order), l = 3 the reference (the view along the scan's heading); scans with fewer than 4 views repeat views |\n"
          << "| `rgb/NNNNN.png` | the same frames under TrajDataset's names (NNNNN = line of poses.txt; hard links) |\n"
          << "| `scans.tum` | true scan poses in the world frame (TUM, evo reads it; timestamp = point index) |\n"
-         << "| `scans/pNNNN/` | a floorcast scan folder (`floorcast observe` reads it): scan.json, view_NNN_depth.png (the sensor's z-depth, 16-bit mm), view_NNN_depth_gt.png (noise-free z-depth of the first surface, glass included, 16-bit mm; with colour only), view_NNN_rgb.png, view_NNN_glass.png, view_NNN_confidence.png, view_NNN_label.png (0 wall, 1 closed door, 2 glass, 3 clutter, 4 floor, 5 ceiling, 255 none), simulation.json; intrinsics.json (K, depth_scale 1000), rgb.txt / depth.txt (TUM RGB-D lists), groundtruth.txt (TUM: each view's true camera pose in the world, OpenCV camera axes), truth.json (pose, camera height, depth scales, the views used as F3Loc frames) |\n\n"
+         << "| `scans/pNNNN/` | a floorcast scan folder (`floorcast observe` reads it): scan.json, view_NNN_depth.png (the sensor's z-depth, 16-bit mm), view_NNN_depth_gt.png (noise-free z-depth of the first surface, glass included, 16-bit mm; with colour only), view_NNN_rgb.png, view_NNN_glass.png, view_NNN_confidence.png, view_NNN_label.png (0 wall, 1 closed door, 2 glass, 3 clutter, 4 floor, 5 ceiling, 255 none), simulation.json; intrinsics.json (K, depth_scale 1000), rgb.txt / depth.txt (TUM RGB-D lists), groundtruth.txt (TUM: each view's true camera pose in the world, OpenCV camera axes), truth.json (pose, camera height, depth scales, the views used as F3Loc frames) |\n"
+         << "| `scans/pNNNN/step_SSSS/` | walks (sequential cells): the scan at walk step SSSS, a floorcast scan folder with its colour views |\n\n"
+         << "Bring your own depth: a depth network's maps for these scans in a folder laid out as this one (DEPTH/<cell>/<building>/scans/pNNNN[/step_SSSS]/, one map per view named after its colour image, e.g. view_000_rgb.npy) replace the simulated depth in `floorcast run` with the scenario key `observation: {depth_dir: DEPTH}` (export with `--camera scenario`).\n\n"
          << "Frames: world = plan metres, x right, y up, z up; camera = OpenCV (x right, y down, z forward); depth = z-depth.\n"
          << "F3Loc's distance volumes (`desdf/<scene>/desdf.npy`) are made from map.png by F3Loc's own `utils/generate_desdf.py`.\n";
   for (const std::string& n : report.notes) readme << "\nNote: " << n << "\n";

@@ -10,7 +10,9 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -90,7 +92,39 @@ struct ScenarioRunner::Impl {
     params.seed = mix64(cell.observation.seed ^ key);
     return params;
   }
+  /// A sequential unit's walk parameters: every random part of the walk is seeded by (its seed,
+  /// building, point), the same in every cell.
+  static std::pair<WalkParams, OdometryParams> unit_walk_params(const SequentialSpec& q, const WorkUnit& unit) {
+    const std::uint64_t key =
+        mix64((static_cast<std::uint64_t>(unit.building) << 32) ^ static_cast<std::uint64_t>(unit.point));
+    WalkParams wp = q.walk;
+    wp.seed = mix64(q.walk.seed ^ key);
+    OdometryParams op = q.odometry;
+    op.seed = mix64(q.odometry.seed ^ mix64(key ^ 0x0d0ULL));
+    return {wp, op};
+  }
+  /// Depth maps made elsewhere for a unit's scan at `step` (cell.observation.depth_dir) replace
+  /// the simulated depth; returns the repairs. Throws InputError naming the folder.
+  std::vector<std::string> replace_depth(const CellSpec& cell, const WorkUnit& unit, int step, Scan& scan) const {
+    const std::string folder =
+        (std::filesystem::path(cell.observation.depth_dir) / unit_scan_folder(scenario, unit, step)).string();
+    if (!std::filesystem::is_directory(folder)) {
+      throw InputError("observation.depth_dir: no depth maps for unit " + unit.id +
+                       (step > 0 ? " at walk step " + std::to_string(step) : std::string()) + " (looked for the folder " +
+                       folder + "; `floorcast export` writes the colour views of the scenario's scans in this layout)");
+    }
+    return load_depth_directory(scan, folder, cell.observation.depth_file).repairs;
+  }
 };
+
+std::string unit_scan_folder(const Scenario& scenario, const WorkUnit& unit, int step) {
+  char point[16], walk_step[24];
+  std::snprintf(point, sizeof point, "p%04d", unit.point);
+  std::snprintf(walk_step, sizeof walk_step, "step_%04d", step);
+  const std::string base = scenario.cells.at(static_cast<std::size_t>(unit.cell)).id + "/" +
+                           scenario.buildings.at(static_cast<std::size_t>(unit.building)).label + "/scans/" + point;
+  return step > 0 ? base + "/" + walk_step : base;
+}
 
 ScenarioRunner::ScenarioRunner(const Scenario& scenario, const std::function<void(const std::string&)>& log)
     : impl_(std::make_unique<Impl>(scenario)) {
@@ -185,10 +219,39 @@ SimulatedScan ScenarioRunner::unit_scan(const WorkUnit& unit, int step) const {
     throw InputError("cell " + cell.id + " makes perfect observations: it has no scans");
   }
   const Impl::Building& building = d.buildings.at(static_cast<std::size_t>(unit.building));
-  const Pose2& truth = building.poses.at(static_cast<std::size_t>(unit.point));
+  Pose2 truth = building.poses.at(static_cast<std::size_t>(unit.point));
+  if (step > 0) {
+    // Along the unit's walk: the true pose at that step (the walk run_sequential makes).
+    if (!cell.sequential) {
+      throw InputError("cell " + cell.id + " makes single-shot observations: it has no walk step " + std::to_string(step));
+    }
+    const Walk walk = simulate_walk(building.plan, truth, Impl::unit_walk_params(*cell.sequential, unit).first);
+    if (static_cast<std::size_t>(step) >= walk.steps.size()) {
+      throw InputError("unit " + unit.id + ": its walk has " + std::to_string(walk.steps.size()) + " steps, no step " +
+                       std::to_string(step));
+    }
+    truth = walk.steps[static_cast<std::size_t>(step)].T_world_body;
+  }
   SimulationOptions options;
   options.column_semantics = cell.observation.observe.bev.enabled;
   return simulate_scan(*building.scene, truth, Impl::unit_scan_params(cell, unit, step), options);
+}
+
+std::vector<int> ScenarioRunner::unit_observation_steps(const WorkUnit& unit) const {
+  const Impl& d = *impl_;
+  const CellSpec& cell = d.scenario.cells.at(static_cast<std::size_t>(unit.cell));
+  if (!cell.sequential) return {0};
+  const Impl::Building& building = d.buildings.at(static_cast<std::size_t>(unit.building));
+  try {
+    const Walk walk = simulate_walk(building.plan, building.poses.at(static_cast<std::size_t>(unit.point)),
+                                    Impl::unit_walk_params(*cell.sequential, unit).first);
+    std::vector<int> steps = schedule_observations(walk, cell.sequential->schedule);
+    // Step 0 is always observed: the single-shot observation the matchers score.
+    if (steps.empty() || steps.front() != 0) steps.insert(steps.begin(), 0);
+    return steps;
+  } catch (const InputError&) {
+    return {0};  // no walk from this point (the run reports it)
+  }
 }
 
 const FloorPlan& ScenarioRunner::building_plan(int b) const { return impl_->buildings.at(static_cast<std::size_t>(b)).plan; }
@@ -239,8 +302,13 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
       // Column semantics (the BEV predictor's truth) only when the observation module makes a BEV.
       SimulationOptions options;
       options.column_semantics = cell.observation.observe.bev.enabled;
-      const Scan scan = simulate_scan(*building.scene, pose, Impl::unit_scan_params(cell, unit, step), options).scan;
+      Scan scan = simulate_scan(*building.scene, pose, Impl::unit_scan_params(cell, unit, step), options).scan;
       r.timings_s["simulate"] += seconds_since(t0);
+      if (!cell.observation.depth_dir.empty()) {
+        // Depth made elsewhere (a depth network on the colour views `floorcast export` wrote).
+        const std::vector<std::string> repairs = d.replace_depth(cell, unit, step, scan);
+        if (info && !repairs.empty()) (*info)["depth_repairs"] = repairs;
+      }
       const ObservationResult obs = observe_scan(scan, cell.observation.observe);
       r.timings_s["observe"] += obs.total_s;
       o.observation = obs.observation;
@@ -364,12 +432,8 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
   const SequentialSpec& q = *cell.sequential;
   const std::size_t b = static_cast<std::size_t>(unit.building);
   const FloorPlan& plan = d.buildings[b].plan;
-  // Every random part of the walk is seeded by (its seed, building, point): same in every cell.
   const std::uint64_t key = mix64((static_cast<std::uint64_t>(b) << 32) ^ static_cast<std::uint64_t>(unit.point));
-  WalkParams wp = q.walk;
-  wp.seed = mix64(q.walk.seed ^ key);
-  OdometryParams op = q.odometry;
-  op.seed = mix64(q.odometry.seed ^ mix64(key ^ 0x0d0ULL));
+  const auto [wp, op] = Impl::unit_walk_params(q, unit);
   const auto t0 = Clock::now();
   Walk walk;
   try {
@@ -492,6 +556,25 @@ RunOutcome ScenarioRunner::run(UnitSink& sink, const RunOptions& options) const 
   for (const WorkUnit& u : mine) {
     if (sink.has_unit(u)) ++out.skipped;
     else todo.push_back(u);
+  }
+  {
+    // Depth made elsewhere: every unit's folder for its first observation is there before any work
+    // (those of later walk steps are looked for when the walk reaches them).
+    std::size_t missing = 0;
+    std::string first;
+    for (const WorkUnit& u : todo) {
+      const ObservationSpec& o = impl_->scenario.cells[static_cast<std::size_t>(u.cell)].observation;
+      if (o.depth_dir.empty()) continue;
+      const std::string folder = (std::filesystem::path(o.depth_dir) / unit_scan_folder(impl_->scenario, u, 0)).string();
+      if (std::filesystem::is_directory(folder)) continue;
+      if (missing++ == 0) first = folder;
+    }
+    if (missing > 0) {
+      throw InputError("observation.depth_dir: no depth maps for " + std::to_string(missing) + " of " +
+                       std::to_string(todo.size()) + " units (the first: " + first +
+                       "); `floorcast export SCENARIO -o DIR` writes the colour views of the scenario's scans in the "
+                       "layout depth_dir mirrors (DIR/<cell>/<building>/scans/pNNNN)");
+    }
   }
   std::mutex mutex;
   std::size_t finished = 0;

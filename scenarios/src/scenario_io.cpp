@@ -290,14 +290,16 @@ class Checker {
 
 const std::vector<std::string> kArchetypes = {"apartment", "office", "campus", "angled"};
 
-/// Absolute path of a file named in a scenario: as is when absolute, else relative to the
-/// scenario's folder, then to the source tree root; empty when not found.
-std::string find_file(const std::string& file, const std::string& base_dir, const std::string& source_root) {
+/// Absolute path of a file (or, with `folder`, a folder) named in a scenario: as is when
+/// absolute, else relative to the scenario's folder, then to the source tree root; empty when not
+/// found.
+std::string find_file(const std::string& file, const std::string& base_dir, const std::string& source_root,
+                      bool folder = false) {
   const fs::path p(file);
   const std::vector<fs::path> candidates =
       p.is_absolute() ? std::vector<fs::path>{p} : std::vector<fs::path>{fs::path(base_dir) / p, fs::path(source_root) / p};
   for (const auto& c : candidates) {
-    if (fs::is_regular_file(c)) return fs::weakly_canonical(c).string();
+    if (folder ? fs::is_directory(c) : fs::is_regular_file(c)) return fs::weakly_canonical(c).string();
   }
   return {};
 }
@@ -396,13 +398,17 @@ struct ObservationUser {
   bool mask_glass = false;
   OJson observe_params = OJson::object();
   std::uint64_t seed = 1;
+  std::string depth_dir;  ///< as the scenario names it
+  std::string depth_kind = "z";
+  double depth_unit_m = DepthFileOptions{}.integer_unit_m;
 };
 
 const FieldList<ObservationUser>& observation_user_fields() {
   using O = ObservationUser;
   static const std::vector<std::string> kSources = {"perfect", "scan"}, kSettings = {"full", "partial", "single"},
                                         kPaths = {"mono", "lidar"}, kScales = {"full", "ground", "none"},
-                                        kExtractors = {"pcl", "voxelplane"};
+                                        kExtractors = {"pcl", "voxelplane"}, kDepthKinds = {"z", "range"};
+  auto with_depth_dir = [](const O& o) { return !o.depth_dir.empty(); };
   static const FieldList<O> f =
       FieldList<O>("observation")
           .choice("source", &O::source, name_choices(kSources),
@@ -423,7 +429,18 @@ const FieldList<ObservationUser>& observation_user_fields() {
           .flag("mask_glass", &O::mask_glass, "drop glass-affected pixels (PALMS+*)")
           .json("observe_params", &O::observe_params, "observation-module parameter overrides")
           .unsigned_integer("seed", &O::seed, "simulator seed (combined with building and point index)")
+          .text("depth_dir", &O::depth_dir,
+                "scan: depth maps made elsewhere replace the simulated depth, one folder per unit as `floorcast "
+                "export` lays out its scans: DIR/<cell>/<building>/scans/pNNNN (walk steps: .../pNNNN/step_SSSS)")
+          .optional(with_depth_dir)
+          .choice("depth_kind", &O::depth_kind, name_choices(kDepthKinds), "depth_dir: z-depth or range maps")
+          .optional(with_depth_dir)
+          .number("depth_unit_m", &O::depth_unit_m, 1e-6, 1.0, "depth_dir: metres per unit of 16-bit maps")
+          .optional(with_depth_dir)
           .check([](const O& o, const ParamReader& r) {
+            if (!o.depth_dir.empty() && o.source != "scan") {
+              r.fail("depth_dir", "needs source: scan (depth maps replace the depth of simulated scans)");
+            }
             if (!o.sensor_params.is_object()) r.fail("sensor_params", "must be a mapping");
             if (!o.observe_params.is_object()) r.fail("observe_params", "must be a mapping");
             if (o.seed > (1ULL << 53)) r.fail("seed", "must be in [0, 9007199254740992]");
@@ -431,10 +448,16 @@ const FieldList<ObservationUser>& observation_user_fields() {
   return f;
 }
 
+/// The scenario's folder and the source tree, where relative file names are looked up (empty for
+/// a resolved scenario, whose names are absolute already).
+struct FileBases {
+  std::string base_dir, source_root;
+};
+
 /// Parses an observation mapping (user form) into typed stage parameters. `resolved` receives the
 /// user form with every default filled in (written next to results; re-parsed by merges).
 ObservationSpec parse_observation(const OJson& obj, const Checker& chk, const std::string& path,
-                                  const SharedParams& shared, OJson* resolved) {
+                                  const SharedParams& shared, OJson* resolved, const FileBases& files = {}) {
   ObservationSpec o;
   // Perfect observer: shared range and blocking, then the explicit keys.
   o.perfect.apply_shared(shared);
@@ -465,6 +488,20 @@ ObservationSpec parse_observation(const OJson& obj, const Checker& chk, const st
   o.observe.bev.max_depth_m = shared.range_m;  // the BEV's last bin edge: the shared range, as the bev matcher's
   at_key(chk, Checker::join(path, "observe_params"), [&] { apply_overrides(o.observe, user.observe_params); });
   o.seed = user.seed;
+  if (!user.depth_dir.empty()) {
+    // Found like building files; a resolved scenario (merges, reports) keeps the name as given.
+    o.depth_dir_given = user.depth_dir;
+    o.depth_dir = user.depth_dir;
+    if (!files.base_dir.empty()) {
+      o.depth_dir = find_file(user.depth_dir, files.base_dir, files.source_root, true);
+      if (o.depth_dir.empty()) {
+        chk.fail(Checker::join(path, "depth_dir"), "folder \"" + user.depth_dir + "\" not found (looked in " +
+                                                        files.base_dir + " and " + files.source_root + ")");
+      }
+    }
+    o.depth_file.kind = parse_depth_kind(user.depth_kind);
+    o.depth_file.integer_unit_m = user.depth_unit_m;
+  }
   if (resolved) *resolved = observation_user_fields().write(user);
   return o;
 }
@@ -480,12 +517,6 @@ OJson stage_parameters(const ObservationSpec& o) {
   }
   return j;
 }
-
-/// The scenario's folder and the source tree, where relative file names are looked up (empty for
-/// a resolved scenario, whose names are absolute already).
-struct FileBases {
-  std::string base_dir, source_root;
-};
 
 std::vector<MatcherSpec> parse_matchers(const OJson& obj, const Checker& chk, const SharedParams& shared,
                                         const FileBases& files = {}) {
@@ -862,7 +893,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
 
   s.shared = parse_shared(root, chk);
   const OJson base_observation = root.contains("observation") ? root.at("observation") : OJson::object();
-  (void)parse_observation(base_observation, chk, "observation", s.shared, nullptr);  // validates the base
+  (void)parse_observation(base_observation, chk, "observation", s.shared, nullptr, {base_dir, source_root});  // validates the base
   if (!root.contains("matchers")) chk.fail("matchers", "missing required key");
   const OJson base_matchers = root.at("matchers");
   (void)parse_sequential(root, chk, parse_matchers(base_matchers, chk, s.shared, {base_dir, source_root}));
@@ -916,7 +947,8 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
     const std::string where = axes.empty() ? "" : " (sweep cell " + cell.id + ")";
     try {
       OJson resolved_observation;
-      cell.observation = parse_observation(tree["observation"], chk, "observation", s.shared, &resolved_observation);
+      cell.observation =
+          parse_observation(tree["observation"], chk, "observation", s.shared, &resolved_observation, {base_dir, source_root});
       resolved_observations.push_back(std::move(resolved_observation));
       cell.matchers = parse_matchers(tree["matchers"], chk, s.shared, {base_dir, source_root});
       cell.sequential = parse_sequential(tree, chk, cell.matchers);

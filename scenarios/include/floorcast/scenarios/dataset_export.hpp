@@ -44,6 +44,7 @@ struct DatasetExportOptions {
 
 struct DatasetExportReport {
   std::size_t scans = 0;
+  std::size_t walk_scans = 0;  ///< sequential cells: scans at later walk steps (scans/pNNNN/step_SSSS)
   std::size_t images = 0;
   std::vector<std::string> notes;  ///< coarsened maps, cells skipped (perfect observations), ...
 };

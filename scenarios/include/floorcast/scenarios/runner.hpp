@@ -60,6 +60,11 @@ struct RunOutcome {
   double reference_s = 0.0;        ///< reference workload measured at the start of this run
 };
 
+/// Where a unit's scan at `step` lies in a folder laid out as `floorcast export` writes scans (and
+/// where observation.depth_dir's depth maps for it are read): "<cell>/<building>/scans/pNNNN",
+/// at later walk steps "<cell>/<building>/scans/pNNNN/step_SSSS".
+std::string unit_scan_folder(const Scenario& scenario, const WorkUnit& unit, int step = 0);
+
 class ScenarioRunner {
  public:
   /// Loads or generates every building, samples the observation points, builds every matcher
@@ -78,9 +83,13 @@ class ScenarioRunner {
   /// One unit (exposed for tests). Heatmaps for sampled points go to `images` when given.
   UnitResult run_unit(const WorkUnit& unit, UnitSink* images) const;
 
-  /// The simulated scan a unit observes at `step` (0 = its single-shot observation), exactly as
-  /// run_unit makes it (same seed). Throws InputError for a cell with perfect observations.
+  /// The simulated scan a unit observes at `step` (0 = its single-shot observation; later steps
+  /// along its walk, at the walk's true pose), exactly as run_unit makes it (same seed). Throws
+  /// InputError for a cell with perfect observations or a step its walk does not have.
   SimulatedScan unit_scan(const WorkUnit& unit, int step = 0) const;
+  /// The steps a unit observes at: {0} for single-shot cells, the walk's schedule (0 first) for
+  /// sequential ones.
+  std::vector<int> unit_observation_steps(const WorkUnit& unit) const;
   /// Building b as the runner uses it: its plan (loaded or generated), its observation points and
   /// its 3D mesh (only when some cell simulates scans; null otherwise).
   const FloorPlan& building_plan(int b) const;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "floorcast/core/depth_io.hpp"
 #include "floorcast/eval/metrics.hpp"
 #include "floorcast/eval/sequential.hpp"
 #include "floorcast/match/matcher.hpp"
@@ -86,6 +87,12 @@ struct ObservationSpec {
   /// observe_params overrides applied).
   ObservationParams observe;
   std::uint64_t seed = 1;  ///< scan: simulator seed (combined with building and point index)
+  /// scan: depth maps made elsewhere (a depth network run on the colour views `floorcast export`
+  /// writes) replace the simulated depth; unit u's maps at walk step s are in
+  /// depth_dir/unit_scan_folder(scenario, u, s) (scenarios/runner.hpp). Empty: the simulated depth.
+  std::string depth_dir;        ///< found at load (absolute), or as given in a resolved scenario
+  std::string depth_dir_given;  ///< as the scenario names it (what the resolved configuration records)
+  DepthFileOptions depth_file;
 };
 
 /// A tracker under a label: its configuration (parsed and complete at load), and the label of
