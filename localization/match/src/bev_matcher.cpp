@@ -504,6 +504,7 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
         }
       }
     });
+    const std::size_t sorted = pool.size();
     for (std::size_t u = next; u < end; ++u) {
       for (const auto& run : pre_->block_runs[order[u]]) cells_scored += static_cast<std::size_t>(run.second);
       pool.insert(pool.end(), found[u - next].begin(), found[u - next].end());
@@ -511,8 +512,11 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
     next = end;
     const auto tm = Clock::now();
     score_s += seconds(ts, tm);
-    // Greedy suppression on the scored cells.
-    std::sort(pool.begin(), pool.end());
+    // Greedy suppression on the scored cells, in Posterior::top_k's order: the pool is kept
+    // sorted, so only this round's candidates are sorted and merged in (a strict order over
+    // distinct cells: the same sequence as sorting the whole pool).
+    std::sort(pool.begin() + static_cast<std::ptrdiff_t>(sorted), pool.end());
+    std::inplace_merge(pool.begin(), pool.begin() + static_cast<std::ptrdiff_t>(sorted), pool.end());
     result.modes.clear();
     for (const Candidate& c : pool) {
       if (static_cast<int>(result.modes.size()) >= request.top_k) break;
