@@ -466,10 +466,19 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
     r.walk["truth_xy"] = xy;
   }
   // Observations on the schedule (step 0 again: the single-shot observation, same seed) and the
-  // posteriors each tracker's matcher makes of them, computed once per (matcher, step).
+  // posteriors each tracker's matcher makes of them, computed once per (matcher, step). A
+  // posterior is kept only while a later tracker uses its matcher (a walk's posteriors are
+  // 100+ MB each on an office at 0.1 m: a 100-frame walk kept whole would not fit in memory).
   std::map<int, std::optional<Observation2D>> observations;
   std::map<std::pair<std::string, int>, Posterior> posteriors;
   std::map<std::pair<std::string, int>, std::string> posterior_errors;  // an external matcher's error
+  std::size_t current_tracker = 0;
+  auto needed_later = [&](const std::string& matcher_label) {
+    for (std::size_t i = current_tracker + 1; i < q.trackers.size(); ++i) {
+      if (q.trackers[i].matcher == matcher_label) return true;
+    }
+    return false;
+  };
   auto posterior = [&](const std::string& matcher_label, int step) -> std::optional<Posterior> {
     if (std::find(scheduled.begin(), scheduled.end(), step) == scheduled.end()) return std::nullopt;
     auto oit = observations.find(step);
@@ -484,20 +493,28 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
     const auto k = std::make_pair(matcher_label, step);
     if (posterior_errors.count(k)) return std::nullopt;
     auto pit = posteriors.find(k);
-    if (pit == posteriors.end()) {
-      const auto tm = Clock::now();
-      try {
-        pit = posteriors.emplace(k, d.matchers.at(Impl::matcher_key(b, *spec))->match(*oit->second).posterior).first;
-      } catch (const ExternalMethodError& e) {
-        posterior_errors[k] = "error: matcher " + matcher_label + " at step " + std::to_string(step) + ": " + e.what();
-        r.timings_s["track_match"] += seconds_since(tm);
-        return std::nullopt;
-      }
+    if (pit != posteriors.end()) return pit->second;
+    const auto tm = Clock::now();
+    Posterior p;
+    try {
+      p = d.matchers.at(Impl::matcher_key(b, *spec))->match(*oit->second).posterior;
+    } catch (const ExternalMethodError& e) {
+      posterior_errors[k] = "error: matcher " + matcher_label + " at step " + std::to_string(step) + ": " + e.what();
       r.timings_s["track_match"] += seconds_since(tm);
+      return std::nullopt;
     }
-    return pit->second;
+    r.timings_s["track_match"] += seconds_since(tm);
+    if (needed_later(matcher_label)) posteriors.emplace(k, p);
+    return p;
   };
   for (std::size_t ti = 0; ti < q.trackers.size(); ++ti) {
+    current_tracker = ti;
+    // Posteriors no tracker from here on uses are let go.
+    for (auto it = posteriors.begin(); it != posteriors.end();) {
+      bool used = false;
+      for (std::size_t i = ti; i < q.trackers.size(); ++i) used = used || q.trackers[i].matcher == it->first.first;
+      it = used ? std::next(it) : posteriors.erase(it);
+    }
     const TrackerSpec& t = q.trackers[ti];
     std::shared_ptr<const TrackerConfig> config = t.config;
     if (const std::optional<std::uint64_t> seed = config->seed()) config = config->with_seed(mix64(*seed ^ mix64(key ^ (0x7a0ULL + ti))));
