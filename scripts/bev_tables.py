@@ -54,6 +54,29 @@ def single_shot(run, title):
             print(f"| {setting} | {preset} | {label} | {m['count']} | {pct(m.get('recall_1m'))} | "
                   f"{pct(m.get('recall_1m_30deg'))} | {pct(m.get('recall_0.5m'))} | {pct(m.get('recall_0.2m'))} | "
                   f"{pct(top)} | {'n/a' if med is None else f'{med:.2f}'} |")
+    # The paired tests the summaries carry (eval/paired.hpp): the same points, matcher against
+    # matcher, McNemar's exact test and a paired bootstrap interval of the difference.
+    print(f"\nPaired on the same points (recall @1 m 30 deg, percentage points A - B, paired 95% interval; McNemar p):\n")
+    print("| setting | BEV preset | A vs B | only A | only B | A - B | 95% interval | p | verdict at 5% |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for cell in s["cells"]:
+        axes = cell["axes"]
+        setting = axes.get("observation.setting", "")
+        preset = axes.get("observation.observe_params.bev.preset", "")
+        for pair, v in cell.get("paired", {}).get("all", {}).items():
+            if "bev" not in pair:
+                continue
+            r = v.get("recall_1m_30deg")
+            if not r:
+                continue
+            lo, hi = r.get("ci95", [None, None]) or [None, None]
+            p = r.get("p_value")
+            verdict = "no significant difference"
+            if p is not None and p < 0.05:
+                verdict = (v["a"] if r["difference"] > 0 else v["b"]) + " better"
+            ci = "n/a" if lo is None else f"[{100 * lo:+.1f}, {100 * hi:+.1f}]"
+            print(f"| {setting} | {preset} | {pair} | {r['only_a']} | {r['only_b']} | {100 * r['difference']:+.1f} | {ci} | "
+                  f"{'n/a' if p is None else f'{p:.3g}'} | {verdict} |")
     print("\nThe thesis (Table 4.3, Structured3D perspective images, ~105 m^2 floors):\n")
     print("| method | @1 m | @1 m 30 deg | @0.5 m | @0.2 m |")
     print("|---|---|---|---|---|")
@@ -124,10 +147,40 @@ def sequential(run):
             print(f"| {label} | {k} | " + " | ".join(cells) + " |")
 
 
+def bench(path, title):
+    """Matching cost per view (floorcast bench match --json): CPU s medians of estimate + top-5."""
+    if not os.path.exists(path):
+        return
+    j = load(path)
+    print(f"\n### {title}\n")
+    print("| plan | matcher | view | estimate + top-5, CPU s | exhaustive, CPU s | full posterior, CPU s | cells scored | "
+          "precompute s (wall) | precompute MB |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for plan, p in j.items():
+        name = plan.replace("_", " ")
+        k = p.get("kernel")
+        if k:
+            print(f"| {name} | kernel (O = {k['orientations']:.0f}) | 360 deg | {k['modes']['cpu_s']:.3f} | - | "
+                  f"{k.get('posterior', {}).get('cpu_s', float('nan')):.3f} | - | {k['precompute_wall_s']:.2f} | {k['precompute_mb']:.0f} |")
+        for rays, r in sorted(p.get("ray", {}).items()):
+            print(f"| {name} | ray ({rays} rays) | 360 deg | {r['modes']['cpu_s']:.3f} | {r['modes_exhaustive']['cpu_s']:.3f} | "
+                  f"{r['posterior']['cpu_s']:.3f} | {100 * r['search_counters']['cells_scored_share']:.0f}% | "
+                  f"{r['precompute_s']:.2f} | {r['volume_mb']:.0f} |")
+        for cls, b in p.get("bev", {}).items():
+            for fov, x in b.items():
+                if not fov.startswith("fov_"):
+                    continue
+                print(f"| {name} | bev {cls} ({x['columns']} columns) | {fov[4:]} deg | {x['modes']['cpu_s']:.3f} | "
+                      f"{x['modes_exhaustive']['cpu_s']:.3f} | {x['posterior']['cpu_s']:.3f} | "
+                      f"{100 * x['search_counters']['cells_scored_share']:.0f}% | {b['precompute_wall_s']:.2f} | {b['precompute_mb']:.0f} |")
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "out/bev"
     single_shot(os.path.join(out, "calibrated"), "Single shot, calibrated office, angled and campus (scenarios/bev.yaml)")
     single_shot(os.path.join(out, "realplans"), "Single shot, six real development levels")
+    for path in sorted(glob.glob(os.path.join(out, "bench_*.json"))):
+        bench(path, f"Matching cost per view ({os.path.basename(path)}: floorcast bench match --json, medians of 10 perfect views)")
     sweep(os.path.join(out, "sweep"))
     sequential(os.path.join(out, "sequential"))
 
