@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "floorcast/floorplans/extrusion.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/core/math.hpp"
 #include "test_plans.hpp"
@@ -171,6 +172,52 @@ TEST(Geometry, ClipSegmentToBoxKnownAnswers) {
   ASSERT_TRUE(clip_segment_to_box(a, b, 0.0, 0.0, 2.0, 1.0));
   EXPECT_NEAR((a - Vec2(2.0, 1.0)).norm(), 0.0, 1e-12);
   EXPECT_NEAR((b - Vec2(2.0, 1.0)).norm(), 0.0, 1e-12);
+}
+
+// The extrusion's faces grouped into planes: a box room with a door in its south wall is 4 inner
+// and 4 outer wall sides (the inner south side with its lintel and the jambs' neighbours joined,
+// the door opening a hole below the lintel), the door's jambs and soffit, the floor and the
+// ceiling; every face in exactly one plane, the plane's offset that of its faces.
+TEST(Extrusion, CoplanarFacesGroupIntoConnectedPlanes) {
+  FloorPlan p = test::box_room(6.0, 4.0, 0.2);
+  p.doors.push_back({"d", "south", {3.0, 0.0}, 1.0, false});
+  const std::vector<ExtrudedFace> faces = extrude_faces(p);
+  const std::vector<ExtrudedPlane> planes = group_coplanar_faces(faces);
+  std::vector<int> seen(faces.size(), 0);
+  int floors = 0, ceilings = 0, inner_south = 0;
+  for (const ExtrudedPlane& pl : planes) {
+    for (int f : pl.faces) {
+      ++seen[static_cast<std::size_t>(f)];
+      EXPECT_NEAR(pl.normal.dot(faces[static_cast<std::size_t>(f)].polygon_m[0].cast<double>()), pl.offset_m, 1e-5);
+      EXPECT_NEAR((faces[static_cast<std::size_t>(f)].outward.cast<double>() - pl.normal).norm(), 0.0, 1e-6);
+    }
+    floors += pl.label == MeshLabel::kFloor;
+    ceilings += pl.label == MeshLabel::kCeiling;
+    // The inner side of the south wall (y = 0.1, facing +y): one plane of three faces (left of
+    // the door, right of it, the lintel above it).
+    if (pl.label == MeshLabel::kWall && pl.normal.y() > 0.99 && std::abs(pl.offset_m - 0.1) < 1e-6) {
+      ++inner_south;
+      EXPECT_EQ(pl.faces.size(), 3u);
+    }
+  }
+  for (int n : seen) EXPECT_EQ(n, 1);
+  EXPECT_EQ(floors, 1);
+  EXPECT_EQ(ceilings, 1);
+  EXPECT_EQ(inner_south, 1);
+  // Two coplanar but separate faces stay two planes: the outer sides of two rooms in a row.
+  FloorPlan two = test::box_room(4.0, 4.0, 0.2);
+  FloorPlan other = test::box_room(4.0, 4.0, 0.2);
+  for (Wall& w : other.walls) {
+    w.a_m.x() += 10.0;
+    w.b_m.x() += 10.0;
+    w.id += "_b";
+    two.walls.push_back(w);
+  }
+  int outer_south = 0;
+  for (const ExtrudedPlane& pl : group_coplanar_faces(extrude_faces(two))) {
+    outer_south += pl.label == MeshLabel::kWall && pl.normal.y() < -0.99 && std::abs(pl.offset_m - 0.1) < 1e-6;
+  }
+  EXPECT_EQ(outer_south, 2);
 }
 
 }  // namespace
