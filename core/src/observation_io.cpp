@@ -114,6 +114,69 @@ const FieldList<BevPrediction>& bev_fields() {
   return f;
 }
 
+/// A 3-vector written as [x, y, z]; read back as finite coordinates within 1e5 m.
+ordered_json vec3_json(const Eigen::Vector3d& v) { return ordered_json::array({v.x(), v.y(), v.z()}); }
+
+Eigen::Vector3d vec3_from_json(const ParamReader& r, const nlohmann::json& v, const std::string& key) {
+  if (!v.is_array() || v.size() != 3) r.fail(key, "expected [x, y, z]");
+  Eigen::Vector3d out;
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (!v[a].is_number() || !std::isfinite(v[a].get<double>()) || std::abs(v[a].get<double>()) > 1e5) {
+      r.fail(key, "expected finite coordinates within 1e5 m");
+    }
+    out[static_cast<Eigen::Index>(a)] = v[a].get<double>();
+  }
+  return out;
+}
+
+/// A 3-vector member of a plane patch.
+template <class Get>
+std::pair<std::function<void(ordered_json&, const PlanePatch&)>, std::function<void(ParamReader&, PlanePatch&)>> vec3_field(
+    const char* key, Get get) {
+  return {[key, get](ordered_json& j, const PlanePatch& p) { j[key] = vec3_json(get(p)); },
+          [key, get](ParamReader& r, PlanePatch& p) {
+            nlohmann::json v;
+            r.read(key, v);
+            get(p) = vec3_from_json(r, v, key);
+          }};
+}
+
+/// One plane patch of an observation (core/plane_patch.hpp).
+const FieldList<PlanePatch>& plane_patch_fields() {
+  using P = PlanePatch;
+  const auto normal = vec3_field("normal", [](auto& p) -> auto& { return p.normal; });
+  const auto centroid = vec3_field("centroid_m", [](auto& p) -> auto& { return p.centroid_m; });
+  static const FieldList<P> f =
+      FieldList<P>("plane patch")
+          .custom("normal", normal.first, normal.second, "[x, y, z]",
+                  "unit normal towards the observer's side (into free space)")
+          .number("offset_m", &P::offset_m, -1e5, 0.0, "normal . p = offset_m on the plane (<= 0: the observer is on the normal's side), m")
+          .custom("centroid_m", centroid.first, centroid.second, "[x, y, z]", "centre of the supporting points, m")
+          .number("radius_m", &P::radius_m, 0.0, 1e5, "largest distance of a supporting point from the centre (enclosing sphere), m")
+          .integer("support_points", &P::support_points, 0, 2000000000, "measured points supporting the patch (0: built from geometry)")
+          .custom(
+              "cells_m",
+              [](ordered_json& j, const P& p) {
+                ordered_json cells = ordered_json::array();
+                for (const Eigen::Vector3d& c : p.cells_m) cells.push_back(vec3_json(c));
+                j["cells_m"] = cells;
+              },
+              [](ParamReader& r, P& p) {
+                nlohmann::json cells;
+                r.read("cells_m", cells);
+                if (!cells.is_array()) r.fail("cells_m", "expected an array of [x, y, z]");
+                p.cells_m.clear();
+                for (std::size_t c = 0; c < cells.size(); ++c) {
+                  p.cells_m.push_back(vec3_from_json(r, cells[c], "cells_m[" + std::to_string(c) + "]"));
+                }
+              },
+              "[[x, y, z], ...]", "centres of the occupied cells of the patch's l x l grid, m")
+          .check([](const P& p, const ParamReader& r) {
+            if (std::abs(p.normal.norm() - 1.0) > 1e-3) r.fail("normal", "expected a unit vector");
+          });
+  return f;
+}
+
 const FieldList<ObservationRecord>& observation_fields() {
   using R = ObservationRecord;
   const auto format = constant("format", "floorcast-observation", "expected \"floorcast-observation\"");
@@ -203,6 +266,11 @@ const FieldList<ObservationRecord>& observation_fields() {
                 }
               },
               "[range, ...]", "optional: ranges along equiangular rays (ray i at 360 i / n deg), m")
+          .number("plane_cell_m", [](auto& r) -> auto& { return r.observation.plane_cell_m; }, 1e-3, 100.0,
+                  "optional, with planes: cell edge of every patch's grid, m")
+          .optional([](const R& rec) { return !rec.observation.planes.empty(); })
+          .list("planes", [](auto& r) -> auto& { return r.observation.planes; }, plane_patch_fields())
+          .optional([](const R& rec) { return !rec.observation.planes.empty(); })
           .custom(
               "bev",
               [](ordered_json& j, const R& rec) {
@@ -289,8 +357,25 @@ ObservationRecord parse_observation_json(const std::string& text, const std::str
       }
     }
   }
+  if (j.is_object() && j.contains("planes") != j.contains("plane_cell_m")) {
+    throw ParameterError(source_name + ": planes: planes and plane_cell_m come together", "planes");
+  }
+  if (j.is_object() && j.contains("planes") && j.at("planes").is_array()) {
+    const nlohmann::json& planes = j.at("planes");
+    check_limit("max_segments", static_cast<double>(planes.size()), source_name + ": planes", "planes");
+    double cells_total = 0.0;
+    for (const nlohmann::json& p : planes) {
+      if (p.is_object() && p.contains("cells_m") && p.at("cells_m").is_array()) {
+        cells_total += static_cast<double>(p.at("cells_m").size());
+      }
+    }
+    check_limit("max_points", cells_total, source_name + ": planes[].cells_m", "cells");
+  }
   ObservationRecord rec;
   observation_fields().read_record(rec, j, source_name);
+  for (PlanePatch& p : rec.observation.planes) {
+    if (std::abs(p.normal.norm() - 1.0) > 1e-12) p.normal.normalize();  // exactly unit, as written when it was
+  }
   return rec;
 }
 

@@ -182,6 +182,19 @@ TEST(ObservationIo, RoundTripOfAPerfectObservation) {
   ASSERT_TRUE(back.T_world_observer.has_value());
   EXPECT_EQ(back.T_world_observer->yaw_rad, 0.4);
   EXPECT_EQ(back.metadata.at("plan"), "features");
+  // The perfect 3-D planes come back as written.
+  ASSERT_FALSE(rec.observation.planes.empty());
+  ASSERT_EQ(back.observation.planes.size(), rec.observation.planes.size());
+  EXPECT_EQ(back.observation.plane_cell_m, rec.observation.plane_cell_m);
+  for (std::size_t i = 0; i < back.observation.planes.size(); ++i) {
+    const PlanePatch& a = rec.observation.planes[i];
+    const PlanePatch& b = back.observation.planes[i];
+    EXPECT_EQ(a.normal, b.normal);
+    EXPECT_EQ(a.offset_m, b.offset_m);
+    EXPECT_EQ(a.centroid_m, b.centroid_m);
+    EXPECT_EQ(a.radius_m, b.radius_m);
+    EXPECT_EQ(a.cells_m, b.cells_m);
+  }
   EXPECT_EQ(observation_to_json_text(back), text);
 }
 
@@ -200,6 +213,16 @@ TEST(ObservationIo, ValidationErrors) {
   expect(head + R"("max_range_m": 10, "segments_m": [[0,0,1,1]], "segment_labels": ["sofa"]})", "segment_labels[0]");
   expect(head + R"("max_range_m": 10, "segments_m": [], "extra": 1})", "extra: unknown key");
   expect(head + R"("max_range_m": -1, "segments_m": []})", "max_range_m");
+  expect(head + R"("max_range_m": 10, "segments_m": [], "plane_cell_m": 0.25})", "planes and plane_cell_m come together");
+  const std::string plane = R"("plane_cell_m": 0.25, "planes": [{"normal": [0, 0, 1], "offset_m": -1.5, "centroid_m": [0, 0, -1.5], )"
+                            R"("radius_m": 1, "support_points": 0, "cells_m": [[0.125, 0.125, -1.5]]}])";
+  EXPECT_EQ(parse_observation_json(head + R"("max_range_m": 10, "segments_m": [], )" + plane + "}", "o.json").observation.planes.size(), 1u);
+  std::string bad = plane;
+  bad.replace(bad.find("[0, 0, 1]"), 9, "[0, 0, 2]");
+  expect(head + R"("max_range_m": 10, "segments_m": [], )" + bad + "}", "planes[0].normal: expected a unit vector");
+  bad = plane;
+  bad.replace(bad.find("-1.5,"), 5, "1.5, ");
+  expect(head + R"("max_range_m": 10, "segments_m": [], )" + bad + "}", "planes[0].offset_m");
   expect(R"({"format": "x"})", "format");
   expect("[", "malformed JSON");
 }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "floorcast/core/bev.hpp"
+#include "floorcast/core/plane_patch.hpp"
 #include "floorcast/core/types.hpp"
 
 namespace floorcast {
@@ -33,6 +34,12 @@ struct Observation2D {
   /// Optional bird's-eye-view predictions (core/bev.hpp) in the observer frame, at most one per
   /// class set (semantic, occupancy), for the BEV matcher; empty when none was made.
   std::vector<BevPrediction> bev;
+  /// Optional 3D plane patches (walls, floor, ceiling, ...) in the observer's 3D frame: the 2D
+  /// frame above with z up, origin at the sensor (the scan frame of core/scan.hpp). For plane
+  /// matchers; empty when none were extracted.
+  std::vector<PlanePatch> planes;
+  /// Cell edge of every patch's grid in `planes`, metres.
+  double plane_cell_m = 0.25;
 };
 
 }  // namespace floorcast
