@@ -1,6 +1,8 @@
 #include "floorcast/sim/perfect_observation.hpp"
 #include "floorcast/core/limits.hpp"
 #include "floorcast/core/math.hpp"
+#include "floorcast/sim/mesh.hpp"
+#include "floorcast/sim/ray_scene.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -42,6 +44,17 @@ Vec2 ray_line_point(const Vec2& o, double theta, const Segment2& s) {
 
 }  // namespace
 
+/// The perfect 3-D planes' scene: the extrusion as the observer's blocking options see it (open
+/// doors closed when they block, glass and obstacles only when they block), its faces grouped
+/// into planes, and the Embree scene that decides what the camera sees.
+struct PerfectObserver::Planes {
+  std::vector<ExtrudedFace> faces;
+  std::vector<ExtrudedPlane> planes;
+  std::vector<Eigen::Vector3d> centre_m;  ///< per plane: centre of its faces' vertices
+  std::vector<double> radius_m;           ///< ... and the largest distance of a vertex from it
+  std::unique_ptr<RayScene> scene;
+};
+
 PerfectObserver::PerfectObserver(const FloorPlan& plan, const PerfectObservationParams& params)
     : params_(params) {
   check_limit("max_rays", params.num_rays, "perfect observer", "rays");
@@ -51,6 +64,121 @@ PerfectObserver::PerfectObserver(const FloorPlan& plan, const PerfectObservation
     semantic_lines_ = semantic_plan_lines(plan, BevClasses::kSemantic, params.blocking.cut_height_m);
     occupancy_lines_ = semantic_plan_lines(plan, BevClasses::kOccupancy, params.blocking.cut_height_m);
   }
+  if (!(params.plane_cell_m >= 0.01 && params.plane_cell_m <= 10.0)) {
+    throw InputError("perfect observer: plane_cell_m must be in [0.01, 10] m");
+  }
+  if (!params.planes) return;
+  FloorPlan drawn = plan;
+  if (params.blocking.open_doors_block) {
+    for (Door& d : drawn.doors) d.closed = true;
+  }
+  planes_ = std::make_unique<Planes>();
+  Planes& P = *planes_;
+  for (ExtrudedFace& f : extrude_faces(drawn, params.extrusion)) {
+    if (f.label == MeshLabel::kGlass && !params.blocking.glass_blocks) continue;
+    if (f.label == MeshLabel::kClutter && !params.blocking.obstacles_block) continue;
+    P.faces.push_back(std::move(f));
+  }
+  P.planes = group_coplanar_faces(P.faces);
+  for (const ExtrudedPlane& pl : P.planes) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int f : pl.faces) {
+      for (const Eigen::Vector3f& v : P.faces[static_cast<std::size_t>(f)].polygon_m) {
+        c += v.cast<double>();
+        ++n;
+      }
+    }
+    c /= std::max(n, 1);
+    double r = 0.0;
+    for (int f : pl.faces) {
+      for (const Eigen::Vector3f& v : P.faces[static_cast<std::size_t>(f)].polygon_m) r = std::max(r, (v.cast<double>() - c).norm());
+    }
+    P.centre_m.push_back(c);
+    P.radius_m.push_back(r);
+  }
+  if (!P.faces.empty()) P.scene = std::make_unique<RayScene>(mesh_from_faces(P.faces));
+}
+
+PerfectObserver::~PerfectObserver() = default;
+PerfectObserver::PerfectObserver(PerfectObserver&&) noexcept = default;
+PerfectObserver& PerfectObserver::operator=(PerfectObserver&&) noexcept = default;
+
+std::vector<PlanePatch> PerfectObserver::visible_planes(const Pose2& T_world_observer) const {
+  std::vector<PlanePatch> out;
+  if (!planes_ || !planes_->scene) return out;
+  const Planes& P = *planes_;
+  const double R = params_.max_range_m;
+  const double step = 0.5 * params_.plane_cell_m;
+  const Eigen::Vector3d eye(T_world_observer.x_m, T_world_observer.y_m, params_.camera_height_m);
+  // Samples on a grid of half a cell in each front-facing plane within range, one ray each.
+  std::vector<Ray3> rays;
+  std::vector<int> ray_plane;
+  for (std::size_t k = 0; k < P.planes.size(); ++k) {
+    const ExtrudedPlane& pl = P.planes[k];
+    if ((P.centre_m[k] - eye).head<2>().norm() - P.radius_m[k] > R) continue;
+    if (pl.normal.dot(eye) - pl.offset_m <= 1e-9) continue;  // the eye is behind it
+    const Eigen::Matrix3d B = plane_cell_basis(pl.normal);
+    for (int fi : pl.faces) {
+      const ExtrudedFace& f = P.faces[static_cast<std::size_t>(fi)];
+      std::vector<Vec2> poly;
+      for (const Eigen::Vector3f& v : f.polygon_m) poly.emplace_back(B.col(0).dot(v.cast<double>()), B.col(1).dot(v.cast<double>()));
+      double area2 = 0.0;
+      for (std::size_t i = 0; i < poly.size(); ++i) {
+        const Vec2& a = poly[i];
+        const Vec2& b = poly[(i + 1) % poly.size()];
+        area2 += a.x() * b.y() - a.y() * b.x();
+      }
+      if (area2 < 0.0) std::reverse(poly.begin(), poly.end());
+      double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
+      for (const Vec2& q : poly) {
+        u0 = std::min(u0, q.x());
+        u1 = std::max(u1, q.x());
+        v0 = std::min(v0, q.y());
+        v1 = std::max(v1, q.y());
+      }
+      const Eigen::Vector3d foot = pl.offset_m * pl.normal;
+      for (double u = (std::floor(u0 / step) + 0.5) * step; u < u1; u += step) {
+        for (double v = (std::floor(v0 / step) + 0.5) * step; v < v1; v += step) {
+          if (!point_in_convex_polygon(poly, Vec2(u, v))) continue;
+          const Eigen::Vector3d q = foot + u * B.col(0) + v * B.col(1);
+          const Eigen::Vector3d d = q - eye;
+          if (d.head<2>().norm() > R) continue;
+          Ray3 ray;
+          ray.origin_m = eye.cast<float>();
+          ray.direction = d.cast<float>();
+          ray.t_near = 0.0f;
+          ray.t_far = static_cast<float>(1.0 - 0.005 / std::max(d.norm(), 0.01));
+          rays.push_back(ray);
+          ray_plane.push_back(static_cast<int>(k));
+        }
+      }
+    }
+  }
+  std::vector<RayHit3> hits(rays.size());
+  if (!rays.empty()) P.scene->intersect_stream(rays.data(), hits.data(), rays.size(), false);
+  // Visible samples per plane, in the observer's 3D frame.
+  const double c = std::cos(T_world_observer.yaw_rad), s = std::sin(T_world_observer.yaw_rad);
+  Eigen::Isometry3d T_obs_world = Eigen::Isometry3d::Identity();
+  T_obs_world.linear() << c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0;
+  T_obs_world.translation() = -(T_obs_world.linear() * eye);
+  std::vector<std::vector<Eigen::Vector3d>> seen(P.planes.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    if (hits[i].hit()) continue;
+    const Eigen::Vector3d q = rays[i].origin_m.cast<double>() + rays[i].direction.cast<double>();
+    seen[static_cast<std::size_t>(ray_plane[i])].push_back(T_obs_world * q);
+  }
+  const double cell_area = params_.plane_cell_m * params_.plane_cell_m;
+  for (std::size_t k = 0; k < P.planes.size(); ++k) {
+    if (seen[k].empty()) continue;
+    const Eigen::Vector3d n = T_obs_world.linear() * P.planes[k].normal;
+    const double offset = P.planes[k].offset_m + n.dot(T_obs_world.translation());
+    PlanePatch patch = make_plane_patch(n, offset, seen[k], params_.plane_cell_m, 1);
+    patch.support_points = 0;  // from geometry, not measured
+    if (static_cast<double>(patch.cells_m.size()) * cell_area < params_.min_plane_area_m2) continue;
+    out.push_back(std::move(patch));
+  }
+  return out;
 }
 
 BevPrediction PerfectObserver::bev(const Pose2& T_world_observer, BevClasses classes, int columns) const {
@@ -176,6 +304,10 @@ Observation2D PerfectObserver::observe(const Pose2& T_world_observer) const {
     obs.bev.push_back(bev(T_world_observer, BevClasses::kSemantic, params_.bev_columns));
     obs.bev.push_back(bev(T_world_observer, BevClasses::kOccupancy, params_.bev_columns));
   }
+  if (params_.planes) {
+    obs.planes = visible_planes(T_world_observer);
+    obs.plane_cell_m = params_.plane_cell_m;
+  }
   return obs;
 }
 
@@ -190,8 +322,18 @@ const FieldList<PerfectObservationParams>& PerfectObservationParams::fields() {
                    "equiangular columns of the perfect BEVs (the thesis' one-hot ray casting of the plan); 0 = none")
           .integer("bev_depth_bins", &P::bev_depth_bins, 1, 255, "log-spaced depth bins of the perfect BEVs")
           .number("bev_min_depth_m", &P::bev_min_depth_m, 0.01, 100.0, "first depth bin edge of the perfect BEVs, m (the last is max_range_m)")
+          .flag("planes", &P::planes, "perfect 3-D planes: the visible planar surfaces as plane patches")
+          .number("plane_cell_m", &P::plane_cell_m, 0.01, 10.0, "cell edge of the patches, m (VoxelPlane-Reloc's l)")
+          .number("camera_height_m", &P::camera_height_m, 0.0, 100.0, "the observer's eye above the floor (the scan frame's origin), m")
+          .number("min_plane_area_m2", &P::min_plane_area_m2, 0.0, 1e6,
+                  "visible patches smaller than this are left out (slivers of jambs and soffits), m^2")
+          .number("wall_height_m", [](auto& p) -> auto& { return p.extrusion.wall_height_m; }, 0.1, 100.0,
+                  "the 3D building's wall (= ceiling) height, as the simulator extrudes it, m")
+          .number("door_height_m", [](auto& p) -> auto& { return p.extrusion.door_height_m; }, 0.05, 100.0,
+                  "the 3D building's door height, m")
           .check([](const P& p, const ParamReader& r) {
             if (p.bev_columns > 0 && !(p.bev_min_depth_m < p.max_range_m)) r.fail("bev_min_depth_m", "must be below max_range_m");
+            if (!(p.extrusion.door_height_m < p.extrusion.wall_height_m)) r.fail("door_height_m", "must be below wall_height_m");
           });
   return f;
 }

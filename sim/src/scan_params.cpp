@@ -10,7 +10,7 @@
 namespace floorcast {
 
 const std::vector<std::string>& scan_preset_names() {
-  static const std::vector<std::string> names{"perfect", "lidar", "mono", "phone"};
+  static const std::vector<std::string> names{"perfect", "lidar", "mono", "phone", "depth_camera"};
   return names;
 }
 
@@ -54,6 +54,23 @@ ScanParams scan_preset(const std::string& name) {
     p.geometry.pitch_deg = -10.0;
     p.sensor.kind = SensorKind::kLidar;
     p.sensor.max_range_m = 5.0;
+    p.sensor.glass.p_see_through = 0.6;
+    p.sensor.glass.p_reflect = 0.15;
+    p.sensor.tracker.rotation_sigma_deg = 0.5;
+    p.sensor.tracker.translation_sigma_m = 0.01;
+    return p;
+  }
+  if (name == "depth_camera") {
+    // A metric depth camera rotated in place, as VoxelPlane-Reloc uses them (mToF: 100 x 75 deg;
+    // L515: 70 x 55 deg; both metric): the Kinect-style axial noise of the lidar model, 10 m range.
+    p.geometry.num_views = 12;
+    p.geometry.view_step_deg = 30.0;
+    p.geometry.hfov_deg = 90.0;
+    p.geometry.width_px = 320;
+    p.geometry.height_px = 240;
+    p.geometry.pitch_deg = -10.0;
+    p.sensor.kind = SensorKind::kLidar;
+    p.sensor.max_range_m = 10.0;
     p.sensor.glass.p_see_through = 0.6;
     p.sensor.glass.p_reflect = 0.15;
     p.sensor.tracker.rotation_sigma_deg = 0.5;

@@ -98,6 +98,53 @@ TEST(PerfectObservation, BoxRoomCentreSeesFourInnerFacesAndExactRays) {
   EXPECT_NEAR(turned.ray_ranges_m[0], 1.9, 1e-12);
 }
 
+// Perfect 3-D planes from the centre of a 6 x 4 m box (walls 0.2 m thick, 3 m high, camera at
+// 1.5 m): the four inner wall sides, the floor and the ceiling, at their exact distances, with
+// their full visible areas (up to the cell grid).
+TEST(PerfectObservation, PerfectPlanesOfABoxRoom) {
+  const FloorPlan plan = room(6.0, 4.0, 0.2);
+  PerfectObservationParams params;
+  params.num_rays = 0;
+  const PerfectObserver observer(plan, params);
+  const Observation2D obs = observer.observe({3.0, 2.0, 0.3});
+  ASSERT_EQ(obs.planes.size(), 6u);
+  int walls = 0;
+  for (const PlanePatch& p : obs.planes) {
+    EXPECT_NEAR(p.normal.norm(), 1.0, 1e-12);
+    EXPECT_LE(p.offset_m, 0.0);
+    const double area = patch_area_m2(p, obs.plane_cell_m);
+    if (std::abs(p.normal.z()) > 0.99) {
+      // Floor 1.5 m below and ceiling 1.5 m above the camera, 5.8 x 3.8 m of each visible.
+      EXPECT_NEAR(p.offset_m, -1.5, 1e-6);
+      EXPECT_NEAR(area, 5.8 * 3.8, 3.5);  // cells cut by the boundary count whole
+      continue;
+    }
+    ++walls;
+    EXPECT_NEAR(std::abs(p.normal.z()), 0.0, 1e-6);
+    // Inner sides 2.9 m (east, west) or 1.9 m (north, south) from the observer; 3 m high.
+    const bool long_side = std::abs(p.offset_m + 1.9) < 1e-6;  // faces are stored as floats
+    EXPECT_TRUE(long_side || std::abs(p.offset_m + 2.9) < 1e-6) << p.offset_m;
+    EXPECT_NEAR(area, (long_side ? 5.8 : 3.8) * 3.0, 2.5);
+  }
+  EXPECT_EQ(walls, 4);
+  // The observer frame turns with the heading: the patch normals are the world normals turned by -yaw.
+  const Observation2D turned = observer.observe({3.0, 2.0, 0.3 + kPi / 2});
+  ASSERT_EQ(turned.planes.size(), 6u);
+  for (std::size_t i = 0; i < obs.planes.size(); ++i) {
+    const Eigen::Vector3d n = obs.planes[i].normal;
+    bool found = false;
+    for (const PlanePatch& q : turned.planes) found |= (q.normal - Eigen::Vector3d(n.y(), -n.x(), n.z())).norm() < 1e-9;
+    EXPECT_TRUE(found) << n.transpose();
+  }
+  // A wall between the observer and a face hides it: in two rooms, only the observer's room.
+  FloorPlan two = room(8.0, 4.0, 0.2);
+  two.walls.push_back({"m", {4, 0}, {4, 4}, 0.2, WallMaterial::kSolid, 0.0, {}});
+  const Observation2D one_room = PerfectObserver(two, params).observe({2.0, 2.0, 0.0});
+  for (const PlanePatch& p : one_room.planes) {
+    EXPECT_LT(p.centroid_m.x(), 2.0 + 1e-6) << "a plane of the other room is visible";
+  }
+}
+
 TEST(PerfectObservation, RangeLimitClipsFaces) {
   const FloorPlan plan = room(30.0, 4.0, 0.2);
   PerfectObservationParams params;

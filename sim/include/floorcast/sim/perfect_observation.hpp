@@ -1,9 +1,13 @@
 // Perfect observations: the error-free proxy of PALMS+ sec. 4.4. From a point of the floor plan,
 // the wall surfaces visible within a range, as 2D segments in the observer's frame, plus
 // F3Loc-style ranges along equiangular rays. Exact 2D visibility (angular sweep over the
-// blocking outline), not sampling.
+// blocking outline), not sampling. Optionally the "perfect 3-D planes": every planar surface of
+// the plan's extrusion (floorplans/extrusion.hpp: walls, closed doors, glass, floor, ceiling) as
+// seen from the camera, as plane patches in the observer's 3D frame; visibility in 3D by ray
+// casting to samples on a grid of half the patch cell.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -12,6 +16,7 @@
 
 #include "floorcast/core/observation.hpp"
 #include "floorcast/core/params.hpp"
+#include "floorcast/floorplans/extrusion.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/semantic_rays.hpp"
 
@@ -31,6 +36,14 @@ struct PerfectObservationParams {
   int bev_columns = 0;
   int bev_depth_bins = 32;        ///< log-spaced depth bins
   double bev_min_depth_m = 0.3;   ///< first bin edge; the last is max_range_m
+  /// Perfect 3-D planes: the visible planar surfaces as plane patches (Observation2D::planes).
+  bool planes = true;
+  double plane_cell_m = 0.25;    ///< cell edge of the patches (VoxelPlane-Reloc's l)
+  double camera_height_m = 1.5;  ///< the observer's eye above the floor (the scan frame's origin)
+  /// Patches smaller than this (visible area) are left out (slivers of jambs and soffits).
+  double min_plane_area_m2 = 0.25;
+  /// The 3D building: wall (= ceiling) height and door height, as the simulator extrudes it.
+  ExtrusionParams extrusion;
 
   /// The field list (core/fields.hpp): keys, ranges, docs; to_json and apply_overrides use it.
   static const FieldList<PerfectObservationParams>& fields();
@@ -45,10 +58,17 @@ struct PerfectObservationParams {
 class PerfectObserver {
  public:
   PerfectObserver(const FloorPlan& plan, const PerfectObservationParams& params = {});
+  ~PerfectObserver();
+  PerfectObserver(PerfectObserver&&) noexcept;
+  PerfectObserver& operator=(PerfectObserver&&) noexcept;
 
   /// Visible wall segments within max_range (observer frame, metres; each oriented with free
-  /// space on its left) and ray ranges (max_range where nothing is hit).
+  /// space on its left), ray ranges (max_range where nothing is hit) and, with params.planes, the
+  /// visible plane patches within max_range (horizontal distance).
   Observation2D observe(const Pose2& T_world_observer) const;
+
+  /// The visible plane patches alone (observer frame, z up from the camera).
+  std::vector<PlanePatch> visible_planes(const Pose2& T_world_observer) const;
 
   /// Visible segments in the world frame, with their labels.
   std::vector<LabeledSegment> visible_world_segments(const Vec2& position_m) const;
@@ -66,6 +86,8 @@ class PerfectObserver {
   PerfectObservationParams params_;
   std::vector<LabeledSegment> outline_;
   SemanticPlanLines semantic_lines_, occupancy_lines_;
+  struct Planes;
+  std::unique_ptr<Planes> planes_;  ///< the 3D scene and its planes (params.planes only)
 };
 
 }  // namespace floorcast
