@@ -46,4 +46,18 @@ WallPlaneResult extract_wall_segments(const PointCloud3f& points_scan, const Lid
   return res;
 }
 
+std::vector<PlanePatch> plane_patches(const PointCloud3f& cloud, const std::vector<Plane3>& planes,
+                                      const PlanePatchParams& params) {
+  std::vector<PlanePatch> out;
+  std::vector<Eigen::Vector3d> pts;
+  for (const Plane3& pl : planes) {
+    pts.clear();
+    for (int i : pl.point_indices) pts.push_back(cloud[static_cast<std::size_t>(i)].cast<double>());
+    PlanePatch patch = make_plane_patch(pl.normal, pl.offset_m, pts, params.cell_m, params.min_points_per_cell);
+    if (patch_area_m2(patch, params.cell_m) < params.min_area_m2) continue;
+    out.push_back(std::move(patch));
+  }
+  return out;
+}
+
 }  // namespace floorcast

@@ -235,6 +235,20 @@ const FieldList<BevPredictorParams>& bev_predictor_fields() {
   return f;
 }
 
+const FieldList<PlanePatchParams>& plane_patch_fields() {
+  using P = PlanePatchParams;
+  static const FieldList<P> f =
+      FieldList<P>("planes")
+          .flag("lidar", &P::lidar, "LiDAR path: patches of the planes it extracts anyway (walls, floor, ceiling, furniture)")
+          .flag("mono", &P::mono, "mono path: the voxel-plane extractor (lidar_voxelplane settings) on the scaled, merged cloud (an extra extraction)")
+          .integer("mono_point_stride", &P::mono_point_stride, 1, 1000, "mono path: every n-th point of each view")
+          .number("mono_voxel_m", &P::mono_voxel_m, 0.001, 10, "mono path: the points voxelised at this, m")
+          .number("cell_m", &P::cell_m, 0.01, 10, "l, the patches' grid cell edge (VoxelPlane-Reloc's l x l patches), m")
+          .integer("min_points_per_cell", &P::min_points_per_cell, 1, 1000000, "a cell is part of the patch with this many points")
+          .number("min_area_m2", &P::min_area_m2, 0, 1000000, "smaller patches are left out, m^2");
+  return f;
+}
+
 }  // namespace
 
 const FieldList<ObservationParams>& observation_fields() {
@@ -251,7 +265,8 @@ const FieldList<ObservationParams>& observation_fields() {
           .section("lidar", &P::lidar, lidar_fields())
           .section("lidar_pcl", [](auto& p) -> auto& { return p.lidar.pcl; }, pcl_fields())
           .section("lidar_voxelplane", [](auto& p) -> auto& { return p.lidar.voxel_plane; }, voxel_plane_fields())
-          .section("bev", &P::bev, bev_predictor_fields());
+          .section("bev", &P::bev, bev_predictor_fields())
+          .section("planes", &P::planes, plane_patch_fields());
   return f;
 }
 

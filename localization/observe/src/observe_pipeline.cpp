@@ -154,6 +154,22 @@ void observe_mono(const Scan& scan, const ObservationParams& params, Observation
   out.observation.ray_ranges_m = std::move(seg.ray_ranges_m);
   out.observation.max_range_m = params.slice.max_range_m;
   out.stage_s["segments"] = seconds_since(t);
+
+  if (params.planes.mono) {
+    // Plane patches: the voxel-plane extractor on a thinned, voxelised copy of the cloud.
+    t = Clock::now();
+    PointCloud3f thin = voxel_downsample(merge_views(views, diag.view_scales, params.planes.mono_point_stride),
+                                         params.planes.mono_voxel_m);
+    const double r2 = params.slice.max_range_m * params.slice.max_range_m;
+    thin.erase(std::remove_if(thin.begin(), thin.end(),
+                              [r2](const Eigen::Vector3f& p) { return double(p.x()) * p.x() + double(p.y()) * p.y() > r2; }),
+               thin.end());
+    const VoxelPlaneResult vp = extract_planes_voxel(thin, params.lidar.voxel_plane);
+    diag.planes_total = vp.planes.size();
+    out.observation.planes = plane_patches(thin, vp.planes, params.planes);
+    out.observation.plane_cell_m = params.planes.cell_m;
+    out.stage_s["plane_patches"] = seconds_since(t);
+  }
 }
 
 void observe_lidar(const Scan& scan, const ObservationParams& params, ObservationResult& out) {
@@ -200,6 +216,12 @@ void observe_lidar(const Scan& scan, const ObservationParams& params, Observatio
   diag.wall_planes = walls.wall_planes.size();
   out.observation.segments_m = std::move(walls.segments_m);
   out.stage_s["planes"] = seconds_since(t);
+  if (params.planes.lidar) {
+    t = Clock::now();
+    out.observation.planes = plane_patches(cloud, walls.planes, params.planes);
+    out.observation.plane_cell_m = params.planes.cell_m;
+    out.stage_s["plane_patches"] = seconds_since(t);
+  }
 
   t = Clock::now();
   std::vector<Eigen::Vector2d> pts;

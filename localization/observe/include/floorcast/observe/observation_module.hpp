@@ -191,6 +191,23 @@ struct LidarPathParams {
   double max_range_m = 25.0;       ///< points farther (horizontally) are ignored
 };
 
+/// 3D plane patches for plane matchers (Observation2D::planes): every plane the extractor finds,
+/// as its normal, offset, enclosing sphere and occupied cells of an l x l grid of the plane
+/// (core/plane_patch.hpp).
+struct PlanePatchParams {
+  /// LiDAR path: patches of the planes it extracts anyway (walls, floor, ceiling, furniture).
+  bool lidar = true;
+  /// Mono path: the voxel-plane extractor (lidar.voxel_plane settings) on the scaled, merged
+  /// cloud, every mono_point_stride-th point of each view voxelised at mono_voxel_m (an extra
+  /// extraction; off by default).
+  bool mono = false;
+  int mono_point_stride = 4;
+  double mono_voxel_m = 0.05;
+  double cell_m = 0.25;           ///< l (VoxelPlane-Reloc's grid patches)
+  int min_points_per_cell = 2;    ///< a cell is part of the patch with this many points
+  double min_area_m2 = 0.25;      ///< smaller patches are left out
+};
+
 struct ObservationParams {
   ObservationPath path = ObservationPath::kMono;
   BackProjectionParams back_projection;  ///< mono path (the LiDAR path has its own)
@@ -202,6 +219,7 @@ struct ObservationParams {
   /// The semantic BEV (off by default): a simulated predictor or the views' own BEVs
   /// (bev_predictor.hpp), for the BEV matcher.
   BevPredictorParams bev;
+  PlanePatchParams planes;
 };
 
 /// The field list of every observation-module parameter (core/fields.hpp): sections path,
@@ -339,6 +357,11 @@ inline void orient_observer_left(Segment2& s) {
 std::vector<double> ray_ranges_2d(const std::vector<Eigen::Vector2d>& points_m, int num_rays,
                                   double tolerance_deg, double max_range_m);
 
+/// Patches of extracted planes (params.cell_m grid, points of `cloud`), larger than
+/// params.min_area_m2, in the planes' order.
+std::vector<PlanePatch> plane_patches(const PointCloud3f& cloud, const std::vector<Plane3>& planes,
+                                      const PlanePatchParams& params);
+
 /// Vertical planes of a scan-frame cloud as wall segments (LiDAR path).
 struct WallPlaneResult {
   std::vector<Segment2> segments_m;
@@ -374,7 +397,7 @@ struct ObservationDiagnostics {
   std::size_t points_subsampled = 0;
   std::size_t points_in_slice = 0;
   double band_half_height_m = 0.0;      ///< band actually used (after fallbacks)
-  std::size_t planes_total = 0;         ///< LiDAR path
+  std::size_t planes_total = 0;         ///< LiDAR path (and the mono path with planes.mono)
   std::size_t wall_planes = 0;          ///< LiDAR path
   /// BEV (when params.bev.enabled): views that gave columns, of them with their own BEV, columns,
   /// and the error model's draw counts.
