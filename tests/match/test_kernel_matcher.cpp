@@ -319,7 +319,7 @@ TEST(KernelMatcher, ParametersAndRegistry) {
   EXPECT_THROW(make_matcher("kernel", plan, {{"orientations", "sparse"}}), InputError);
   EXPECT_THROW(make_matcher("kernel", plan, {{"blur_size_px", 4}}), InputError);
   EXPECT_THROW(make_matcher("nope", plan), InputError);
-  EXPECT_EQ(builtin_matcher_names(), (std::vector<std::string>{"bev", "external", "kernel", "ray"}));
+  EXPECT_EQ(builtin_matcher_names(), (std::vector<std::string>{"bev", "external", "kernel", "planes", "ray"}));
 }
 
 }  // namespace

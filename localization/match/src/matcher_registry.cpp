@@ -11,40 +11,90 @@
 #include "floorcast/match/kernel_matcher.hpp"
 #include "floorcast/match/matcher_module.hpp"
 #include "floorcast/match/matcher.hpp"
+#include "floorcast/match/plane_matcher.hpp"
 #include "floorcast/match/ray_matcher.hpp"
 
 namespace floorcast {
 namespace {
 
+/// Every registered matcher may abstain: with min_score > 0 a match whose best mode scores below
+/// it has no pose ("not localized"; the posterior stays). The comparison with methods that reject
+/// on their own (the plane matcher) is then fair.
+class Abstaining final : public Matcher {
+ public:
+  Abstaining(std::unique_ptr<Matcher> inner, double min_score, nlohmann::ordered_json parameters)
+      : inner_(std::move(inner)), min_score_(min_score), parameters_(std::move(parameters)) {}
+  std::string name() const override { return inner_->name(); }
+  nlohmann::ordered_json parameters() const override { return parameters_; }
+  double precompute_s() const override { return inner_->precompute_s(); }
+  std::size_t precompute_bytes() const override { return inner_->precompute_bytes(); }
+  BlockingOptions blocking() const override { return inner_->blocking(); }
+  using Matcher::match;
+  MatchResult match(const Observation2D& observation, const MatchRequest& request) const override {
+    MatchResult r = inner_->match(observation, request);
+    if (!r.modes.empty() && r.modes.front().score < min_score_) {
+      r.modes.clear();
+      r.counters["abstained"] = 1.0;
+    }
+    return r;
+  }
+
+ private:
+  std::unique_ptr<Matcher> inner_;
+  double min_score_;
+  nlohmann::ordered_json parameters_;
+};
+
+/// A matcher's own parameters P and the abstention threshold every matcher takes.
+template <class P>
+struct Abstainable {
+  P params;
+  double min_score = 0.0;  ///< a best mode scoring below it is "not localized"; 0 = never abstain
+};
+
+/// P's fields, then min_score (its errors name the matcher as P's do).
+template <class P>
+const FieldList<Abstainable<P>>& abstainable_fields() {
+  using A = Abstainable<P>;
+  static const FieldList<A> f =
+      FieldList<A>(P::fields().who())
+          .flatten(&A::params, P::fields())
+          .number("min_score", &A::min_score, 0.0, 1e300,
+                  "abstain (\"not localized\") when the best mode scores below this; 0 = never (every matcher)");
+  return f;
+}
+
 /// A matcher configuration of parameter type P building matcher type M.
 template <class P, class M>
 class Config final : public MatcherConfig {
  public:
-  Config(const char* name, P params) : name_(name), params_(std::move(params)) {}
+  Config(const char* name, Abstainable<P> settings) : name_(name), settings_(std::move(settings)) {}
   std::string name() const override { return name_; }
-  nlohmann::ordered_json parameters() const override { return params_.to_json(); }
-  std::unique_ptr<Matcher> build(const FloorPlan& plan) const override { return std::make_unique<M>(plan, params_); }
+  nlohmann::ordered_json parameters() const override { return abstainable_fields<P>().write(settings_); }
+  std::unique_ptr<Matcher> build(const FloorPlan& plan) const override {
+    return std::make_unique<Abstaining>(std::make_unique<M>(plan, settings_.params), settings_.min_score, parameters());
+  }
 
  private:
   const char* name_;
-  P params_;
+  Abstainable<P> settings_;
 };
 
 template <class P, class M>
 std::shared_ptr<const MatcherConfig> parse(const char* name, const nlohmann::json& overrides, const SharedParams& shared) {
-  P p;
-  p.apply_shared(shared);
-  p.apply_overrides(overrides);
-  return std::make_shared<Config<P, M>>(name, std::move(p));
+  Abstainable<P> a;
+  a.params.apply_shared(shared);
+  abstainable_fields<P>().read(a, overrides);
+  return std::make_shared<Config<P, M>>(name, std::move(a));
 }
 
 /// Every field with its default (the shared quantities applied to the defaults, as a scenario
 /// without a `shared` block has them).
 template <class P>
 std::vector<FieldInfo> describe() {
-  P p;
-  p.apply_shared(SharedParams{});
-  return P::fields().describe(p);
+  Abstainable<P> a;
+  a.params.apply_shared(SharedParams{});
+  return abstainable_fields<P>().describe(a);
 }
 
 using Parser = std::shared_ptr<const MatcherConfig> (*)(const char*, const nlohmann::json&, const SharedParams&);
@@ -59,6 +109,7 @@ constexpr Entry kMatchers[] = {
     {"kernel", &parse<KernelMatcherParams, KernelMatcher>, &describe<KernelMatcherParams>},
     {"ray", &parse<RayMatcherParams, RayMatcher>, &describe<RayMatcherParams>},
     {"bev", &parse<BevMatcherParams, BevMatcher>, &describe<BevMatcherParams>},
+    {"planes", &parse<PlaneMatcherParams, PlaneMatcher>, &describe<PlaneMatcherParams>},
     {"external", &parse<ExternalProgramParams, ExternalProgramMatcher>, &describe<ExternalProgramParams>},
 };
 
