@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -88,6 +89,69 @@ std::vector<Metric<SingleShotRecord>> single_shot_metrics(const ScoringParams& p
 
 Summary summarize_single_shot(const std::vector<SingleShotRecord>& records, const ScoringParams& params) {
   return summarize(records, single_shot_metrics(params), params.bootstrap_resamples, params.bootstrap_seed);
+}
+
+namespace {
+
+using RSample = std::vector<const RejectionRecord*>;
+
+struct Counts {
+  double tp = 0, fp_wrong = 0, fn = 0, tn = 0, fp_negative = 0, positives = 0, all = 0;
+};
+Counts count(const RSample& s) {
+  Counts c;
+  for (const RejectionRecord* r : s) {
+    c.all += 1;
+    if (r->positive) {
+      c.positives += 1;
+      if (!r->localized) c.fn += 1;
+      else if (r->correct) c.tp += 1;
+      else c.fp_wrong += 1;
+    } else {
+      if (r->localized) c.fp_negative += 1;
+      else c.tn += 1;
+    }
+  }
+  return c;
+}
+double ratio(double a, double b) { return b > 0.0 ? a / b : std::numeric_limits<double>::quiet_NaN(); }
+
+}  // namespace
+
+std::vector<Metric<RejectionRecord>> rejection_metrics() {
+  std::vector<Metric<RejectionRecord>> m;
+  m.push_back({"tp", [](const RSample& s) { return count(s).tp; }, false});
+  m.push_back({"fp", [](const RSample& s) { const Counts c = count(s); return c.fp_wrong + c.fp_negative; }, false});
+  m.push_back({"tn", [](const RSample& s) { return count(s).tn; }, false});
+  m.push_back({"fn", [](const RSample& s) { return count(s).fn; }, false});
+  m.push_back({"fp_negative", [](const RSample& s) { return count(s).fp_negative; }, false});
+  m.push_back({"fp_wrong_pose", [](const RSample& s) { return count(s).fp_wrong; }, false});
+  m.push_back({"precision", [](const RSample& s) {
+                 const Counts c = count(s);
+                 return ratio(c.tp, c.tp + c.fp_wrong + c.fp_negative);
+               }});
+  m.push_back({"recall", [](const RSample& s) { const Counts c = count(s); return ratio(c.tp, c.positives); }});
+  m.push_back({"f1", [](const RSample& s) {
+                 const Counts c = count(s);
+                 const double p = ratio(c.tp, c.tp + c.fp_wrong + c.fp_negative), r = ratio(c.tp, c.positives);
+                 return std::isfinite(p) && std::isfinite(r) ? (p + r > 0.0 ? 2.0 * p * r / (p + r) : 0.0)
+                                                             : std::numeric_limits<double>::quiet_NaN();
+               }});
+  m.push_back({"precision_negatives_only", [](const RSample& s) {
+                 const Counts c = count(s);
+                 return ratio(c.tp, c.tp + c.fp_negative);
+               }});
+  m.push_back({"abstain_rate", [](const RSample& s) { const Counts c = count(s); return ratio(c.fn + c.tn, c.all); }});
+  m.push_back({"mean_time_s", [](const RSample& s) {
+                 double t = 0.0;
+                 for (const RejectionRecord* r : s) t += r->time_s;
+                 return s.empty() ? 0.0 : t / static_cast<double>(s.size());
+               }});
+  return m;
+}
+
+Summary summarize_rejection(const std::vector<RejectionRecord>& records, const ScoringParams& params) {
+  return summarize(records, rejection_metrics(), params.bootstrap_resamples, params.bootstrap_seed);
 }
 
 }  // namespace floorcast

@@ -167,6 +167,24 @@ std::vector<SingleShotRecord> records_for(const std::vector<const UnitResult*>& 
   return out;
 }
 
+std::vector<RejectionRecord> rejection_records_for(const std::vector<const UnitResult*>& units, const std::string& label,
+                                                  const ScoringParams& scoring) {
+  std::vector<RejectionRecord> out;
+  for (const UnitResult* u : units) {
+    RejectionRecord r;
+    r.positive = !u->unit.negative();
+    for (const MatcherOutcome& o : u->outcomes) {
+      if (o.label != label) continue;
+      r.time_s = o.match_s;
+      r.localized = u->observation_ok && o.ok;
+      r.correct = r.positive && r.localized && o.estimate.position_error_m <= scoring.combined_threshold_m &&
+                  o.estimate.yaw_error_deg <= scoring.combined_threshold_deg;
+    }
+    out.push_back(r);
+  }
+  return out;
+}
+
 Report build_report(const Scenario& scenario, const std::vector<UnitResult>& units, const OJson& timing) {
   const std::vector<WorkUnit> expected = enumerate_units(scenario);
   std::map<std::string, const UnitResult*> by_id;
@@ -196,7 +214,12 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
   if (!scenario.description.empty()) md << scenario.description << "\n\n";
   md << "Scenario hash `" << scenario.hash << "`, " << expected.size() << " work units ("
      << scenario.cells.size() << " cells x " << scenario.buildings.size() << " buildings x "
-     << scenario.sampling.count << " points). Recalls in percent with bootstrap 95% intervals.\n\n";
+     << scenario.sampling.count << " points";
+  if (scenario.sampling.negatives > 0) {
+    md << " + " << scenario.sampling.negatives << " negative samples per building: observations made in the other buildings, "
+       << "which a method should reject";
+  }
+  md << "). Recalls in percent with bootstrap 95% intervals; they count positive samples only.\n\n";
   {
     // Where the points are: the PALMS+ protocol (transitional spaces) or not, per building.
     std::map<std::string, std::vector<std::string>> by_region;
@@ -256,16 +279,22 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
     for (const BuildingSpec& b : scenario.buildings) group_names.push_back(b.label);
     OJson paired = OJson::object();
     std::vector<PairedComparison> pairs_all;
+    std::map<std::string, std::map<std::string, Summary>> rejections;  // group -> label -> summary
     for (const std::string& g : group_names) {
-      std::vector<const UnitResult*> members;
-      for (const UnitResult* u : cell_units)
-        if (g == "all" || scenario.buildings[static_cast<std::size_t>(u->unit.building)].label == g) members.push_back(u);
+      std::vector<const UnitResult*> members, positives;
+      for (const UnitResult* u : cell_units) {
+        if (g != "all" && scenario.buildings[static_cast<std::size_t>(u->unit.building)].label != g) continue;
+        members.push_back(u);
+        if (!u->unit.negative()) positives.push_back(u);
+      }
       OJson gj;
       for (const std::string& label : labels) {
-        const std::vector<SingleShotRecord> recs = records_for(members, label);
+        const std::vector<SingleShotRecord> recs = records_for(positives, label);
         const Summary s = summarize_single_shot(recs, sp);
         summaries[g][label] = s;
         gj[label] = summary_json(s);
+        rejections[g][label] = summarize_rejection(rejection_records_for(members, label, sp), sp);
+        gj[label]["rejection"] = summary_json(rejections[g][label]);
         if (g == "all") {
           for (const auto& r : recs) cdf_by_cell[cell.id][label].push_back(r.position_error_m);
           for (std::size_t a = 0; a < scenario.sweep_axes.size(); ++a) {
@@ -278,12 +307,12 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
         }
       }
       groups[g] = gj;
-      // Every pair of methods on this group's units.
+      // Every pair of methods on this group's units (positives: the recalls' samples).
       OJson pj = OJson::object();
       for (std::size_t i = 0; i < labels.size(); ++i) {
         for (std::size_t k = i + 1; k < labels.size(); ++k) {
-          PairedComparison c = compare_single_shot(labels[i], records_for(members, labels[i]), labels[k],
-                                                   records_for(members, labels[k]), sp);
+          PairedComparison c = compare_single_shot(labels[i], records_for(positives, labels[i]), labels[k],
+                                                   records_for(positives, labels[k]), sp);
           pj[labels[i] + " vs " + labels[k]] = paired_comparison_json(c);
           if (g == "all") pairs_all.push_back(std::move(c));
         }
@@ -306,7 +335,10 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
     // scored 0), per method: a reported state, counted as a miss, never an invented pose.
     std::map<std::string, int> no_pose;
     for (const std::string& label : labels) no_pose[label] = 0;
+    int cell_positives = 0;
     for (const UnitResult* u : cell_units) {
+      if (u->unit.negative()) continue;
+      ++cell_positives;
       if (!u->observation_ok) continue;
       for (const MatcherOutcome& o : u->outcomes) no_pose[o.label] += o.ok ? 0 : 1;
     }
@@ -397,10 +429,44 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
     for (const auto& [label, n] : no_pose) any_no_pose = any_no_pose || n > 0;
     if (any_no_pose) {
       md << "\nNo pose (empty posterior, counted as a miss):";
-      for (const std::string& label : labels) md << " " << label << " " << no_pose[label] << " of " << cell_units.size() - failed_obs << ";";
+      for (const std::string& label : labels) md << " " << label << " " << no_pose[label] << " of " << cell_positives - failed_obs << ";";
       md << "\n";
     }
     md << "\n";
+
+    // Scoring with rejection (VoxelPlane-Reloc Tables 1, 3, 6, 7): every sample, positive or
+    // negative; "not localized" is an answer. Shown when there are negatives or a method did not
+    // answer (otherwise precision is the @1 m 30 deg recall above).
+    const int negatives = static_cast<int>(cell_units.size()) - cell_positives;
+    if (negatives > 0 || any_no_pose) {
+      md << "Scoring with rejection (" << cell_positives << " positive, " << negatives
+         << " negative samples; TP = localized within @" << threshold_name(sp.combined_threshold_m) << " "
+         << sp.combined_threshold_deg << "°, FP = a pose for a negative or a wrong pose for a positive, FN = positive "
+         << "not localized, TN = negative not localized):\n\n"
+         << "| method | TP | FP (wrong pose) | FP (negatives) | TN | FN | precision | recall | F1 | precision (negatives only) | time / sample (s) |\n"
+         << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+      for (const std::string& label : labels) {
+        const Summary& x = rejections["all"][label];
+        auto n = [&](const char* k) { return num(x.values.at(k).value, 0); };
+        md << "| " << label << " | " << n("tp") << " | " << n("fp_wrong_pose") << " | " << n("fp_negative") << " | " << n("tn")
+           << " | " << n("fn") << " | " << pct(x.values.at("precision")) << " | " << pct(x.values.at("recall")) << " | "
+           << pct(x.values.at("f1")) << " | " << pct(x.values.at("precision_negatives_only")) << " | "
+           << num(x.values.at("mean_time_s").value, 3) << " |\n";
+      }
+      for (const PaperReference& ref : scenario.paper) {
+        if (!ref.cell.empty() && ref.cell != cell.id) continue;
+        if (!ref.values.count("precision") && !ref.values.count("recall")) continue;
+        auto v = [&ref](const char* k, bool percent, int decimals) {
+          auto it = ref.values.find(k);
+          if (it == ref.values.end()) return std::string("–");
+          return percent ? num(100.0 * it->second, 1) : num(it->second, decimals);
+        };
+        md << "| *" << ref.label << "* | " << v("tp", false, 0) << " | – | " << v("fp", false, 0) << " | " << v("tn", false, 0)
+           << " | " << v("fn", false, 0) << " | " << v("precision", true, 1) << " | " << v("recall", true, 1) << " | "
+           << v("f1", true, 1) << " | " << v("precision", true, 1) << " | " << v("avg_time_s", false, 3) << " |\n";
+      }
+      md << "\n";
+    }
 
     // Sequential cells: every tracker over the walks (PALMS Table I layout), per building too.
     if (cell.sequential) {
@@ -502,7 +568,7 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
   std::ostringstream csv;
   csv << "unit,cell";
   for (const std::string& k : scenario.sweep_keys) csv << "," << csv_escape(k);
-  csv << ",building,point,truth_x_m,truth_y_m,truth_yaw_deg,observation_ok,simulate_s,observe_s";
+  csv << ",building,point,negative,truth_x_m,truth_y_m,truth_yaw_deg,observation_ok,simulate_s,observe_s";
   for (const std::string& label : labels)
     csv << "," << label << "_ok," << label << "_x_m," << label << "_y_m," << label << "_yaw_deg," << label
         << "_position_error_m," << label << "_yaw_error_deg," << label << "_best_top" << sp.top_k << "_error_m," << label
@@ -514,7 +580,8 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
     const CellSpec& cell = scenario.cells[static_cast<std::size_t>(w.cell)];
     csv << w.id << "," << cell.id;
     for (const std::string& k : scenario.sweep_keys) csv << "," << csv_escape(cell.axes.contains(k) ? axis_value_text(cell.axes[k]) : "");
-    csv << "," << scenario.buildings[static_cast<std::size_t>(w.building)].label << "," << w.point << "," << u.truth.x_m << ","
+    csv << "," << scenario.buildings[static_cast<std::size_t>(w.building)].label << "," << w.point << ","
+        << (w.negative() ? scenario.buildings[static_cast<std::size_t>(w.source_building)].label : std::string()) << "," << u.truth.x_m << ","
         << u.truth.y_m << "," << u.truth.yaw_rad * kDeg << "," << (u.observation_ok ? 1 : 0) << ","
         << (u.timings_s.count("simulate") ? u.timings_s.at("simulate") : 0.0) << ","
         << (u.timings_s.count("observe") ? u.timings_s.at("observe") : 0.0);

@@ -218,8 +218,9 @@ SimulatedScan ScenarioRunner::unit_scan(const WorkUnit& unit, int step) const {
   if (cell.observation.source != ObservationSource::kScan) {
     throw InputError("cell " + cell.id + " makes perfect observations: it has no scans");
   }
-  const Impl::Building& building = d.buildings.at(static_cast<std::size_t>(unit.building));
-  Pose2 truth = building.poses.at(static_cast<std::size_t>(unit.point));
+  // A negative sample is observed in its source building.
+  const Impl::Building& building = d.buildings.at(static_cast<std::size_t>(unit.negative() ? unit.source_building : unit.building));
+  Pose2 truth = building.poses.at(static_cast<std::size_t>(unit.negative() ? unit.source_point : unit.point));
   if (step > 0) {
     // Along the unit's walk: the true pose at that step (the walk run_sequential makes).
     if (!cell.sequential) {
@@ -277,9 +278,13 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
   const CellSpec& cell = s.cells[static_cast<std::size_t>(unit.cell)];
   const std::size_t b = static_cast<std::size_t>(unit.building);
   const Impl::Building& building = d.buildings[b];
+  // Where the observation is made: this building, or for a negative sample another one (its
+  // point is then the truth, in that building's frame; the matchers see this building's plan).
+  const std::size_t ob = unit.negative() ? static_cast<std::size_t>(unit.source_building) : b;
+  const Impl::Building& observed = d.buildings[ob];
   UnitResult r;
   r.unit = unit;
-  r.truth = building.poses[static_cast<std::size_t>(unit.point)];
+  r.truth = observed.poses[static_cast<std::size_t>(unit.negative() ? unit.source_point : unit.point)];
 
   // An observation at a pose: perfect, or a simulated scan through the observation module.
   // Scans are seeded by (observation seed, building, point, step): every cell sees the same
@@ -294,7 +299,7 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
     Observed o;
     if (cell.observation.source == ObservationSource::kPerfect) {
       const auto t0 = Clock::now();
-      o.observation = d.observers.at(Impl::observer_key(b, cell.observation))->observe(pose);
+      o.observation = d.observers.at(Impl::observer_key(ob, cell.observation))->observe(pose);
       r.timings_s["observe"] += seconds_since(t0);
       if (info) (*info)["source"] = "perfect";
     } else {
@@ -302,7 +307,7 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
       // Column semantics (the BEV predictor's truth) only when the observation module makes a BEV.
       SimulationOptions options;
       options.column_semantics = cell.observation.observe.bev.enabled;
-      Scan scan = simulate_scan(*building.scene, pose, Impl::unit_scan_params(cell, unit, step), options).scan;
+      Scan scan = simulate_scan(*observed.scene, pose, Impl::unit_scan_params(cell, unit, step), options).scan;
       r.timings_s["simulate"] += seconds_since(t0);
       if (!cell.observation.depth_dir.empty()) {
         // Depth made elsewhere (a depth network on the colour views `floorcast export` wrote).
@@ -316,7 +321,7 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
         (*info)["source"] = "scan";
         (*info)["diagnostics"] = to_json(obs.diagnostics);
       }
-      if (o.observation.segments_m.empty()) {
+      if (o.observation.segments_m.empty() && o.observation.planes.empty()) {
         o.ok = false;
         o.failure = obs.diagnostics.warnings.empty() ? "no wall segments observed" : obs.diagnostics.warnings.front();
       }
@@ -332,6 +337,7 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
   r.observation_failure = first.failure;
   r.observation["segments"] = observation.segments_m.size();
   r.observation["rays"] = observation.ray_ranges_m.size();
+  if (!observation.planes.empty()) r.observation["planes"] = observation.planes.size();
 
   double match_total = 0.0;
   for (const MatcherSpec& m : cell.matchers) {
@@ -418,7 +424,7 @@ UnitResult ScenarioRunner::run_unit(const WorkUnit& unit, UnitSink* images) cons
     r.outcomes.push_back(o);
   }
   r.timings_s["match"] = match_total;
-  if (cell.sequential) run_sequential(unit, r, [&](const Pose2& pose, int step) {
+  if (cell.sequential && !unit.negative()) run_sequential(unit, r, [&](const Pose2& pose, int step) {
     const Observed o = observe_at(pose, step, nullptr);
     return o.ok || !o.observation.bev.empty() ? std::optional<Observation2D>(o.observation) : std::nullopt;
   });

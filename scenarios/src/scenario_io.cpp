@@ -725,6 +725,10 @@ const FieldList<SamplingSpec>& sampling_fields() {
                   "where points go: transitional rooms (PALMS+ sec. 4.4), the whole free space, or rooms of region_kinds")
           .texts("region_kinds", &S::region_kinds, "room kinds for region kinds (\"transitional\" expands)")
           .optional([](const S& s) { return !s.region_kinds.empty(); })
+          .integer("negatives", &S::negatives, 0, 1000000,
+                   "negative samples per building: observations made at the points of the other buildings (round robin), "
+                   "matched against this building's plan and scored with rejection; needs two or more buildings")
+          .optional([](const S& s) { return s.negatives > 0; })
           .check([](const S& s, const ParamReader& r) {
             if (s.seed > kMaxSeed) r.fail("seed", "must be in [0, 9007199254740992]");
             for (std::size_t i = 0; i < s.region_kinds.size(); ++i) {
@@ -856,6 +860,10 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
   if (root.contains("sampling")) {
     const OJson& o = root.at("sampling");
     at_key(chk, "sampling", [&] { sampling_fields().read(s.sampling, Json(o)); });
+    if (s.sampling.negatives > 0 && s.buildings.size() < 2) {
+      chk.fail("sampling.negatives", "negative samples are observations made in the scenario's other buildings: list at "
+                                     "least two buildings");
+    }
     if (o.contains("region_kinds") && s.sampling.region_kinds.empty()) {
       chk.fail("sampling.region_kinds", "must be a non-empty list of room kinds");
     }
@@ -915,7 +923,7 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
   at_key(chk, root.contains("sampling") ? "sampling.count" : "buildings", [&] {
     check_limit("max_units",
                 saturating_product({static_cast<double>(total), static_cast<double>(s.buildings.size()),
-                                    static_cast<double>(s.sampling.count)}),
+                                    static_cast<double>(s.sampling.count + s.sampling.negatives)}),
                 "work units (" + std::to_string(total) + " sweep cells x " + std::to_string(s.buildings.size()) +
                     " buildings x " + std::to_string(s.sampling.count) + " points)",
                 "units");

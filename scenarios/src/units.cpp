@@ -22,6 +22,21 @@ std::vector<WorkUnit> enumerate_units(const Scenario& scenario) {
         u.id = cell.id + "/" + scenario.buildings[b].label + "/" + point;
         units.push_back(std::move(u));
       }
+      // Negatives: the points of the other buildings in turn (b+1, b+2, ... wrapping around),
+      // each building's points in order.
+      const int others = static_cast<int>(scenario.buildings.size()) - 1;
+      for (int k = 0; k < scenario.sampling.negatives && others > 0; ++k) {
+        WorkUnit u;
+        u.cell = cell.index;
+        u.building = static_cast<int>(b);
+        u.point = scenario.sampling.count + k;
+        u.source_building = static_cast<int>((b + 1 + static_cast<std::size_t>(k % others)) % scenario.buildings.size());
+        u.source_point = (k / others) % scenario.sampling.count;
+        char point[16];
+        std::snprintf(point, sizeof point, "n%04d", k);
+        u.id = cell.id + "/" + scenario.buildings[b].label + "/" + point;
+        units.push_back(std::move(u));
+      }
     }
   }
   return units;
@@ -81,13 +96,24 @@ const FieldList<Pose2>& truth_fields() {
   return f;
 }
 
+/// Where a negative sample's observation was made.
+const FieldList<WorkUnit>& negative_source_fields() {
+  static const FieldList<WorkUnit> f =
+      FieldList<WorkUnit>("negative sample")
+          .integer("source_building", &WorkUnit::source_building, 0, 1 << 30, "the building the observation was made in")
+          .integer("source_point", &WorkUnit::source_point, 0, 1 << 30, "its observation point there");
+  return f;
+}
+
 const FieldList<WorkUnit>& work_unit_fields() {
   static const FieldList<WorkUnit> f =
       FieldList<WorkUnit>("work unit")
-          .text("id", &WorkUnit::id, "<cell id>/<building label>/<point, 4 digits>")
+          .text("id", &WorkUnit::id, "<cell id>/<building label>/<point, 4 digits> (negatives n<k, 4 digits>)")
           .integer("cell", &WorkUnit::cell, 0, 1 << 30, "sweep cell index")
-          .integer("building", &WorkUnit::building, 0, 1 << 30, "building index")
-          .integer("point", &WorkUnit::point, 0, 1 << 30, "observation point index");
+          .integer("building", &WorkUnit::building, 0, 1 << 30, "building index (the plan matched against)")
+          .integer("point", &WorkUnit::point, 0, 1 << 30, "observation point index (negatives after the positives)")
+          .section("negative", [](auto& u) -> auto& { return u; }, negative_source_fields())
+          .optional([](const WorkUnit& u) { return u.negative(); });
   return f;
 }
 

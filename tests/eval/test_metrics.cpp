@@ -17,6 +17,40 @@ SingleShotRecord rec(double pos, double yaw, std::vector<double> topk = {}) {
   return r;
 }
 
+// Scoring with rejection: 4 positives (2 correct, 1 wrong pose, 1 not localized) and 3 negatives
+// (1 localized, 2 rejected).
+TEST(Metrics, RejectionKnownAnswers) {
+  const std::vector<RejectionRecord> r = {{true, true, true, 0.1},   {true, true, true, 0.1},   {true, true, false, 0.1},
+                                          {true, false, false, 0.1}, {false, true, false, 0.2}, {false, false, false, 0.2},
+                                          {false, false, false, 0.2}};
+  ScoringParams p;
+  p.bootstrap_resamples = 50;
+  const Summary s = summarize_rejection(r, p);
+  auto v = [&](const char* k) { return s.values.at(k).value; };
+  EXPECT_EQ(v("tp"), 2.0);
+  EXPECT_EQ(v("fp"), 2.0);
+  EXPECT_EQ(v("fp_wrong_pose"), 1.0);
+  EXPECT_EQ(v("fp_negative"), 1.0);
+  EXPECT_EQ(v("tn"), 2.0);
+  EXPECT_EQ(v("fn"), 1.0);
+  EXPECT_DOUBLE_EQ(v("precision"), 0.5);
+  EXPECT_DOUBLE_EQ(v("recall"), 0.5);
+  EXPECT_DOUBLE_EQ(v("f1"), 0.5);
+  EXPECT_DOUBLE_EQ(v("precision_negatives_only"), 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(v("abstain_rate"), 3.0 / 7.0);
+  EXPECT_NEAR(v("mean_time_s"), 1.0 / 7.0, 1e-12);
+  EXPECT_TRUE(s.values.at("precision").has_ci);
+  EXPECT_FALSE(s.values.at("tp").has_ci);
+  // A method that never answers has no precision (NaN, "n/a"), recall 0, and no crash in the
+  // bootstrap.
+  std::vector<RejectionRecord> silent = r;
+  for (RejectionRecord& x : silent) x.localized = x.correct = false;
+  const Summary q = summarize_rejection(silent, p);
+  EXPECT_TRUE(std::isnan(q.values.at("precision").value));
+  EXPECT_EQ(q.values.at("recall").value, 0.0);
+  EXPECT_FALSE(q.values.at("precision").has_ci);
+}
+
 TEST(Metrics, KnownAnswers) {
   // 10 records: errors 0.05, 0.3, 0.8 (yaw 90), 1.5, 3, 10 x5 with one top-5 rescue.
   std::vector<SingleShotRecord> r = {rec(0.05, 1), rec(0.3, 2), rec(0.8, 90), rec(1.5, 3), rec(3.0, 4),

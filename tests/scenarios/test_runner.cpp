@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "floorcast/core/types.hpp"
+#include "floorcast/scenarios/report.hpp"
 #include "floorcast/scenarios/runner.hpp"
 
 namespace floorcast {
@@ -131,6 +132,54 @@ sweep: {observation.sensor_params.sensor.lidar.dropout_prob: [0.0, 0.05]}
   EXPECT_EQ(runner.resolved_full()["cells"][1]["parameters"]["sensor"]["sensor"]["lidar"]["dropout_prob"], 0.05);
   // Same unit, same bytes.
   EXPECT_EQ(strip_timings(unit_to_json(runner.run_unit(units[0], nullptr))).dump(), strip_timings(unit_to_json(a)).dump());
+}
+
+// Negative samples: observed at the other building's points, matched against this building; the
+// plane matcher rejects them, and the report scores every method with rejection.
+TEST(Runner, NegativeSamplesComeFromTheOtherBuildingsAndAreScoredWithRejection) {
+  const Scenario s = parse_scenario(R"(
+buildings: [floorplans/buildings/two_rooms.json, floorplans/buildings/apartment.json]
+sampling: {count: 2, seed: 3, clearance_m: 0.5, negatives: 3}
+matchers: {kernel: {matcher: kernel}, planes: {matcher: planes}}
+)", "t.yaml", kRoot, kRoot);
+  const std::vector<WorkUnit> units = enumerate_units(s);
+  ASSERT_EQ(units.size(), 10u);
+  const ScenarioRunner runner(s);
+  std::vector<UnitResult> results;
+  int negatives = 0, planes_rejected = 0;
+  for (const WorkUnit& u : units) {
+    const UnitResult r = runner.run_unit(u, nullptr);
+    if (u.negative()) {
+      ++negatives;
+      EXPECT_NE(u.source_building, u.building);
+      EXPECT_EQ(u.id.substr(u.id.size() - 5, 1), "n");
+      const Pose2& src = runner.building_points(u.source_building).at(static_cast<std::size_t>(u.source_point));
+      EXPECT_EQ(r.truth.x_m, src.x_m);
+      EXPECT_EQ(r.truth.y_m, src.y_m);
+      planes_rejected += r.outcomes.at(1).ok ? 0 : 1;
+    }
+    // The unit JSON keeps where a negative was observed.
+    EXPECT_EQ(unit_from_json(unit_to_json(r), "u.json").unit.source_building, u.source_building);
+    results.push_back(r);
+  }
+  EXPECT_EQ(negatives, 6);
+  EXPECT_GE(planes_rejected, 1) << "the plane matcher localized every negative";
+  const Report rep = build_report(s, results, nlohmann::ordered_json::object());
+  const auto& all = rep.summary["cells"][0]["groups"]["all"];
+  for (const char* m : {"kernel", "planes"}) {
+    const auto& rj = all[m]["rejection"];
+    EXPECT_EQ(rj["tp"].get<double>() + rj["fp"].get<double>() + rj["tn"].get<double>() + rj["fn"].get<double>(), 10.0) << m;
+    EXPECT_EQ(rj["tn"].get<double>() + rj["fp_negative"].get<double>(), 6.0) << m;
+  }
+  // The kernel matcher never abstains: every negative is a false positive.
+  EXPECT_EQ(all["kernel"]["rejection"]["fp_negative"].get<double>(), 6.0);
+  EXPECT_NE(rep.summary_md.find("Scoring with rejection (4 positive, 6 negative samples"), std::string::npos);
+  // Recalls count the positives only.
+  EXPECT_EQ(all["kernel"]["count"].get<int>(), 4);
+  // Negatives need another building.
+  EXPECT_THROW(parse_scenario("buildings: [floorplans/buildings/apartment.json]\nsampling: {count: 2, negatives: 1}\n"
+                              "matchers: {kernel: {matcher: kernel}}\n", "n.yaml", kRoot, kRoot),
+               InputError);
 }
 
 TEST(Runner, BadMatcherParameterFailsWhenTheScenarioLoads) {

@@ -175,7 +175,7 @@ matchers:
 buildings: [floorplans/buildings/two_rooms.json]
 matchers: {best: {matcher: oracle}}
 )";
-  EXPECT_NE(error_of(unknown_matcher).find("matchers.best.matcher: unknown matcher \"oracle\" (known: bev, external, kernel, ray; and no module floorcast_matcher_oracle.so in"),
+  EXPECT_NE(error_of(unknown_matcher).find("matchers.best.matcher: unknown matcher \"oracle\" (known: bev, external, kernel, planes, ray; and no module floorcast_matcher_oracle.so in"),
             std::string::npos)
       << error_of(unknown_matcher);
   const std::string observe_key = R"(

@@ -97,6 +97,25 @@ Summary summarize(const std::vector<Record>& records, const std::vector<Metric<R
 
 Summary summarize_single_shot(const std::vector<SingleShotRecord>& records, const ScoringParams& params = {});
 
+/// One sample scored with rejection (VoxelPlane-Reloc's TP/TN/FP/FN): a positive is observed in
+/// the building it is matched against, a negative in another building or level.
+struct RejectionRecord {
+  bool positive = true;
+  bool localized = false;  ///< the method gave a pose (did not abstain: "not localized")
+  bool correct = false;    ///< positive, localized, and within the combined threshold (1 m, 30 deg)
+  double time_s = 0.0;     ///< relocalization (matching) time
+};
+
+/// The rejection metric set, keyed as in summary.json ("rejection": {...}): tp (positives
+/// localized correctly), fp_wrong_pose (positives localized elsewhere), fn (positives not
+/// localized), tn (negatives not localized), fp_negative (negatives localized), fp (= both
+/// false claims), precision = tp / (tp + fp), recall = tp / positives, f1, the paper's
+/// precision_negatives_only = tp / (tp + fp_negative) (its tables count false positives on
+/// negatives), abstain_rate (share of all samples not localized), mean_time_s (all samples).
+/// Ratios with an empty denominator are NaN (written as null, "n/a").
+std::vector<Metric<RejectionRecord>> rejection_metrics();
+Summary summarize_rejection(const std::vector<RejectionRecord>& records, const ScoringParams& params = {});
+
 
 
 template <class Record>

@@ -62,5 +62,10 @@ nlohmann::ordered_json cross_run_comparisons_json(const std::vector<CrossRunComp
 
 /// Formats the single-shot records of one matcher in one group.
 std::vector<SingleShotRecord> records_for(const std::vector<const UnitResult*>& units, const std::string& label);
+/// Rejection records (positives and negatives) of one method over units: localized = the
+/// observation worked and the method gave a pose; correct = positive and within the combined
+/// threshold.
+std::vector<RejectionRecord> rejection_records_for(const std::vector<const UnitResult*>& units, const std::string& label,
+                                                  const ScoringParams& scoring);
 
 }  // namespace floorcast

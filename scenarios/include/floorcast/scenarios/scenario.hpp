@@ -68,6 +68,12 @@ struct SamplingSpec {
   /// Room kinds for region "kinds" (giving region_kinds implies it; the word "transitional"
   /// expands to the transitional kinds).
   std::vector<std::string> region_kinds;
+  /// Negative samples per building (scoring with rejection, VoxelPlane-Reloc sec. "Simulation
+  /// dataset": submaps "that were not part of the specific scenario"): observations made at the
+  /// points of the scenario's other buildings (another building or another level: round robin
+  /// over them), matched against this building's plan. A matcher should answer "not localized".
+  /// 0 = none; needs at least two buildings.
+  int negatives = 0;
 };
 
 enum class ObservationSource { kPerfect, kScan };

@@ -15,9 +15,15 @@ namespace floorcast {
 
 struct WorkUnit {
   int cell = 0;
-  int building = 0;
-  int point = 0;
-  std::string id;  ///< "<cell id>/<building label>/<point, 4 digits>"
+  int building = 0;  ///< the building whose plan the observation is matched against
+  int point = 0;     ///< 0..count-1: positives; count..count+negatives-1: negatives
+  /// "<cell id>/<building label>/<point, 4 digits>"; negatives "<cell id>/<building label>/n<k, 4 digits>".
+  std::string id;
+  /// Negative samples: the building the observation is made in (another one of the scenario)
+  /// and its point; -1 for positives.
+  int source_building = -1;
+  int source_point = -1;
+  bool negative() const { return source_building >= 0; }
 };
 
 /// All units in their canonical order (cell, building, point).
