@@ -1,5 +1,6 @@
 // `floorcast compare-matchers PLAN...`: the perfect-observation comparison of PALMS+ sec. 4.4 —
-// kernel vs ray matchers on seeded observation points, scored automatically. A thin front on the
+// kernel vs ray vs plane (VoxelPlane-Reloc, on perfect 3-D planes) matchers on seeded
+// observation points, scored automatically, with negative samples from the other plans if asked. A thin front on the
 // scenario engine: the options become a scenario (validated, resolved and run like any other),
 // and the output folder is an ordinary run directory (summary.md/json, observations.csv, plots,
 // resolved_config.json; resumable).
@@ -59,6 +60,8 @@ void register_compare_matchers(CLI::App& root) {
     std::vector<std::string> rooms;
     std::vector<std::string> specs;
     bool doors_open = false;
+    bool no_planes = false;
+    int negatives = 0;
     std::string room_kinds;
     bool uniform = false;
     int jobs = 0;
@@ -68,7 +71,8 @@ void register_compare_matchers(CLI::App& root) {
   auto o = std::make_shared<Options>();
   auto* cmd = root.add_subcommand(
       "compare-matchers",
-      "Kernel vs ray matchers on perfect observations (PALMS+ sec. 4.4): a scenario run into a run directory");
+      "Kernel vs ray vs plane matchers on perfect observations (PALMS+ sec. 4.4; perfect 3-D planes for the plane "
+      "matcher): a scenario run into a run directory");
   cmd->add_option("PLANS", o->plans, "Floor-plan JSON files")->required();
   cmd->add_option("--points", o->points, "Observation points per plan")->capture_default_str()->check(CLI::Range(1, 100000));
   cmd->add_option("--seed", o->seed, "Seed of the points and headings")->capture_default_str();
@@ -90,6 +94,11 @@ void register_compare_matchers(CLI::App& root) {
                 "Points anywhere in the free space (default: transitional spaces of labelled plans, PALMS+ 4.4)");
   cmd->add_flag("--doors-open", o->doors_open,
                 "Open doors stay open in the observations and the matchers' plans (default: all closed, PALMS+ 4.4)");
+  cmd->add_flag("--no-planes", o->no_planes, "Leave out the plane matcher (VoxelPlane-Reloc, \"planes\")");
+  cmd->add_option("--negatives", o->negatives,
+                  "Negative samples per plan: observations made in the other plans, which a matcher should reject "
+                  "(scored with precision and recall; needs two or more plans)")
+      ->check(CLI::Range(0, 100000));
   cmd->add_option("--matcher", o->specs,
                   "Extra matcher LABEL=NAME[:JSON overrides], e.g. 'kernel_s1=kernel:{\"scales\":[1]}' (repeatable)");
   cmd->add_option("--jobs", o->jobs, "Concurrent work units (default: all cores)")->check(CLI::NonNegativeNumber);
@@ -118,6 +127,7 @@ void register_compare_matchers(CLI::App& root) {
     }
     doc["buildings"] = buildings;
     doc["sampling"] = {{"count", o->points}, {"seed", o->seed}, {"clearance_m", o->clearance_m}};
+    if (o->negatives > 0) doc["sampling"]["negatives"] = o->negatives;
     if (o->uniform && !o->room_kinds.empty()) throw InputError("--uniform and --room-kinds exclude each other");
     if (o->uniform) doc["sampling"]["region"] = "uniform";
     if (!o->room_kinds.empty()) doc["sampling"]["region_kinds"] = split_commas(o->room_kinds);
@@ -128,6 +138,7 @@ void register_compare_matchers(CLI::App& root) {
     for (int n : parse_ray_counts(o->rays)) {
       matchers[n == 36 ? std::string("ray") : "ray" + std::to_string(n)] = {{"matcher", "ray"}, {"num_directions", n}};
     }
+    if (!o->no_planes) matchers["planes"] = {{"matcher", "planes"}};
     for (const std::string& text : o->specs) {
       const auto eq = text.find('=');
       if (eq == std::string::npos || eq == 0) throw InputError("--matcher \"" + text + "\": expected LABEL=NAME[:JSON]");

@@ -1,5 +1,5 @@
-// `floorcast localize PLAN OBS --matcher kernel|ray`: one observation -> posterior over the plan,
-// estimate.json and posterior.png.
+// `floorcast localize PLAN OBS --matcher kernel|ray|planes`: one observation -> posterior over the
+// plan, estimate.json (the pose and the top-K modes, or "not localized") and posterior.png.
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -330,9 +330,11 @@ void register_localize(CLI::App& root) {
       result = matcher->match(input.record.observation, request);
     }
     const std::vector<PoseHypothesis>& modes = result.modes;
-    // No mode (every cell scored 0: e.g. the observation collides with the map everywhere) is
-    // "no pose", never a made-up pose at the grid's first cell.
-    const bool found = !modes.empty() && modes.front().score > 0.0;
+    // No mode is "not localized", never a made-up pose at the grid's first cell: an empty
+    // posterior (every cell scored 0: e.g. the observation collides with the map everywhere), a
+    // matcher that rejects the observation (the plane matcher: no triplet passes), or a best
+    // score below min_score. The plane matcher's modes are its refined transforms.
+    const bool found = result.has_pose();
     const PoseHypothesis best = found ? modes.front() : PoseHypothesis{};
     // What the heatmap draws: the max over heading (one slice).
     Posterior post;
@@ -340,11 +342,21 @@ void register_localize(CLI::App& root) {
     post.yaw_rad = {0.0};
     post.scores = {result.posterior.num_slices() > 0 ? result.posterior.max_over_yaw() : result.max_over_yaw};
     if (post.scores.front().empty()) post.scores.front() = cv::Mat::zeros(post.grid.height_px, post.grid.width_px, CV_32F);
+    const bool abstained = result.counters.count("abstained") > 0;
+    double mass = 0.0;
+    for (int r = 0; r < post.scores.front().rows; ++r)
+      for (int c = 0; c < post.scores.front().cols; ++c) mass += post.scores.front().at<float>(r, c);
+    const std::string why_not = abstained ? "the best score is below min_score"
+                                : result.counters.count("bev_missing") ? "the observation has no BEV of the matcher's class set"
+                                : mass > 0.0 ? "no pose passes the matcher's checks"
+                                : matcher->name() == "planes" ? "no plane triplet passes the evaluation (or too few planes)"
+                                                              : "empty posterior (every cell scored 0)";
     EstimateRecord est;
-    est.status = found ? "ok" : "no pose: empty posterior (every cell scored 0)";
+    est.status = found ? "ok" : "not localized (no pose): " + why_not;
     if (found) est.best = hypothesis_record(best);
     est.score = best.score;
     for (const PoseHypothesis& h : modes) est.top_k.push_back(hypothesis_record(h));
+    est.counters = result.counters;
     if (input.record.T_world_observer) {
       const Pose2& t = *input.record.T_world_observer;
       est.ground_truth = HypothesisRecord{t.x_m, t.y_m, t.yaw_rad * 180.0 / kPi, 0.0};
@@ -363,6 +375,7 @@ void register_localize(CLI::App& root) {
     est.observation = o->obs;
     est.observation_input = input.description;
     est.observation_segments = input.record.observation.segments_m.size();
+    est.observation_planes = input.record.observation.planes.size();
     est.notes = notes;
     est.grid = post.grid;
     if (result.posterior.num_slices() > 0) est.slices = result.posterior.num_slices();
@@ -385,7 +398,7 @@ void register_localize(CLI::App& root) {
     }
     HeatmapStyle style;
     style.title = matcher->name() + " matcher: " +
-                  (!found ? std::string("no pose")
+                  (!found ? std::string("not localized")
                           : truth ? "error " + format_fixed(*est.position_error_m, 2) + " m, " +
                                         format_fixed(*est.yaw_error_deg, 1) + " deg"
                                   : "estimate " + format_pose(Pose2{best.x_m, best.y_m, best.yaw_rad}));
@@ -438,7 +451,7 @@ void register_localize(CLI::App& root) {
                   << "--bev-columns 72`) -> " << o->out << "\n";
         throw CommandExit{kExitNoPose};
       }
-      std::cout << matcher->name() << ": no pose (empty posterior: every cell scored 0) -> " << o->out << "\n";
+      std::cout << matcher->name() << ": not localized (no pose: " << why_not << ") -> " << o->out << "\n";
       throw CommandExit{kExitNoPose};
     }
     std::cout << std::fixed << std::setprecision(2) << matcher->name() << ": x " << best.x_m << " m, y " << best.y_m
@@ -450,6 +463,11 @@ void register_localize(CLI::App& root) {
     }
     std::cout << std::setprecision(3) << "; precompute " << matcher->precompute_s() << " s, match " << result.match_s
               << " s -> " << o->out << "\n";
+    for (std::size_t i = 1; i < modes.size(); ++i) {
+      std::cout << "  mode " << i + 1 << ": " << std::fixed << std::setprecision(2) << "x " << modes[i].x_m << " m, y "
+                << modes[i].y_m << " m, yaw " << std::setprecision(1) << modes[i].yaw_rad * 180.0 / kPi << " deg (score "
+                << std::setprecision(4) << modes[i].score << ")\n";
+    }
   });
 }
 

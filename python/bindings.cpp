@@ -15,6 +15,7 @@
 #include <set>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <optional>
 
 #include "floorcast/scenarios/driver.hpp"
@@ -221,6 +222,8 @@ struct PyMatch {
   nlohmann::ordered_json parameters;
   std::string matcher;
   std::optional<Pose2> truth;
+  bool found = false;
+  std::map<std::string, double> counters;
 };
 
 py::dict hypothesis_dict(const PoseHypothesis& h, const std::optional<Pose2>& truth) {
@@ -271,6 +274,10 @@ PyMatch match_once(const Matcher& matcher, const PyObservation& obs, int top_k) 
     } catch (const ExternalMethodError& e) {
       throw InputError(e.what());
     }
+    // The matcher's own modes: the posterior's top-K for the kernel and ray matchers, refined
+    // transforms for the plane matcher; none = not localized.
+    r.found = res.has_pose();
+    r.counters = res.counters;
     r.posterior = std::move(res.posterior);
     r.top_k = std::move(res.modes);
     r.match_s = res.match_s;
@@ -696,6 +703,26 @@ PYBIND11_MODULE(_floorcast, m) {
       .def_property_readonly("ray_ranges", [](const PyObservation& o) {
         return read_only(py::array(py::cast(o.record.observation.ray_ranges_m)));
       }, "float64 (R,) ranges of equiangular rays (read-only)")
+      .def_property_readonly("planes", [](const PyObservation& o) {
+        py::list l;
+        auto v3 = [](const Eigen::Vector3d& v) { return py::make_tuple(v.x(), v.y(), v.z()); };
+        for (const PlanePatch& p : o.record.observation.planes) {
+          py::dict d;
+          d["normal"] = v3(p.normal);
+          d["offset_m"] = p.offset_m;
+          d["centroid_m"] = v3(p.centroid_m);
+          d["radius_m"] = p.radius_m;
+          d["area_m2"] = patch_area_m2(p, o.record.observation.plane_cell_m);
+          py::array_t<double> cells({static_cast<py::ssize_t>(p.cells_m.size()), py::ssize_t{3}});
+          auto c = cells.mutable_unchecked<2>();
+          for (std::size_t i = 0; i < p.cells_m.size(); ++i)
+            for (int k = 0; k < 3; ++k) c(static_cast<py::ssize_t>(i), k) = p.cells_m[i][k];
+          d["cells_m"] = cells;
+          l.append(d);
+        }
+        return l;
+      }, "3D plane patches (observer frame, z up from the sensor): list of dicts normal, offset_m, centroid_m, "
+         "radius_m, area_m2, cells_m (N, 3)")
       .def_property_readonly("max_range_m", [](const PyObservation& o) { return o.record.observation.max_range_m; })
       .def_property_readonly("truth", [](const PyObservation& o) -> py::object {
         return o.record.T_world_observer ? py::object(pose_dict(*o.record.T_world_observer)) : py::none();
@@ -722,7 +749,8 @@ PYBIND11_MODULE(_floorcast, m) {
          "probabilities float32 (W, D, C)")
       .def("save", [](const PyObservation& o, const std::string& path) { save_observation(path, o.record); }, py::arg("path"))
       .def("__repr__", [](const PyObservation& o) {
-        return "<floorcast.Observation: " + std::to_string(o.record.observation.segments_m.size()) + " segments>";
+        return "<floorcast.Observation: " + std::to_string(o.record.observation.segments_m.size()) + " segments, " +
+               std::to_string(o.record.observation.planes.size()) + " planes>";
       });
   m.def("perfect_observation", [](const PyPlan& plan, const py::object& pose_deg, int rays, double range_m, bool doors_open,
                                   int bev_columns) {
@@ -833,8 +861,8 @@ PYBIND11_MODULE(_floorcast, m) {
       .def_property_readonly("grid", [](const PyMatch& r) { return grid_dict(r.posterior.grid, r.posterior.yaw_rad); })
       .def_property_readonly("estimate", [](const PyMatch& r) {
         py::dict d = hypothesis_dict(r.best, r.truth);
-        const bool found = r.best.score > 0.0;
-        d["status"] = found ? "ok" : "no pose: empty posterior (every cell scored 0)";
+        const bool found = r.found;
+        d["status"] = found ? "ok" : "not localized (no pose: empty posterior, rejected or below min_score)";
         if (!found) {
           d["x_m"] = py::none();
           d["y_m"] = py::none();
@@ -848,6 +876,8 @@ PYBIND11_MODULE(_floorcast, m) {
         return l;
       })
       .def_property_readonly("matcher", [](const PyMatch& r) { return r.matcher; })
+      .def_property_readonly("localized", [](const PyMatch& r) { return r.found; }, "False: not localized (no pose)")
+      .def_property_readonly("counters", [](const PyMatch& r) { return r.counters; })
       .def_property_readonly("parameters", [](const PyMatch& r) { return to_python(r.parameters); })
       .def_property_readonly("match_s", [](const PyMatch& r) { return r.match_s; })
       .def_property_readonly("precompute_s", [](const PyMatch& r) { return r.precompute_s; })
@@ -885,7 +915,7 @@ PYBIND11_MODULE(_floorcast, m) {
     return match_once(*mt, obs, top_k);
   }, py::arg("plan"), py::arg("observation"), py::arg("matcher") = "kernel", py::arg("params") = py::none(),
      py::arg("top_k") = 5,
-     "Builds a matcher (kernel, ray, a registered one, ...) and runs it on one observation; to match several "
+     "Builds a matcher (kernel, ray, planes, a registered one, ...) and runs it on one observation; to match several "
      "observations build it once with Matcher(plan, name) instead");
 
   // ---- own methods ----

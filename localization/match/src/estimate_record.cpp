@@ -94,7 +94,7 @@ const FieldList<EstimateRecord>& estimate_record_fields() {
           "integer or null", "orientation slices of the full posterior (null: only the modes and the heatmap computed)");
   static const FieldList<E> f =
       FieldList<E>("estimate")
-          .text("status", &E::status, "ok, or why there is no pose")
+          .text("status", &E::status, "ok, or \"not localized (no pose): \" and why")
           .custom("x_m", x.first, x.second, "number or null", "estimated world x, m (null: no pose)")
           .custom("y_m", y.first, y.second, "number or null", "estimated world y, m")
           .custom("yaw_deg", yaw.first, yaw.second, "number or null", "estimated heading, deg")
@@ -137,6 +137,24 @@ const FieldList<EstimateRecord>& estimate_record_fields() {
                 e.yaw_error_deg = v;
               },
               "number", "heading error, deg")
+          .custom(
+              "counters",
+              [](OJson& j, const E& e) {
+                OJson c = OJson::object();
+                for (const auto& [k, v] : e.counters) c[k] = v;
+                j["counters"] = c;
+              },
+              [](ParamReader& r, E& e) {
+                nlohmann::json c;
+                r.read("counters", c);
+                if (!c.is_object()) r.fail("counters", "expected an object of numbers");
+                for (auto it = c.begin(); it != c.end(); ++it) {
+                  if (!it.value().is_number()) r.fail("counters." + it.key(), "expected a number");
+                  e.counters[it.key()] = it.value().get<double>();
+                }
+              },
+              "{name: number}", "the matcher's counters (planes: hypotheses, triplets, abstained, ...)")
+          .optional([](const E&) { return true; })
           .section("timings", [](auto& e) -> auto& { return e; }, timings)
           .text("matcher", &E::matcher, "the matcher's registry name")
           .json("parameters", &E::parameters, "every matcher parameter with its value")
@@ -145,6 +163,8 @@ const FieldList<EstimateRecord>& estimate_record_fields() {
           .text("observation", &E::observation, "the observation given")
           .text("observation_input", &E::observation_input, "what it was: observation JSON or a scan folder")
           .unsigned_integer("observation_segments", &E::observation_segments, "observed wall segments")
+          .unsigned_integer("observation_planes", &E::observation_planes, "3D plane patches of the observation")
+          .optional([](const E&) { return true; })
           .texts("notes", &E::notes, "what the command did that the user should know")
           .optional([](const E& e) { return !e.notes.empty(); })
           .section("grid", [](auto& e) -> auto& { return e; }, grid_and_slices)

@@ -25,13 +25,14 @@ HypothesisRecord hypothesis_record(const PoseHypothesis& h);
 
 /// estimate.json.
 struct EstimateRecord {
-  std::string status;                    ///< "ok" or "no pose: ..."
+  std::string status;                    ///< "ok" or "not localized (no pose): <why>"
   std::optional<HypothesisRecord> best;  ///< x_m, y_m, yaw_deg (null without a pose), score
   double score = 0.0;
   std::vector<HypothesisRecord> top_k;
   std::optional<HypothesisRecord> ground_truth;  ///< when the observation knows it (score unused)
   std::optional<double> position_error_m;        ///< with a pose and a ground truth
   std::optional<double> yaw_error_deg;
+  std::map<std::string, double> counters;  ///< the matcher's counters (MatchResult::counters)
   double precompute_s = 0.0;
   double match_s = 0.0;
   std::map<std::string, double> stages_s;
@@ -42,6 +43,7 @@ struct EstimateRecord {
   std::string observation;
   std::string observation_input;
   std::size_t observation_segments = 0;
+  std::size_t observation_planes = 0;  ///< 3D plane patches of the observation
   std::vector<std::string> notes;
   GridSpec grid;
   std::optional<int> slices;       ///< orientation slices of the full posterior (null: none computed)
