@@ -126,6 +126,24 @@ def test_posterior_npy_round_trip(plan, out_dir):
     np.testing.assert_array_equal(back, res.posterior)
 
 
+def test_plane_matcher_on_perfect_planes(out_dir):
+    plan = fc.load_plan(os.path.join(DATA, "floorplans", "buildings", "apartment.json"))
+    obs = fc.perfect_observation(plan, (3.0, 6.7, 80.0))
+    assert len(obs.planes) >= 5
+    p = obs.planes[0]
+    assert abs(np.linalg.norm(p["normal"]) - 1.0) < 1e-9 and p["offset_m"] <= 0.0 and p["cells_m"].shape[1] == 3
+    res = fc.match(plan, obs, matcher="planes")
+    assert "planes" in fc.matcher_names()
+    assert res.localized and res.estimate["status"] == "ok"
+    # A corridor looks the same turned by 180 degrees: the true pose is one of the best modes.
+    assert any(t["position_error_m"] < 0.05 and t["yaw_error_deg"] < 1.0 for t in res.top_k[:3])
+    assert res.counters["hypotheses_accepted"] > 0
+    # A score threshold no pose reaches: not localized, every matcher.
+    for m in ("kernel", "planes"):
+        r = fc.match(plan, obs, matcher=m, params={"min_score": 1e9})
+        assert not r.localized and r.estimate["x_m"] is None and r.top_k == []
+
+
 def test_run_scenario(out_dir, capfd):
     scenario = os.path.join(out_dir, "tiny.yaml")
     with open(scenario, "w") as f:
