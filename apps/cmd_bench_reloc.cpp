@@ -39,7 +39,7 @@ void register_bench_reloc(CLI::App& root) {
       ->capture_default_str()
       ->check(CLI::IsMember({"lidar", "depth_camera", "perfect"}));
   cmd->add_option("--repeats", o->repeats, "Timed runs per scan (median)")->capture_default_str()->check(CLI::Range(1, 100));
-  cmd->add_option("--param", o->params, "planes matcher parameter KEY=VALUE (repeatable)");
+  cmd->add_option("--matcher-param", o->params, "planes matcher parameter KEY=VALUE (repeatable; keys as in its parameters)");
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
     if (o->plans.empty()) {
@@ -48,7 +48,7 @@ void register_bench_reloc(CLI::App& root) {
     }
     RelocBenchParams bp;
     bp.repeats = o->repeats;
-    for (const std::string& p : o->params) add_override(bp.matcher_overrides, p);
+    for (const std::string& p : o->params) add_override(bp.matcher_overrides, p, "--matcher-param");
     const ScanParams preset = scan_preset(o->sensor);
     bp.observe.path = ObservationPath::kLidar;
     bp.observe.lidar.max_range_m = preset.sensor.max_range_m;
