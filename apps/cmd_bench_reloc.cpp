@@ -43,8 +43,8 @@ void register_bench_reloc(CLI::App& root) {
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
     if (o->plans.empty()) {
-      o->plans = {source_dir() + "/floorplans/buildings/office_calibrated.json",
-                  source_dir() + "/floorplans/buildings/campus_calibrated.json"};
+      o->plans = {data_dir() + "/floorplans/buildings/office_calibrated.json",
+                  data_dir() + "/floorplans/buildings/campus_calibrated.json"};
     }
     RelocBenchParams bp;
     bp.repeats = o->repeats;
@@ -52,13 +52,10 @@ void register_bench_reloc(CLI::App& root) {
     const ScanParams preset = scan_preset(o->sensor);
     bp.observe.path = ObservationPath::kLidar;
     bp.observe.lidar.max_range_m = preset.sensor.max_range_m;
-    if (!bp.matcher_overrides.contains("max_range_m")) bp.matcher_overrides["max_range_m"] = preset.sensor.max_range_m;
-    nlohmann::ordered_json out;
-    out["protocol"] = "per scan, one thread, CPU seconds of the calling thread, median of --repeats runs; "
-                      "relocalization = plane extraction (voxel planes, walls, patches) + planes matcher";
-    out["sensor"] = o->sensor;
-    out["seed"] = o->seed;
-    out["plans"] = nlohmann::ordered_json::array();
+    bp.shared.range_m = preset.sensor.max_range_m;
+    RelocBenchReport report;
+    report.sensor = o->sensor;
+    report.seed = o->seed;
     for (std::size_t pi = 0; pi < o->plans.size(); ++pi) {
       const FloorPlan plan = load_floor_plan(o->plans[pi]);
       const RayScene scene(extrude_plan(plan));
@@ -69,23 +66,22 @@ void register_bench_reloc(CLI::App& root) {
         sp.seed = o->seed + k;
         scans.push_back({simulate_scan(scene, poses[k], sp).scan, poses[k]});
       }
-      nlohmann::ordered_json r = bench_reloc(plan, scans, bp);
-      r["plan"] = o->plans[pi];
-      out["plans"].push_back(r);
+      RelocBenchResult r = bench_reloc(plan, scans, bp);
+      r.plan = o->plans[pi];
       if (!o->json) {
-        auto ms = [&](const char* k, const char* s) { return 1e3 * r[k][s].get<double>(); };
+        auto ms = [](const RelocBenchStat& s, bool p90) { return 1e3 * (p90 ? s.p90 : s.median); };
         std::cout << std::fixed << std::setprecision(1) << o->plans[pi] << ": " << scans.size() << " " << o->sensor
-                  << " scans, " << r["map_planes"].get<double>() << " map planes (precompute "
-                  << r["precompute_cpu_s"].get<double>() << " s CPU)\n"
-                  << "  relocalization (extraction + matching) median " << ms("relocalization_cpu_s", "median")
-                  << " ms CPU, p90 " << ms("relocalization_cpu_s", "p90") << " ms: extraction " << ms("extraction_cpu_s", "median")
-                  << " ms, matching " << ms("match_cpu_s", "median") << " ms; sensor preprocessing "
-                  << ms("preprocess_cpu_s", "median") << " ms, whole observation module " << ms("observe_module_cpu_s", "median")
-                  << " ms\n  localized " << r["localized"].get<int>() << " of " << scans.size() << ", within 1 m 30 deg "
-                  << r["within_1m_30deg"].get<int>() << "\n";
+                  << " scans, " << r.map_planes << " map planes (precompute " << r.precompute_cpu_s << " s CPU)\n"
+                  << "  relocalization (extraction + matching) median " << ms(r.relocalization_cpu_s, false)
+                  << " ms CPU, p90 " << ms(r.relocalization_cpu_s, true) << " ms: extraction "
+                  << ms(r.extraction_cpu_s, false) << " ms, matching " << ms(r.match_cpu_s, false)
+                  << " ms; sensor preprocessing " << ms(r.preprocess_cpu_s, false) << " ms, whole observation module "
+                  << ms(r.observe_module_cpu_s, false) << " ms\n  localized " << r.localized << " of " << scans.size()
+                  << ", within 1 m 30 deg " << r.within_1m_30deg << "\n";
       }
+      report.plans.push_back(std::move(r));
     }
-    if (o->json) std::cout << out.dump(2) << "\n";
+    if (o->json) std::cout << to_json(report).dump(2) << "\n";
   });
 }
 

@@ -6,21 +6,13 @@
 #include <chrono>
 #include <cmath>
 
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/core/timing.hpp"
 #include "floorcast/match/plane_matcher.hpp"
 
 namespace floorcast {
 namespace {
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const double pos = q * static_cast<double>(v.size() - 1);
-  const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
-}
 
 /// The LiDAR path's cloud: every kept view in the scan frame, voxelised, within range (as
 /// observe_scan builds it).
@@ -41,14 +33,14 @@ PointCloud3f lidar_cloud(const Scan& scan, const LidarPathParams& lidar) {
 
 }  // namespace
 
-nlohmann::ordered_json bench_reloc(const FloorPlan& plan, const std::vector<RelocBenchScan>& scans, const RelocBenchParams& params) {
+RelocBenchResult bench_reloc(const FloorPlan& plan, const std::vector<RelocBenchScan>& scans, const RelocBenchParams& params) {
   // One thread: the CPU seconds of the calling thread are the whole cost.
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   ObservationParams op = params.observe;
   op.path = ObservationPath::kLidar;
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = thread_cpu_s();
-  const std::unique_ptr<Matcher> matcher = make_matcher("planes", plan, params.matcher_overrides);
+  const std::unique_ptr<Matcher> matcher = make_matcher_config("planes", params.matcher_overrides, params.shared)->build(plan);
   const double precompute_cpu = thread_cpu_s() - c0;
   const double precompute_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::vector<double> pre_s, extract_s, match_s, reloc_s, observe_s, planes_n, hyp_n;
@@ -95,24 +87,58 @@ nlohmann::ordered_json bench_reloc(const FloorPlan& plan, const std::vector<Relo
     }
   }
   auto stat = [](const std::vector<double>& v) {
-    return nlohmann::ordered_json{{"median", percentile(v, 0.5)}, {"p90", percentile(v, 0.9)}, {"max", percentile(v, 1.0)}};
+    return RelocBenchStat{quantile(v, 0.5), quantile(v, 0.9), quantile(v, 1.0)};
   };
-  nlohmann::ordered_json j;
-  j["scans"] = scans.size();
-  j["precompute_cpu_s"] = precompute_cpu;
-  j["precompute_wall_s"] = precompute_wall;
-  j["map_planes"] = map_planes;
-  j["precompute_mb"] = static_cast<double>(matcher->precompute_bytes()) / 1e6;
-  j["preprocess_cpu_s"] = stat(pre_s);
-  j["extraction_cpu_s"] = stat(extract_s);
-  j["match_cpu_s"] = stat(match_s);
-  j["relocalization_cpu_s"] = stat(reloc_s);
-  j["observe_module_cpu_s"] = stat(observe_s);
-  j["submap_planes"] = stat(planes_n);
-  j["hypotheses_evaluated"] = stat(hyp_n);
-  j["localized"] = localized;
-  j["within_1m_30deg"] = correct;
-  return j;
+  RelocBenchResult out;
+  out.scans = scans.size();
+  out.precompute_cpu_s = precompute_cpu;
+  out.precompute_wall_s = precompute_wall;
+  out.map_planes = map_planes;
+  out.precompute_mb = static_cast<double>(matcher->precompute_bytes()) / 1e6;
+  out.preprocess_cpu_s = stat(pre_s);
+  out.extraction_cpu_s = stat(extract_s);
+  out.match_cpu_s = stat(match_s);
+  out.relocalization_cpu_s = stat(reloc_s);
+  out.observe_module_cpu_s = stat(observe_s);
+  out.submap_planes = stat(planes_n);
+  out.hypotheses_evaluated = stat(hyp_n);
+  out.localized = localized;
+  out.within_1m_30deg = correct;
+  return out;
+}
+
+nlohmann::ordered_json to_json(const RelocBenchReport& report) {
+  constexpr double kAny = 1e300;
+  using S = RelocBenchStat;
+  static const FieldList<S> stat = FieldList<S>("statistic")
+                                       .number("median", &S::median, 0.0, kAny, "median over the scans")
+                                       .number("p90", &S::p90, 0.0, kAny, "90th percentile")
+                                       .number("max", &S::max, 0.0, kAny, "largest");
+  using R = RelocBenchResult;
+  static const FieldList<R> plan =
+      FieldList<R>("reloc bench plan")
+          .text("plan", &R::plan, "the plan file")
+          .unsigned_integer("scans", &R::scans, "simulated scans")
+          .number("precompute_cpu_s", &R::precompute_cpu_s, 0.0, kAny, "map planes and pairs, once per plan, CPU s")
+          .number("precompute_wall_s", &R::precompute_wall_s, 0.0, kAny, "the same, wall s")
+          .number("map_planes", &R::map_planes, 0.0, kAny, "planes of the map")
+          .number("precompute_mb", &R::precompute_mb, 0.0, kAny, "memory of the map, MB")
+          .section("preprocess_cpu_s", &R::preprocess_cpu_s, stat)
+          .section("extraction_cpu_s", &R::extraction_cpu_s, stat)
+          .section("match_cpu_s", &R::match_cpu_s, stat)
+          .section("relocalization_cpu_s", &R::relocalization_cpu_s, stat)
+          .section("observe_module_cpu_s", &R::observe_module_cpu_s, stat)
+          .section("submap_planes", &R::submap_planes, stat)
+          .section("hypotheses_evaluated", &R::hypotheses_evaluated, stat)
+          .integer("localized", &R::localized, 0, 1 << 30, "scans with a pose")
+          .integer("within_1m_30deg", &R::within_1m_30deg, 0, 1 << 30, "scans localized within 1 m and 30 deg");
+  using P = RelocBenchReport;
+  static const FieldList<P> f = FieldList<P>("reloc bench")
+                                    .text("protocol", &P::protocol, "what is timed")
+                                    .text("sensor", &P::sensor, "scan preset")
+                                    .unsigned_integer("seed", &P::seed, "pose sampling seed")
+                                    .list("plans", &P::plans, plan);
+  return f.write(report);
 }
 
 }  // namespace floorcast
