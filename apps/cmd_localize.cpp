@@ -312,7 +312,7 @@ void register_localize(CLI::App& root) {
     // Said, not silent: ray ranges the ray matcher cannot use (auto casts rays on the segments).
     std::vector<std::string> notes;
     const std::size_t obs_rays = input.record.observation.ray_ranges_m.size();
-    if (const auto* ray = dynamic_cast<const RayMatcher*>(matcher.get());
+    if (const auto* ray = dynamic_cast<const RayMatcher*>(&matcher->unwrapped());
         ray && ray->params().ray_source == RaySource::kAuto && obs_rays > 0 &&
         static_cast<std::size_t>(ray->params().num_directions) != obs_rays) {
       notes.push_back("the observation's " + std::to_string(obs_rays) + " ray ranges do not match the " +

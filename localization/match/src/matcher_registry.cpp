@@ -38,6 +38,7 @@ class Abstaining final : public Matcher {
     }
     return r;
   }
+  const Matcher& unwrapped() const override { return inner_->unwrapped(); }
 
  private:
   std::unique_ptr<Matcher> inner_;

@@ -88,6 +88,9 @@ class Matcher {
   virtual MatchResult match(const Observation2D& observation, const MatchRequest& request) const = 0;
   /// The full posterior and the estimate (match(observation, MatchRequest{})).
   MatchResult match(const Observation2D& observation) const { return match(observation, MatchRequest{}); }
+  /// The matcher itself under any wrapper the registry adds (the min_score abstention): what a
+  /// caller casts to a matcher type to read its typed parameters.
+  virtual const Matcher& unwrapped() const { return *this; }
 };
 
 /// A matcher's parameters, parsed, validated and complete (every default filled in), before any
