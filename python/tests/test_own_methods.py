@@ -65,10 +65,13 @@ def without_timing(summary):
         c.pop("timing_mean_s", None)
         for g in c["groups"].values():
             for m in g.values():
-                for k in [k for k in m if "time" in k]:
-                    m.pop(k)
-                for k in [k for k in m.get("ci95", {}) if "time" in k]:
-                    m["ci95"].pop(k)
+                # The metric sets of each matcher (and the rejection set within them, which times
+                # negatives too) with their intervals.
+                for ms in (m, m.get("rejection", {})):
+                    for k in [k for k in ms if "time" in k]:
+                        ms.pop(k)
+                    for k in [k for k in ms.get("ci95", {}) if "time" in k]:
+                        ms["ci95"].pop(k)
     return s
 
 
