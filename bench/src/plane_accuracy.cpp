@@ -7,8 +7,10 @@
 #include <limits>
 
 #include "floorcast/bench/plane_accuracy.hpp"
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/core/random.hpp"
+#include "floorcast/observe/observation_module.hpp"
 
 namespace floorcast {
 namespace {
@@ -166,6 +168,80 @@ PlaneAccuracyReport run_plane_accuracy(const PlaneNoiseModel& noise, const Plane
     report.methods.push_back(std::move(m));
   }
   return report;
+}
+
+PlaneBenchReport run_plane_bench(const PlaneBenchParams& params,
+                                 const std::function<void(const PlaneAccuracyReport&)>& on_model) {
+  PlaneBenchReport report;
+  report.params = params;
+  for (const PlaneNoiseModel& noise : standard_plane_noise_models()) {
+    report.models.push_back(run_plane_accuracy(noise, params));
+    if (on_model) on_model(report.models.back());
+  }
+  return report;
+}
+
+nlohmann::ordered_json to_json(const PlaneBenchReport& report) {
+  constexpr double kAny = 1e300;
+  using RP = RansacPlaneParams;
+  static const FieldList<RP> ransac =
+      FieldList<RP>("bench planes ransac")
+          .number("distance_m", &RP::distance_m, 0.0, kAny, "inlier distance, m")
+          .integer("iterations", &RP::iterations, 1, 1 << 30, "RANSAC iterations")
+          .flag("refit_inliers", &RP::refit_inliers, "least-squares refit on the inliers (PCL optimizeCoefficients)");
+  using P = PlaneBenchParams;
+  static const FieldList<P> params =
+      FieldList<P>("bench planes")
+          .integer("planes", &P::planes, 1, 1 << 30, "planes per noise model (Table 2: 9)")
+          .integer("points_per_plane", &P::points_per_plane, 1, 1 << 30, "points per plane")
+          .unsigned_integer("seed", &P::seed, "seed of the simulated planes")
+          .section("ransac", &P::ransac, ransac)
+          .section("voxelplane", &P::voxel_plane, voxel_plane_fields());
+  using N = PlaneNoiseModel;
+  static const FieldList<N> noise =
+      FieldList<N>("noise model")
+          .text("name", &N::name, "gaussian | gaussian+outliers | depth | depth+outliers")
+          .number("sigma_const_m", &N::sigma_const_m, 0.0, kAny, "noise along the normal, constant part, m")
+          .number("sigma_quadratic_per_m", &N::sigma_quadratic_per_m, 0.0, kAny, "noise along the normal per range^2, 1/m")
+          .number("outlier_fraction", &N::outlier_fraction, 0.0, 1.0, "points replaced by outliers")
+          .number("outlier_margin_m", &N::outlier_margin_m, 0.0, kAny, "outlier box margin, m");
+  // Per plane: null where the method found no plane (the JSON form of NaN).
+  using M = PlaneMethodResult;
+  static const FieldList<M> method =
+      FieldList<M>("method")
+          .number("mean_angle_deg", &M::mean_angle_deg, 0.0, 180.0, "mean alpha over the planes found, deg")
+          .number("mean_offset_m", &M::mean_offset_m, 0.0, kAny, "mean d over the planes found, m")
+          .integer("failures", &M::failures, 0, 1 << 30, "planes where the method found none")
+          .number("median_time_s", &M::median_time_s, 0.0, kAny, "median time per plane, s")
+          .series("angle_deg", &M::angle_error_deg, "alpha per plane, deg")
+          .series("offset_m", &M::offset_error_m, "d per plane, m");
+  using R = PlaneAccuracyReport;
+  static const FieldList<R> model =
+      FieldList<R>("noise model result")
+          .section("noise", &R::noise, noise)
+          .custom(
+              "methods",
+              [](nlohmann::ordered_json& j, const R& r) {
+                nlohmann::ordered_json by_name = nlohmann::ordered_json::object();
+                for (const M& m : r.methods) by_name[m.method] = method.write(m);
+                j["methods"] = std::move(by_name);
+              },
+              [](ParamReader& r, R&) { r.fail("methods", "is written, not read"); }, "object",
+              "per method (pca, pcl_ransac, voxelplane and its ablations) its errors and time");
+  using B = PlaneBenchReport;
+  static const FieldList<B> document =
+      FieldList<B>("bench planes result")
+          .custom(
+              "protocol",
+              [](nlohmann::ordered_json& j, const B&) {
+                j["protocol"] =
+                    "VoxelPlane-Reloc Table 2: points on a known plane 1-9 m from a camera at the origin, Gaussian "
+                    "noise along the normal; alpha = angle between normals (deg), d = offset difference (m)";
+              },
+              [](ParamReader& r, B&) { r.fail("protocol", "is written, not read"); }, "text", "what was measured")
+          .flatten(&B::params, params)
+          .list("models", &B::models, model);
+  return document.write(report);
 }
 
 }  // namespace floorcast

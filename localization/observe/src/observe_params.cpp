@@ -155,28 +155,6 @@ const FieldList<PclRegionGrowingParams>& pcl_fields() {
   return f;
 }
 
-const FieldList<VoxelPlaneParams>& voxel_plane_fields() {
-  using P = VoxelPlaneParams;
-  static const FieldList<P> f =
-      FieldList<P>("lidar voxelplane")
-          .number("voxel_size_m", &P::voxel_size_m, 0.01, 100, "voxel edge, m")
-          .integer("min_points_per_voxel", &P::min_points_per_voxel, 3, 1000000, "points a voxel needs")
-          .integer("max_subdivisions", &P::max_subdivisions, 0, 8, "octree splits of non-planar voxels (0 = uniform grid)")
-          .number("max_thickness_m", &P::max_thickness_m, 0, 10, "planar voxel: spread along the normal at most this, m")
-          .number("max_eigen_ratio", &P::max_eigen_ratio, 0, 1, "planar voxel: smallest/middle eigenvalue at most this")
-          .flag("adaptive_weights", &P::adaptive_weights, "the adaptive weights of VoxelPlane-Reloc eq. 2")
-          .number("weight_alpha", &P::weight_alpha, 0, 1000000.0, "eq. 2 alpha")
-          .number("weight_beta", &P::weight_beta, 0, 1000000.0, "eq. 2 beta")
-          .number("growth_max_normal_deg", &P::growth_max_normal_deg, 0, 180, "voxel growth: normal difference, deg")
-          .number("growth_max_offset_m", &P::growth_max_offset_m, 0, 100, "voxel growth: centre distance to the plane, m")
-          .flag("merge_undergrown", &P::merge_undergrown, "merge under-grown planes into larger ones")
-          .number("merge_max_normal_deg", &P::merge_max_normal_deg, 0, 180, "merge: normal difference, deg")
-          .number("merge_depth_tol_deg", &P::merge_depth_tol_deg, 0, 180, "merge: centroid line off the plane, deg")
-          .number("merge_radius_factor", &P::merge_radius_factor, 0, 100, "merge: centroid distance in plane radii")
-          .integer("min_plane_points", &P::min_plane_points, 3, 1000000000, "planes with fewer points are not reported");
-  return f;
-}
-
 const FieldList<BevPredictorParams>& bev_predictor_fields() {
   using P = BevPredictorParams;
   std::string presets;
@@ -250,6 +228,28 @@ const FieldList<PlanePatchParams>& plane_patch_fields() {
 }
 
 }  // namespace
+
+const FieldList<VoxelPlaneParams>& voxel_plane_fields() {
+  using P = VoxelPlaneParams;
+  static const FieldList<P> f =
+      FieldList<P>("lidar voxelplane")
+          .number("voxel_size_m", &P::voxel_size_m, 0.01, 100, "voxel edge, m")
+          .integer("min_points_per_voxel", &P::min_points_per_voxel, 3, 1000000, "points a voxel needs")
+          .integer("max_subdivisions", &P::max_subdivisions, 0, 8, "octree splits of non-planar voxels (0 = uniform grid)")
+          .number("max_thickness_m", &P::max_thickness_m, 0, 10, "planar voxel: spread along the normal at most this, m")
+          .number("max_eigen_ratio", &P::max_eigen_ratio, 0, 1, "planar voxel: smallest/middle eigenvalue at most this")
+          .flag("adaptive_weights", &P::adaptive_weights, "the adaptive weights of VoxelPlane-Reloc eq. 2")
+          .number("weight_alpha", &P::weight_alpha, 0, 1000000.0, "eq. 2 alpha")
+          .number("weight_beta", &P::weight_beta, 0, 1000000.0, "eq. 2 beta")
+          .number("growth_max_normal_deg", &P::growth_max_normal_deg, 0, 180, "voxel growth: normal difference, deg")
+          .number("growth_max_offset_m", &P::growth_max_offset_m, 0, 100, "voxel growth: centre distance to the plane, m")
+          .flag("merge_undergrown", &P::merge_undergrown, "merge under-grown planes into larger ones")
+          .number("merge_max_normal_deg", &P::merge_max_normal_deg, 0, 180, "merge: normal difference, deg")
+          .number("merge_depth_tol_deg", &P::merge_depth_tol_deg, 0, 180, "merge: centroid line off the plane, deg")
+          .number("merge_radius_factor", &P::merge_radius_factor, 0, 100, "merge: centroid distance in plane radii")
+          .integer("min_plane_points", &P::min_plane_points, 3, 1000000000, "planes with fewer points are not reported");
+  return f;
+}
 
 const FieldList<ObservationParams>& observation_fields() {
   using P = ObservationParams;

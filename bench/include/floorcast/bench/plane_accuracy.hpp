@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -71,5 +73,21 @@ struct PlaneBenchParams {
 /// extractor; its largest plane), "voxelplane_no_weights" (VR-NE ablation: W_i = 1),
 /// "voxelplane_no_merge" (VR-NM ablation: no under-grown merging).
 PlaneAccuracyReport run_plane_accuracy(const PlaneNoiseModel& noise, const PlaneBenchParams& params);
+
+/// `floorcast bench planes`: every standard noise model (standard_plane_noise_models(), in order)
+/// run with the same parameters.
+struct PlaneBenchReport {
+  PlaneBenchParams params;
+  std::vector<PlaneAccuracyReport> models;
+};
+
+/// Runs every standard noise model; `on_model` (optional) sees each model's report as it is done.
+PlaneBenchReport run_plane_bench(const PlaneBenchParams& params,
+                                 const std::function<void(const PlaneAccuracyReport&)>& on_model = {});
+
+/// The result document of `bench planes --json`: the protocol, every parameter (RANSAC and the
+/// VoxelPlane extractor in full), per noise model and method the errors of every plane (null where
+/// the method found no plane), their means, failures and the median time.
+nlohmann::ordered_json to_json(const PlaneBenchReport& report);
 
 }  // namespace floorcast

@@ -226,6 +226,9 @@ struct ObservationParams {
 /// back_projection, scale, ground, slice, segments, lidar_back_projection, lidar, lidar_pcl,
 /// lidar_voxelplane; ranges, rules and docs (docs/parameters.md).
 const FieldList<ObservationParams>& observation_fields();
+/// The field list of the VoxelPlane extractor's parameters (section lidar_voxelplane above;
+/// `bench planes` writes them with its results).
+const FieldList<VoxelPlaneParams>& voxel_plane_fields();
 /// Every parameter with its value, for writing next to results.
 nlohmann::ordered_json to_json(const ObservationParams& params);
 /// Fills params from a JSON object of overrides with the same keys as to_json (nested objects
