@@ -305,26 +305,32 @@ Eigen::Vector3d translation_from_offsets(const std::vector<Eigen::Vector3d>& n_m
   return svd.solve(b);
 }
 
-Eigen::Isometry3d gravity_aligned_transform(const std::vector<PlanePatch>& submap, const std::vector<const MapPlane*>& map) {
+Eigen::Isometry3d gravity_aligned_transform(const std::vector<Eigen::Vector3d>& n_submap, const std::vector<double>& d_submap,
+                                            const std::vector<Eigen::Vector3d>& n_map, const std::vector<double>& d_map) {
   // Yaw: least squares on the horizontal normal parts (weighted by their horizontal length).
   double sc = 0.0, ss = 0.0;
-  for (std::size_t k = 0; k < submap.size(); ++k) {
-    const Eigen::Vector2d a = submap[k].normal.head<2>(), b = map[k]->normal.head<2>();
+  for (std::size_t k = 0; k < n_submap.size(); ++k) {
+    const Eigen::Vector2d a = n_submap[k].head<2>(), b = n_map[k].head<2>();
     sc += a.dot(b);
     ss += a.x() * b.y() - a.y() * b.x();
   }
   const double yaw = std::atan2(ss, sc);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  std::vector<Eigen::Vector3d> n;
-  std::vector<double> dm, ds;
-  for (std::size_t k = 0; k < submap.size(); ++k) {
-    n.push_back(map[k]->normal);
-    dm.push_back(map[k]->offset_m);
-    ds.push_back(submap[k].offset_m);
-  }
-  T.translation() = translation_from_offsets(n, dm, ds);
+  T.translation() = translation_from_offsets(n_map, d_map, d_submap);
   return T;
+}
+
+Eigen::Isometry3d gravity_aligned_transform(const std::vector<PlanePatch>& submap, const std::vector<const MapPlane*>& map) {
+  std::vector<Eigen::Vector3d> ns, nm;
+  std::vector<double> ds, dm;
+  for (std::size_t k = 0; k < submap.size(); ++k) {
+    ns.push_back(submap[k].normal);
+    ds.push_back(submap[k].offset_m);
+    nm.push_back(map[k]->normal);
+    dm.push_back(map[k]->offset_m);
+  }
+  return gravity_aligned_transform(ns, ds, nm, dm);
 }
 
 Pose2 planar_pose(const Eigen::Isometry3d& T) {

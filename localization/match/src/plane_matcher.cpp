@@ -137,6 +137,7 @@ struct PlaneMatcher::Search {
   std::map<std::string, double> counters;
   long long evaluated = 0;
   bool truncated = false;
+  std::vector<int> window;  ///< ground_triplets' candidate map planes (reused)
 
   Search(const PlaneMatcherParams& params, const PlaneMap& m, Submap s) : p(params), map(m), sub(std::move(s)) {
     azimuth_bins.assign(360, {});
@@ -168,9 +169,24 @@ struct PlaneMatcher::Search {
     if (n == 0) return 0.0;
     std::size_t in = 0;
     const std::size_t need_count = static_cast<std::size_t>(std::ceil(need * static_cast<double>(n) - 1e-9));
+    // The map plane's normal and in-plane axes taken into the submap frame once (q = T c, so
+    // a . q = (R^T a) . c + a . t): three dot products per cell instead of a transform and
+    // MapPlane::covers' own projections.
+    const Eigen::Matrix3d Rt = T.linear().transpose();
+    const Eigen::Vector3d& t = T.translation();
+    const Eigen::Vector3d n_s = Rt * m.normal, u_s = Rt * m.basis.col(0), v_s = Rt * m.basis.col(1);
+    const double d0 = m.normal.dot(t) - m.offset_m, u0 = m.basis.col(0).dot(t), v0 = m.basis.col(1).dot(t);
+    const double inv_l = 1.0 / m.cell_m;
     for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d q = T * s.cells_m[i];
-      if (std::abs(m.normal.dot(q) - m.offset_m) <= p.projection_tolerance_m && m.covers(q)) ++in;
+      const Eigen::Vector3d& c = s.cells_m[i];
+      if (std::abs(n_s.dot(c) + d0) <= p.projection_tolerance_m) {
+        const int ci = static_cast<int>(std::floor((u_s.dot(c) + u0) * inv_l)) - m.i0;
+        const int cj = static_cast<int>(std::floor((v_s.dot(c) + v0) * inv_l)) - m.j0;
+        if (ci >= 0 && cj >= 0 && ci < m.width && cj < m.height &&
+            m.grown[static_cast<std::size_t>(cj) * static_cast<std::size_t>(m.width) + static_cast<std::size_t>(ci)] != 0) {
+          ++in;
+        }
+      }
       if (in + (n - i - 1) < need_count) return static_cast<double>(in) / static_cast<double>(n);
     }
     return static_cast<double>(in) / static_cast<double>(n);
@@ -299,21 +315,18 @@ struct PlaneMatcher::Search {
   /// The triplet transform: gravity aligned when the ground is one of its pairs, else the
   /// quaternion and least-squares solution.
   Eigen::Isometry3d solve(const std::array<int, 3>& s, const std::array<int, 3>& m, bool gravity) const {
-    std::vector<PlanePatch> sp;
-    std::vector<const MapPlane*> mp;
-    for (int k = 0; k < 3; ++k) {
-      sp.push_back(sub.planes[static_cast<std::size_t>(s[static_cast<std::size_t>(k)])]);
-      mp.push_back(&map.planes[static_cast<std::size_t>(m[static_cast<std::size_t>(k)])]);
-    }
-    if (gravity) return gravity_aligned_transform(sp, mp);
+    // Normals and offsets only (the patches' cells are not copied).
     std::vector<Eigen::Vector3d> ns, nm;
     std::vector<double> ds, dm;
     for (int k = 0; k < 3; ++k) {
-      ns.push_back(sp[static_cast<std::size_t>(k)].normal);
-      nm.push_back(mp[static_cast<std::size_t>(k)]->normal);
-      ds.push_back(sp[static_cast<std::size_t>(k)].offset_m);
-      dm.push_back(mp[static_cast<std::size_t>(k)]->offset_m);
+      const PlanePatch& sp = sub.planes[static_cast<std::size_t>(s[static_cast<std::size_t>(k)])];
+      const MapPlane& mp = map.planes[static_cast<std::size_t>(m[static_cast<std::size_t>(k)])];
+      ns.push_back(sp.normal);
+      nm.push_back(mp.normal);
+      ds.push_back(sp.offset_m);
+      dm.push_back(mp.offset_m);
     }
+    if (gravity) return gravity_aligned_transform(ns, ds, nm, dm);
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = rotation_from_normals(ns, nm);
     T.translation() = translation_from_offsets(nm, dm, ds);
@@ -359,7 +372,7 @@ struct PlaneMatcher::Search {
       // The rotation about z that takes a to m_a takes b to azimuth az_b + yaw_a: only the
       // neighbours whose normals point there (within the tolerance) can be m_b.
       const auto& nb = map.neighbours_by_azimuth[ma];
-      std::vector<int> window;
+      window.clear();
       const double want = wrap_angle_rad(az_b + yaw_a);
       for (const double centre : {want - 2.0 * kPi, want, want + 2.0 * kPi}) {
         auto lo = std::lower_bound(nb.begin(), nb.end(), std::make_pair(centre - tol, -1));

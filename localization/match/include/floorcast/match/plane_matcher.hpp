@@ -205,6 +205,9 @@ Eigen::Vector3d translation_from_offsets(const std::vector<Eigen::Vector3d>& n_m
 /// Gravity-aligned transform (rotation about z only) from plane pairs: yaw by least squares on
 /// the horizontal parts of the normals, then the translation as above.
 Eigen::Isometry3d gravity_aligned_transform(const std::vector<PlanePatch>& submap, const std::vector<const MapPlane*>& map);
+/// The same from normals and offsets (n_submap[k], d_submap[k] paired with n_map[k], d_map[k]).
+Eigen::Isometry3d gravity_aligned_transform(const std::vector<Eigen::Vector3d>& n_submap, const std::vector<double>& d_submap,
+                                            const std::vector<Eigen::Vector3d>& n_map, const std::vector<double>& d_map);
 
 /// The pose of the observer in the plan from a 3D transform (x, y and the yaw of its x axis).
 Pose2 planar_pose(const Eigen::Isometry3d& T_world_observer);
