@@ -292,17 +292,33 @@ Eigen::Matrix3d rotation_from_normals(const std::vector<Eigen::Vector3d>& n_subm
   return Eigen::Quaterniond(q(0), q(1), q(2), q(3)).normalized().toRotationMatrix();
 }
 
-Eigen::Vector3d translation_from_offsets(const std::vector<Eigen::Vector3d>& n_map, const std::vector<double>& d_map,
-                                         const std::vector<double>& d_submap) {
-  Eigen::MatrixXd A(static_cast<Eigen::Index>(n_map.size()), 3);
-  Eigen::VectorXd b(static_cast<Eigen::Index>(n_map.size()));
+namespace {
+/// Least squares of translation_from_offsets on a matrix type A (rows = pairs).
+template <typename Matrix>
+Eigen::Vector3d solve_offsets(const std::vector<Eigen::Vector3d>& n_map, const std::vector<double>& d_map,
+                              const std::vector<double>& d_submap) {
+  using Vector = Eigen::Matrix<double, Matrix::RowsAtCompileTime, 1, 0, Matrix::MaxRowsAtCompileTime, 1>;
+  Matrix A(static_cast<Eigen::Index>(n_map.size()), 3);
+  Vector b(static_cast<Eigen::Index>(n_map.size()));
   for (std::size_t k = 0; k < n_map.size(); ++k) {
     A.row(static_cast<Eigen::Index>(k)) = n_map[k].transpose();
     b(static_cast<Eigen::Index>(k)) = d_map[k] - d_submap[k];
   }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  // Thin U and V only for a dynamic number of columns (Eigen's rule); the full ones give the same
+  // minimum-norm solution.
+  constexpr int options = Matrix::ColsAtCompileTime == Eigen::Dynamic ? (Eigen::ComputeThinU | Eigen::ComputeThinV)
+                                                                       : (Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::JacobiSVD<Matrix> svd(A, options);
   svd.setThreshold(1e-6);
   return svd.solve(b);
+}
+}  // namespace
+
+Eigen::Vector3d translation_from_offsets(const std::vector<Eigen::Vector3d>& n_map, const std::vector<double>& d_map,
+                                         const std::vector<double>& d_submap) {
+  // Up to 16 pairs (triplets, refinements) without heap allocation.
+  if (n_map.size() <= 16) return solve_offsets<Eigen::Matrix<double, Eigen::Dynamic, 3, 0, 16, 3>>(n_map, d_map, d_submap);
+  return solve_offsets<Eigen::MatrixXd>(n_map, d_map, d_submap);
 }
 
 Eigen::Isometry3d gravity_aligned_transform(const std::vector<Eigen::Vector3d>& n_submap, const std::vector<double>& d_submap,

@@ -138,6 +138,8 @@ struct PlaneMatcher::Search {
   long long evaluated = 0;
   bool truncated = false;
   std::vector<int> window;  ///< ground_triplets' candidate map planes (reused)
+  mutable std::vector<Eigen::Vector3d> scratch_ns, scratch_nm;  ///< solve()'s pairs (reused)
+  mutable std::vector<double> scratch_ds, scratch_dm;
 
   Search(const PlaneMatcherParams& params, const PlaneMap& m, Submap s) : p(params), map(m), sub(std::move(s)) {
     azimuth_bins.assign(360, {});
@@ -256,7 +258,20 @@ struct PlaneMatcher::Search {
       const Eigen::Vector3d n = T.linear() * sp.normal;
       if (angle_between_deg(n, mp.normal) > p.match_normal_deg) return false;
       if (std::abs(sp.offset_m + n.dot(T.translation()) - mp.offset_m) > p.match_offset_m) return false;
-      if (p.projection) {
+    }
+    if (p.projection) {
+      // Every pair must pass, so the order only changes the cost: the smallest submap planes
+      // first (a wrong transform usually fails on a wall; the ground patch, the largest, lands on
+      // some floor almost anywhere).
+      std::array<int, 3> order{{0, 1, 2}};
+      std::sort(order.begin(), order.end(), [&](int a, int b) {
+        const std::size_t na = sub.planes[static_cast<std::size_t>(s[static_cast<std::size_t>(a)])].cells_m.size();
+        const std::size_t nb = sub.planes[static_cast<std::size_t>(s[static_cast<std::size_t>(b)])].cells_m.size();
+        return na != nb ? na < nb : a < b;
+      });
+      for (const int k : order) {
+        const PlanePatch& sp = sub.planes[static_cast<std::size_t>(s[static_cast<std::size_t>(k)])];
+        const MapPlane& mp = map.planes[static_cast<std::size_t>(m[static_cast<std::size_t>(k)])];
         h.projection[static_cast<std::size_t>(k)] = projection_share(sp, mp, T, p.min_projection);
         if (h.projection[static_cast<std::size_t>(k)] < p.min_projection) return false;
       }
@@ -315,9 +330,15 @@ struct PlaneMatcher::Search {
   /// The triplet transform: gravity aligned when the ground is one of its pairs, else the
   /// quaternion and least-squares solution.
   Eigen::Isometry3d solve(const std::array<int, 3>& s, const std::array<int, 3>& m, bool gravity) const {
-    // Normals and offsets only (the patches' cells are not copied).
-    std::vector<Eigen::Vector3d> ns, nm;
-    std::vector<double> ds, dm;
+    // Normals and offsets only (the patches' cells are not copied), in reused buffers.
+    std::vector<Eigen::Vector3d>& ns = scratch_ns;
+    std::vector<Eigen::Vector3d>& nm = scratch_nm;
+    std::vector<double>& ds = scratch_ds;
+    std::vector<double>& dm = scratch_dm;
+    ns.clear();
+    nm.clear();
+    ds.clear();
+    dm.clear();
     for (int k = 0; k < 3; ++k) {
       const PlanePatch& sp = sub.planes[static_cast<std::size_t>(s[static_cast<std::size_t>(k)])];
       const MapPlane& mp = map.planes[static_cast<std::size_t>(m[static_cast<std::size_t>(k)])];
