@@ -275,20 +275,23 @@ TEST(BevMatcher, RemovingADoorChangesThePosteriorOnlyWhereItIsVisible) {
 }
 
 // The bounded search finds the modes of the full posterior, scores and ties alike: perfect, soft
-// and diffuse BEVs, full circle and a 60 deg view, top-1 and top-8, both likelihoods.
+// and diffuse BEVs, full circle and a 60 deg view, top-1, top-3 and top-8, both likelihoods, with
+// and without semantics.
 TEST(BevMatcher, BoundedSearchEqualsTheFullPosterior) {
   const FloorPlan plan = windowed_floor();
   int checked = 0;
-  for (const BevLikelihood lk : {BevLikelihood::kMean, BevLikelihood::kExp}) {
+  for (const bool semantics : {true, false}) {
+   for (const BevLikelihood lk : {BevLikelihood::kMean, BevLikelihood::kExp}) {
     BevMatcherParams params;
     params.likelihood = lk;
+    params.semantics = semantics;
     const BevMatcher bounded(plan, params);
     for (const Pose2& pose : {Pose2{3.23, 1.61, 0.31}, Pose2{10.31, 3.07, 4.4}, Pose2{6.72, 6.83, 5.9}}) {
       const Observation2D perfect = perfect_observation(plan, pose);
       for (const float mix : {0.0f, 0.3f, 0.9f}) {
         for (const double fov_deg : {360.0, 60.0}) {
           Observation2D o;
-          BevPrediction b = perfect.bev[0];
+          const BevPrediction& b = perfect.bev[semantics ? 0 : 1];
           BevPrediction cut = b;
           cut.column_azimuth_rad.clear();
           cut.probabilities.clear();
@@ -296,13 +299,15 @@ TEST(BevMatcher, BoundedSearchEqualsTheFullPosterior) {
             const double az = wrap_angle_rad(b.column_azimuth_rad[static_cast<std::size_t>(w)]);
             if (fov_deg < 360.0 && std::abs(az) > deg_to_rad(fov_deg / 2)) continue;
             cut.column_azimuth_rad.push_back(az);
-            for (int q = 0; q < b.bins.count * 4; ++q) {
-              cut.probabilities.push_back((1.0f - mix) * b.probabilities[static_cast<std::size_t>(w) * b.bins.count * 4 + q] + mix / 4.0f);
+            const int C = b.num_classes();
+            for (int q = 0; q < b.bins.count * C; ++q) {
+              cut.probabilities.push_back((1.0f - mix) * b.probabilities[static_cast<std::size_t>(w) * b.bins.count * C + q] +
+                                          mix / static_cast<float>(C));
             }
           }
           o.bev = {cut};
           const Posterior full = bounded.match(o).posterior;
-          for (const int k : {1, 8}) {
+          for (const int k : {1, 3, 8}) {
             const std::vector<PoseHypothesis> expect = full.top_k(k);
             const MatchResult r = bounded.match(o, MatchRequest::modes(k));
             ASSERT_EQ(r.modes.size(), expect.size());
@@ -320,8 +325,9 @@ TEST(BevMatcher, BoundedSearchEqualsTheFullPosterior) {
         }
       }
     }
+   }
   }
-  EXPECT_EQ(checked, 72);
+  EXPECT_EQ(checked, 216);
 }
 
 // The thesis' 5 x 5 x 3 maximum filter: local maxima within +-2 cells and +-1 slice (circular).

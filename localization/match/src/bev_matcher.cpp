@@ -201,7 +201,11 @@ BevMatcher::BevMatcher(const BevMatcher& other, const BevMatcherParams& params) 
 BevMatcher::~BevMatcher() = default;
 
 std::size_t BevMatcher::precompute_bytes() const {
-  return pre_->volume.bytes() + pre_->row_start.size() * sizeof(std::int64_t);
+  // The volume and the bounded search's block index (runs, stop ranges, crossing masks).
+  std::size_t runs = 0;
+  for (const auto& r : pre_->block_runs) runs += r.size() * sizeof(r[0]) + sizeof(r);
+  return pre_->volume.bytes() + pre_->row_start.size() * sizeof(std::int64_t) + runs + pre_->block_stop_lo.size() +
+         pre_->block_stop_hi.size() + (pre_->block_doors.size() + pre_->block_windows.size()) * sizeof(std::uint64_t);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -298,32 +302,28 @@ BevMatcher::Tables BevMatcher::tables(const BevPrediction& bev) const {
   return t;
 }
 
-/// out[k * n + j] = the score of stored cell first + j at orientation k (k < K, j < n <=
-/// kTileCells). One fixed order of additions per cell, whatever the tile: the bounded search and
-/// the posterior get the same bits.
-void BevMatcher::score_tile(const Tables& t, std::size_t first, int n, float* out) const {
+/// out[j] = the score of stored cell first + j at orientation k (j < n <= kTileCells). One fixed
+/// order of additions per cell and orientation, whatever the tile or the orientations scored with
+/// it: the bounded search and the posterior get the same bits.
+void BevMatcher::score_orientation(const Tables& t, std::size_t first, int n, int k, float* out) const {
   const SemanticVolume& v = pre_->volume;
   const std::size_t N = v.num_cells();
   const bool semantic = !v.crossings.empty();
-  float acc[kTileCells];
-  for (int k = 0; k < t.K; ++k) {
-    const float base = static_cast<float>(t.base);
-    for (int j = 0; j < n; ++j) acc[j] = base;
-    for (int w = 0; w < t.W; ++w) {
-      const int a = (k * t.step + t.offset[static_cast<std::size_t>(w)]) % t.A;
-      const std::uint8_t* st = v.stop.data() + static_cast<std::size_t>(a) * N + first;
-      const float* ts = t.tstop.data() + static_cast<std::size_t>(w) * 256;
-      for (int j = 0; j < n; ++j) acc[j] += ts[st[j]];
-      if (semantic) {
-        const std::uint16_t* cr = v.crossings.data() + static_cast<std::size_t>(a) * N + first;
-        const float* tx = t.tx.data() + static_cast<std::size_t>(w) * 256;
-        for (int j = 0; j < n; ++j) {
-          const std::uint16_t c = cr[j];
-          if (c) acc[j] += tx[c & 0xff] + tx[c >> 8];
-        }
+  const float base = static_cast<float>(t.base);
+  for (int j = 0; j < n; ++j) out[j] = base;
+  for (int w = 0; w < t.W; ++w) {
+    const int a = (k * t.step + t.offset[static_cast<std::size_t>(w)]) % t.A;
+    const std::uint8_t* st = v.stop.data() + static_cast<std::size_t>(a) * N + first;
+    const float* ts = t.tstop.data() + static_cast<std::size_t>(w) * 256;
+    for (int j = 0; j < n; ++j) out[j] += ts[st[j]];
+    if (semantic) {
+      const std::uint16_t* cr = v.crossings.data() + static_cast<std::size_t>(a) * N + first;
+      const float* tx = t.tx.data() + static_cast<std::size_t>(w) * 256;
+      for (int j = 0; j < n; ++j) {
+        const std::uint16_t c = cr[j];
+        if (c) out[j] += tx[c & 0xff] + tx[c >> 8];
       }
     }
-    std::memcpy(out + static_cast<std::size_t>(k) * n, acc, static_cast<std::size_t>(n) * sizeof(float));
   }
   // Crossings beyond the second: cell-major, so one range per tile.
   if (!v.overflow.empty()) {
@@ -334,17 +334,21 @@ void BevMatcher::score_tile(const Tables& t, std::size_t first, int n, float* ou
       const int a = static_cast<int>(it->first % A);
       for (int w = 0; w < t.W; ++w) {
         const int rel = ((a - t.offset[static_cast<std::size_t>(w)]) % t.A + t.A) % t.A;
-        if (rel % t.step) continue;
-        out[static_cast<std::size_t>(rel / t.step) * n + j] += t.tx[static_cast<std::size_t>(w) * 256 + it->second];
+        if (rel % t.step || rel / t.step != k) continue;
+        out[j] += t.tx[static_cast<std::size_t>(w) * 256 + it->second];
       }
     }
   }
-  const std::size_t total = static_cast<std::size_t>(t.K) * n;
   if (t.likelihood == BevLikelihood::kMean) {
-    for (std::size_t q = 0; q < total; ++q) out[q] = std::max(0.0f, out[q] * t.scale);
+    for (int j = 0; j < n; ++j) out[j] = std::max(0.0f, out[j] * t.scale);
   } else {
-    for (std::size_t q = 0; q < total; ++q) out[q] = std::exp(-(1.0f - out[q] * t.scale) * t.inv_temperature);
+    for (int j = 0; j < n; ++j) out[j] = std::exp(-(1.0f - out[j] * t.scale) * t.inv_temperature);
   }
+}
+
+/// out[k * n + j] = the score of stored cell first + j at orientation k (k < K).
+void BevMatcher::score_tile(const Tables& t, std::size_t first, int n, float* out) const {
+  for (int k = 0; k < t.K; ++k) score_orientation(t, first, n, k, out + static_cast<std::size_t>(k) * n);
 }
 
 MatchResult BevMatcher::match(const Observation2D& obs, const MatchRequest& request) const {
@@ -420,19 +424,26 @@ MatchResult BevMatcher::match(const Observation2D& obs, const MatchRequest& requ
 }
 
 void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, MatchResult& result) const {
-  // Exact best-first search over blocks. A block's bound at orientation k adds, per column, the
-  // largest table entry over its cells' stop codes (the range [lo, hi] holds every cell's code)
-  // and the positive entries of every bin where one of its cells has a crossing: each cell's
-  // sum is at most that, since its marked bins are distinct. Blocks are scored exactly (every
-  // orientation) in descending order of their best bound; greedy suppression on the scored
-  // cells gives the modes Posterior::top_k would find on the full posterior once the last mode
-  // scores above every unscored block's bound (a mode is the best live cell; cells that can
-  // score no more than the last mode are never chosen and suppress nothing).
+  // Exact best-first search over (block, orientation) pairs. A pair's bound adds, per column, the
+  // largest table entry over its block's stop codes (the range [lo, hi] holds every cell's code)
+  // and the positive entries of every bin where one of its cells has a crossing: each cell's sum
+  // is at most that, since its marked bins are distinct. Pairs are scored exactly in descending
+  // order of their bounds; greedy suppression on the scored candidates gives the modes
+  // Posterior::top_k would find on the full posterior once the last mode scores above every
+  // unscored pair's bound (a mode is the best live cell; cells that can score no more than the
+  // last mode are never chosen and suppress nothing).
+  //
+  // Lower bound of the last mode: K scored candidates pairwise farther apart than twice the
+  // separation (in position or in yaw; picked greedily) are suppressed one at most per mode
+  // (triangle inequality), so greedy suppression on any set holding them finds K modes scoring at
+  // least the lowest of them, L. Candidates below L are never modes and suppress nothing: they
+  // are dropped, and so are the pairs whose bound is below L.
   const auto t0 = Clock::now();
   const SemanticVolume& v = pre_->volume;
   const GridSpec& g = v.grid;
   const int K = t.K, W = t.W, A = t.A, D1 = t.D + 1;
   const std::size_t NB = pre_->block_runs.size();
+  const std::size_t NU = NB * static_cast<std::size_t>(K);
   const bool semantic = !v.crossings.empty();
   result.grid = g;
   auto transform = [&](double acc) {
@@ -442,10 +453,9 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   // Float sums of up to 3 W terms of magnitude <= D: bounds are raised by a margin above their
   // rounding before they are compared with exact scores.
   const double margin = 1e-3 + 1e-5 * t.base;
-  std::vector<double> bound(NB);
+  std::vector<double> bound(NU);  // pair u = b * K + k
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NB, 64), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t b = range.begin(); b != range.end(); ++b) {
-      double best = -1e300;
       for (int k = 0; k < K; ++k) {
         double ub = t.base;
         for (int w = 0; w < W; ++w) {
@@ -458,16 +468,17 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
             for (std::uint64_t m = pre_->block_windows[idx]; m; m &= m - 1) ub += pos[64 + __builtin_ctzll(m)];
           }
         }
-        best = std::max(best, ub);
+        bound[b * static_cast<std::size_t>(K) + static_cast<std::size_t>(k)] = transform(ub + margin);
       }
-      bound[b] = transform(best + margin);
     }
   });
-  std::vector<std::uint32_t> order(NB);
-  for (std::size_t b = 0; b < NB; ++b) order[b] = static_cast<std::uint32_t>(b);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return bound[a] != bound[b] ? bound[a] > bound[b] : a < b;
-  });
+  // Unscored pairs, the best first; only positive scores are modes.
+  std::vector<std::uint32_t> open;
+  open.reserve(NU);
+  for (std::size_t u = 0; u < NU; ++u) {
+    if (bound[u] > 0.0) open.push_back(static_cast<std::uint32_t>(u));
+  }
+  auto before = [&](std::uint32_t a, std::uint32_t b) { return bound[a] != bound[b] ? bound[a] > bound[b] : a < b; };
   const auto t1 = Clock::now();
 
   struct Candidate {
@@ -480,78 +491,105 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
       return col < o.col;
     }
   };
-  std::vector<Candidate> pool;
-  std::size_t next = 0, cells_scored = 0;
-  double score_s = 0.0, modes_s = 0.0;
   const double res = g.resolution_m_per_px;
-  while (true) {
+  auto near = [&](const Candidate& c, const Candidate& m, double sep_m, double sep_rad) {
+    if (angle_distance_rad(2.0 * kPi * c.slice / K, 2.0 * kPi * m.slice / K) > sep_rad) return false;
+    const double dx = (c.col - m.col) * res, dy = (c.row - m.row) * res;
+    return std::sqrt(dx * dx + dy * dy) <= sep_m;
+  };
+  const double sep_m = request.mode_separation_m + 1e-12, sep_rad = request.mode_separation_rad;
+  std::vector<Candidate> pool, far, modes;
+  float lower = 0.0f;  // L: every mode scores at least this
+  std::size_t scored = 0, cells_scored = 0, dropped = 0;
+  double score_s = 0.0, modes_s = 0.0;
+  while (!open.empty()) {
     const auto ts = Clock::now();
-    const std::size_t end = std::min(NB, next + std::max<std::size_t>(16, next / 2));
-    std::vector<std::vector<Candidate>> found(end - next);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(next, end, 4), [&](const tbb::blocked_range<std::size_t>& range) {
-      std::vector<float> s(static_cast<std::size_t>(K) * kTileCells);
-      for (std::size_t u = range.begin(); u != range.end(); ++u) {
-        std::vector<Candidate>& out = found[u - next];
-        for (const auto& [first, n] : pre_->block_runs[order[u]]) {
-          score_tile(t, static_cast<std::size_t>(first), n, s.data());
+    // This round's pairs: the best `take` of the open ones (their order does not matter).
+    const std::size_t take = std::min(open.size(), std::max<std::size_t>(64, scored / 2));
+    if (take < open.size()) std::nth_element(open.begin(), open.begin() + static_cast<std::ptrdiff_t>(take), open.end(), before);
+    std::vector<std::vector<Candidate>> found(take);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, take, 16), [&](const tbb::blocked_range<std::size_t>& range) {
+      float s[kTileCells];
+      for (std::size_t q = range.begin(); q != range.end(); ++q) {
+        const std::size_t b = open[q] / static_cast<std::uint32_t>(K);
+        const int k = static_cast<int>(open[q] % static_cast<std::uint32_t>(K));
+        std::vector<Candidate>& out = found[q];
+        for (const auto& [first, n] : pre_->block_runs[b]) {
+          score_orientation(t, static_cast<std::size_t>(first), n, k, s);
           for (int j = 0; j < n; ++j) {
-            const int lin = v.cells[static_cast<std::size_t>(first) + static_cast<std::size_t>(j)];
-            for (int k = 0; k < K; ++k) {
-              const float x = s[static_cast<std::size_t>(k) * n + j];
-              if (x > 0.0f) out.push_back({x, k, lin / g.width_px, lin % g.width_px});
+            if (s[j] > 0.0f && s[j] >= lower) {
+              const int lin = v.cells[static_cast<std::size_t>(first) + static_cast<std::size_t>(j)];
+              out.push_back({s[j], k, lin / g.width_px, lin % g.width_px});
             }
           }
         }
       }
     });
     const std::size_t sorted = pool.size();
-    for (std::size_t u = next; u < end; ++u) {
-      for (const auto& run : pre_->block_runs[order[u]]) cells_scored += static_cast<std::size_t>(run.second);
-      pool.insert(pool.end(), found[u - next].begin(), found[u - next].end());
+    for (std::size_t q = 0; q < take; ++q) {
+      for (const auto& run : pre_->block_runs[open[q] / static_cast<std::uint32_t>(K)]) cells_scored += static_cast<std::size_t>(run.second);
+      pool.insert(pool.end(), found[q].begin(), found[q].end());
     }
-    next = end;
+    scored += take;
+    open.erase(open.begin(), open.begin() + static_cast<std::ptrdiff_t>(take));
     const auto tm = Clock::now();
     score_s += seconds(ts, tm);
-    // Greedy suppression on the scored cells, in Posterior::top_k's order: the pool is kept
-    // sorted, so only this round's candidates are sorted and merged in (a strict order over
-    // distinct cells: the same sequence as sorting the whole pool).
+    // The pool is kept sorted in Posterior::top_k's order: only this round's candidates are sorted
+    // and merged in (a strict order over distinct candidates: the same sequence as sorting all).
     std::sort(pool.begin() + static_cast<std::ptrdiff_t>(sorted), pool.end());
     std::inplace_merge(pool.begin(), pool.begin() + static_cast<std::ptrdiff_t>(sorted), pool.end());
-    result.modes.clear();
+    // L from K candidates pairwise beyond twice the separation; the pool and the open pairs below it go.
+    far.clear();
     for (const Candidate& c : pool) {
-      if (static_cast<int>(result.modes.size()) >= request.top_k) break;
-      const double yaw = 2.0 * kPi * c.slice / K;
-      bool suppressed = false;
-      for (const PoseHypothesis& m : result.modes) {
-        if (angle_distance_rad(yaw, m.yaw_rad) > request.mode_separation_rad) continue;
-        const double dx = (c.col - m.col) * res, dy = (c.row - m.row) * res;
-        if (std::sqrt(dx * dx + dy * dy) <= request.mode_separation_m + 1e-12) {
-          suppressed = true;
-          break;
-        }
+      if (static_cast<int>(far.size()) >= request.top_k) break;
+      if (std::none_of(far.begin(), far.end(), [&](const Candidate& m) { return near(c, m, 2.0 * sep_m + 1e-9, 2.0 * sep_rad + 1e-9); })) {
+        far.push_back(c);
       }
-      if (suppressed) continue;
-      PoseHypothesis h;
-      const Vec2 p = g.cell_center_m(c.row, c.col);
-      h.x_m = p.x();
-      h.y_m = p.y();
-      h.yaw_rad = yaw;
-      h.score = c.score;
-      h.slice = c.slice;
-      h.row = c.row;
-      h.col = c.col;
-      result.modes.push_back(h);
+    }
+    if (static_cast<int>(far.size()) >= request.top_k && request.top_k > 0) {
+      lower = std::max(lower, far.back().score);
+      const auto cut = std::partition_point(pool.begin(), pool.end(), [&](const Candidate& c) { return c.score >= lower; });
+      pool.erase(cut, pool.end());
+      const std::size_t n_open = open.size();
+      open.erase(std::remove_if(open.begin(), open.end(), [&](std::uint32_t u) { return bound[u] < lower; }), open.end());
+      dropped += n_open - open.size();
+    }
+    // Greedy suppression on the scored candidates, in Posterior::top_k's order.
+    modes.clear();
+    for (const Candidate& c : pool) {
+      if (static_cast<int>(modes.size()) >= request.top_k) break;
+      if (std::none_of(modes.begin(), modes.end(), [&](const Candidate& m) { return near(c, m, sep_m, sep_rad); })) {
+        modes.push_back(c);
+      }
     }
     modes_s += seconds(tm, Clock::now());
-    if (next >= NB) break;
-    if (static_cast<int>(result.modes.size()) >= request.top_k && result.modes.back().score > bound[order[next]]) break;
+    if (static_cast<int>(modes.size()) >= request.top_k && !open.empty()) {
+      double best_open = 0.0;
+      for (const std::uint32_t u : open) best_open = std::max(best_open, bound[u]);
+      if (modes.back().score > best_open) break;
+    }
+  }
+  result.modes.clear();
+  for (const Candidate& c : modes) {
+    PoseHypothesis h;
+    const Vec2 p = g.cell_center_m(c.row, c.col);
+    h.x_m = p.x();
+    h.y_m = p.y();
+    h.yaw_rad = 2.0 * kPi * c.slice / K;
+    h.score = c.score;
+    h.slice = c.slice;
+    h.row = c.row;
+    h.col = c.col;
+    result.modes.push_back(h);
   }
   result.stage_s["bounds"] = seconds(t0, t1);
   result.stage_s["scores"] = score_s;
   result.stage_s["modes"] = modes_s;
-  result.counters["blocks_scored"] = static_cast<double>(next);
+  result.counters["pairs_scored"] = static_cast<double>(scored);
+  result.counters["pairs_dropped"] = static_cast<double>(dropped);
   result.counters["cells_scored"] = static_cast<double>(cells_scored);
-  result.counters["cells_scored_share"] = v.num_cells() ? static_cast<double>(cells_scored) / static_cast<double>(v.num_cells()) : 0.0;
+  result.counters["cells_scored_share"] =
+      v.num_cells() ? static_cast<double>(cells_scored) / (static_cast<double>(v.num_cells()) * K) : 0.0;
 }
 
 std::vector<double> bev_scores_reference(const SemanticVolume& v, std::size_t cell, const BevPrediction& bev,

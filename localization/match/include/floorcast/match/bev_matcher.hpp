@@ -37,10 +37,11 @@ enum class BevLikelihood {
 /// How the estimate and top-K modes are found (MatchOutput::kModes; the posterior and the
 /// max-over-yaw map always score every cell).
 enum class BevSearch {
-  /// Exact best-first search over blocks of cells: an upper bound of every block's score at each
-  /// orientation from the range of its cells' stop bins and the union of their crossings orders
-  /// the blocks, which are scored exactly in that order until no unscored block can reach the
-  /// next mode. Same modes, scores and ties as kExhaustive.
+  /// Exact best-first search over (block of cells, orientation) pairs: an upper bound of each
+  /// pair's scores from the range of the block's stop bins and the union of its crossings orders
+  /// the pairs, which are scored exactly in that order until no unscored pair can reach the last
+  /// mode; pairs and candidates below a lower bound of the last mode's score are dropped. Same
+  /// modes, scores and ties as kExhaustive.
   kBounded,
   /// Score every stored cell at every orientation (the reference).
   kExhaustive,
@@ -145,6 +146,7 @@ class BevMatcher final : public Matcher {
   struct Tables;
   Tables tables(const BevPrediction& bev) const;
   void score_tile(const Tables& t, std::size_t first, int n, float* out) const;
+  void score_orientation(const Tables& t, std::size_t first, int n, int k, float* out) const;
   void match_modes(const Tables& t, const MatchRequest& request, MatchResult& result) const;
   void index_blocks(Precomputed& pre) const;
   BevMatcherParams params_;
