@@ -6,9 +6,10 @@
 # Usage: scripts/bev.sh [REALPLANS_DIR] [OUT_DIR]    env: JOBS (default 2), SKIP (space-separated
 #   run names to skip: calibrated realplans sweep sequential), PROFILE (full, the default: the
 #   scenarios as written, ~2-3 h of CPU; shared: the reduced counts results/bev.md was measured
-#   with on a shared 2-core machine, ~1 h wall: calibrated 8 points per building and the cells
-#   single x {perfect, structured3d_good, structured3d_bad} + full x structured3d_good; real
-#   levels 6 points; sweep 6 points per building; sequential 4 walks per building)
+#   with on a shared 2-core machine, ~1 h wall: the single-shot runs (calibrated 12 points per
+#   building, real levels 8) on five of the ten cells, single x {perfect, structured3d_good,
+#   structured3d_bad} and full x {perfect, structured3d_good}; sweep 6 points per building;
+#   sequential 4 walks per building)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 src=${1:-}
@@ -32,20 +33,20 @@ profiled() {  # name scenario points-per-building -> path of the scenario to run
   if [ "$profile" = full ]; then echo "$2"; return; fi
   local f="$out/$1_shared.yaml"
   sed -E "s/^sampling: \{count: [0-9]+,/sampling: {count: $3,/" "$2" > "$f"
-  if [ "$1" = calibrated ]; then  # one sweep axis of four (setting, preset) cells
+  if [ "$1" = calibrated ]; then  # one sweep axis of five (setting, preset) cells
     python3 - "$f" <<'PY'
 import re, sys
 p = sys.argv[1]
 s = open(p).read()
-cells = ("sweep:\n  - observation.setting: [single, single, single, full]\n"
-         "    observation.observe_params.bev.preset: [perfect, structured3d_good, structured3d_bad, structured3d_good]\n")
+cells = ("sweep:\n  - observation.setting: [single, single, single, full, full]\n"
+         "    observation.observe_params.bev.preset: [perfect, structured3d_good, structured3d_bad, perfect, structured3d_good]\n")
 s = re.sub(r"^sweep:\n(?:  .*\n)+", cells, s, flags=re.M)
 open(p, "w").write(s)
 PY
   fi
   echo "$f"
 }
-run calibrated "$(profiled calibrated scenarios/bev.yaml 8)"
+run calibrated "$(profiled calibrated scenarios/bev.yaml 12)"
 if [ -n "$src" ] && [ -d "$src" ]; then
   FLOORCAST=$bin bash scripts/import_realplans.sh "$src" "$out/plans"
   # The same scenario on the six small real levels (the real development set of
@@ -56,8 +57,8 @@ if [ -n "$src" ] && [ -d "$src" ]; then
     for l in tum_studitum_L1 tum_studitum_L2 rwth_plt_L0 rwth_plt_L1 spbstu_no3_L2 spbstu_no3_L4; do
       echo "  - $(realpath "$out/plans/$l.json")"
     done
-    sed -n '/^sampling:/,$p' "$(profiled calibrated scenarios/bev.yaml 8)" |
-      sed -E "s/^sampling: \{count: [0-9]+, seed: 27, clearance_m: 0.5\}/sampling: {count: $([ "$profile" = full ] && echo 8 || echo 6), seed: 27, clearance_m: 0.5, region: uniform}/"
+    sed -n '/^sampling:/,$p' "$(profiled calibrated scenarios/bev.yaml 12)" |
+      sed -E "s/^sampling: \{count: [0-9]+, seed: 27, clearance_m: 0.5\}/sampling: {count: 8, seed: 27, clearance_m: 0.5, region: uniform}/"
   } > "$out/bev_realplans.yaml"
   run realplans "$out/bev_realplans.yaml"
 else

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "floorcast/core/limits.hpp"
 #include "floorcast/core/math.hpp"
@@ -427,17 +428,13 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   // Exact best-first search over (block, orientation) pairs. A pair's bound adds, per column, the
   // largest table entry over its block's stop codes (the range [lo, hi] holds every cell's code)
   // and the positive entries of every bin where one of its cells has a crossing: each cell's sum
-  // is at most that, since its marked bins are distinct. Pairs are scored exactly in descending
-  // order of their bounds; greedy suppression on the scored candidates gives the modes
-  // Posterior::top_k would find on the full posterior once the last mode scores above every
-  // unscored pair's bound (a mode is the best live cell; cells that can score no more than the
-  // last mode are never chosen and suppress nothing).
-  //
-  // Lower bound of the last mode: K scored candidates pairwise farther apart than twice the
-  // separation (in position or in yaw; picked greedily) are suppressed one at most per mode
-  // (triangle inequality), so greedy suppression on any set holding them finds K modes scoring at
-  // least the lowest of them, L. Candidates below L are never modes and suppress nothing: they
-  // are dropped, and so are the pairs whose bound is below L.
+  // is at most that, since its marked bins are distinct. Greedy suppression (Posterior::top_k)
+  // picks as mode i the best candidate not within the separation of modes 1..i-1; it is found
+  // among the scored pairs once every pair whose bound reaches it is scored, so pairs are scored
+  // in descending order of their bounds until none left reaches the best live candidate. Each
+  // scored pair keeps only its best live candidate; a new mode makes those near it stale and their
+  // pairs are scored again. No candidate pool: a flat posterior (a 60 deg view in a large
+  // building) has hundreds of thousands of candidates near the top.
   const auto t0 = Clock::now();
   const SemanticVolume& v = pre_->volume;
   const GridSpec& g = v.grid;
@@ -472,7 +469,7 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
       }
     }
   });
-  // Unscored pairs, the best first; only positive scores are modes.
+  // Unscored pairs with a positive bound (only positive scores are modes).
   std::vector<std::uint32_t> open;
   open.reserve(NU);
   for (std::size_t u = 0; u < NU; ++u) {
@@ -482,8 +479,8 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   const auto t1 = Clock::now();
 
   struct Candidate {
-    float score;
-    std::int32_t slice, row, col;
+    float score = -1.0f;  ///< < 0: none
+    std::int32_t slice = 0, row = 0, col = 0;
     bool operator<(const Candidate& o) const {  // Posterior::top_k's order: score, slice, row, column
       if (score != o.score) return score > o.score;
       if (slice != o.slice) return slice < o.slice;
@@ -492,82 +489,95 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
     }
   };
   const double res = g.resolution_m_per_px;
-  auto near = [&](const Candidate& c, const Candidate& m, double sep_m, double sep_rad) {
-    if (angle_distance_rad(2.0 * kPi * c.slice / K, 2.0 * kPi * m.slice / K) > sep_rad) return false;
-    const double dx = (c.col - m.col) * res, dy = (c.row - m.row) * res;
-    return std::sqrt(dx * dx + dy * dy) <= sep_m;
-  };
   const double sep_m = request.mode_separation_m + 1e-12, sep_rad = request.mode_separation_rad;
-  std::vector<Candidate> pool, far, modes;
-  float lower = 0.0f;  // L: every mode scores at least this
-  std::size_t scored = 0, cells_scored = 0, dropped = 0;
+  std::vector<Candidate> modes;
+  auto suppressed = [&](const Candidate& c) {
+    for (const Candidate& m : modes) {
+      if (angle_distance_rad(2.0 * kPi * c.slice / K, 2.0 * kPi * m.slice / K) > sep_rad) continue;
+      const double dx = (c.col - m.col) * res, dy = (c.row - m.row) * res;
+      if (std::sqrt(dx * dx + dy * dy) <= sep_m) return true;
+    }
+    return false;
+  };
+  // The best live (positive, not suppressed by a mode) candidate of pair u, scored afresh.
+  auto best_live = [&](std::uint32_t u) {
+    const std::size_t b = u / static_cast<std::uint32_t>(K);
+    const int k = static_cast<int>(u % static_cast<std::uint32_t>(K));
+    float s[kTileCells];
+    Candidate best;
+    for (const auto& [first, n] : pre_->block_runs[b]) {
+      score_orientation(t, static_cast<std::size_t>(first), n, k, s);
+      for (int j = 0; j < n; ++j) {
+        if (!(s[j] > 0.0f)) continue;
+        const int lin = v.cells[static_cast<std::size_t>(first) + static_cast<std::size_t>(j)];
+        const Candidate c{s[j], k, lin / g.width_px, lin % g.width_px};
+        if ((best.score < 0.0f || c < best) && !suppressed(c)) best = c;
+      }
+    }
+    return best;
+  };
+  // Mode i is the best live candidate: the scored pairs' best live ones, after scoring every pair
+  // whose bound reaches it (in growing batches of the best open pairs). A new mode can only take
+  // the best of the pairs near it: those are scored again.
+  std::vector<std::uint32_t> scored;
+  std::vector<Candidate> pair_best;
+  std::size_t head = 0, cells_scored = 0, rounds = 0, rescored = 0;
+  double open_max = open.empty() ? -1.0 : std::numeric_limits<double>::infinity();
   double score_s = 0.0, modes_s = 0.0;
-  while (!open.empty()) {
-    const auto ts = Clock::now();
-    // This round's pairs: the best `take` of the open ones (their order does not matter).
-    const std::size_t take = std::min(open.size(), std::max<std::size_t>(64, scored / 2));
-    if (take < open.size()) std::nth_element(open.begin(), open.begin() + static_cast<std::ptrdiff_t>(take), open.end(), before);
-    std::vector<std::vector<Candidate>> found(take);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, take, 16), [&](const tbb::blocked_range<std::size_t>& range) {
-      float s[kTileCells];
-      for (std::size_t q = range.begin(); q != range.end(); ++q) {
-        const std::size_t b = open[q] / static_cast<std::uint32_t>(K);
-        const int k = static_cast<int>(open[q] % static_cast<std::uint32_t>(K));
-        std::vector<Candidate>& out = found[q];
-        for (const auto& [first, n] : pre_->block_runs[b]) {
-          score_orientation(t, static_cast<std::size_t>(first), n, k, s);
-          for (int j = 0; j < n; ++j) {
-            if (s[j] > 0.0f && s[j] >= lower) {
-              const int lin = v.cells[static_cast<std::size_t>(first) + static_cast<std::size_t>(j)];
-              out.push_back({s[j], k, lin / g.width_px, lin % g.width_px});
-            }
-          }
-        }
-      }
-    });
-    const std::size_t sorted = pool.size();
-    for (std::size_t q = 0; q < take; ++q) {
-      for (const auto& run : pre_->block_runs[open[q] / static_cast<std::uint32_t>(K)]) cells_scored += static_cast<std::size_t>(run.second);
-      pool.insert(pool.end(), found[q].begin(), found[q].end());
-    }
-    scored += take;
-    open.erase(open.begin(), open.begin() + static_cast<std::ptrdiff_t>(take));
+  while (static_cast<int>(modes.size()) < request.top_k) {
     const auto tm = Clock::now();
-    score_s += seconds(ts, tm);
-    // The pool is kept sorted in Posterior::top_k's order: only this round's candidates are sorted
-    // and merged in (a strict order over distinct candidates: the same sequence as sorting all).
-    std::sort(pool.begin() + static_cast<std::ptrdiff_t>(sorted), pool.end());
-    std::inplace_merge(pool.begin(), pool.begin() + static_cast<std::ptrdiff_t>(sorted), pool.end());
-    // L from K candidates pairwise beyond twice the separation; the pool and the open pairs below it go.
-    far.clear();
-    for (const Candidate& c : pool) {
-      if (static_cast<int>(far.size()) >= request.top_k) break;
-      if (std::none_of(far.begin(), far.end(), [&](const Candidate& m) { return near(c, m, 2.0 * sep_m + 1e-9, 2.0 * sep_rad + 1e-9); })) {
-        far.push_back(c);
-      }
-    }
-    if (static_cast<int>(far.size()) >= request.top_k && request.top_k > 0) {
-      lower = std::max(lower, far.back().score);
-      const auto cut = std::partition_point(pool.begin(), pool.end(), [&](const Candidate& c) { return c.score >= lower; });
-      pool.erase(cut, pool.end());
-      const std::size_t n_open = open.size();
-      open.erase(std::remove_if(open.begin(), open.end(), [&](std::uint32_t u) { return bound[u] < lower; }), open.end());
-      dropped += n_open - open.size();
-    }
-    // Greedy suppression on the scored candidates, in Posterior::top_k's order.
-    modes.clear();
-    for (const Candidate& c : pool) {
-      if (static_cast<int>(modes.size()) >= request.top_k) break;
-      if (std::none_of(modes.begin(), modes.end(), [&](const Candidate& m) { return near(c, m, sep_m, sep_rad); })) {
-        modes.push_back(c);
-      }
+    Candidate best;
+    for (const Candidate& c : pair_best) {
+      if (c.score >= 0.0f && (best.score < 0.0f || c < best)) best = c;
     }
     modes_s += seconds(tm, Clock::now());
-    if (static_cast<int>(modes.size()) >= request.top_k && !open.empty()) {
-      double best_open = 0.0;
-      for (const std::uint32_t u : open) best_open = std::max(best_open, bound[u]);
-      if (modes.back().score > best_open) break;
+    while (head < open.size() && (best.score < 0.0f || open_max >= static_cast<double>(best.score))) {
+      const auto ts = Clock::now();
+      ++rounds;
+      std::size_t take = std::min(open.size() - head, std::max<std::size_t>(64, scored.size() / 2));
+      const auto first = open.begin() + static_cast<std::ptrdiff_t>(head);
+      const auto nth = first + static_cast<std::ptrdiff_t>(take);
+      if (nth != open.end()) std::nth_element(first, nth, open.end(), before);
+      open_max = nth != open.end() ? bound[*nth] : -1.0;  // the best of the rest
+      if (best.score >= 0.0f) {
+        // Of the batch, only the pairs that can reach the best live candidate now; the others
+        // stay open for later modes.
+        const double need = static_cast<double>(best.score);
+        const auto mid = std::partition(first, nth, [&](std::uint32_t u) { return bound[u] >= need; });
+        take = static_cast<std::size_t>(mid - first);
+        for (auto it = mid; it != nth; ++it) open_max = std::max(open_max, bound[*it]);
+      }
+      std::vector<Candidate> found(take);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, take, 16), [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t q = range.begin(); q != range.end(); ++q) found[q] = best_live(open[head + q]);
+      });
+      for (std::size_t q = 0; q < take; ++q) {
+        const std::uint32_t u = open[head + q];
+        for (const auto& run : pre_->block_runs[u / static_cast<std::uint32_t>(K)]) cells_scored += static_cast<std::size_t>(run.second);
+        scored.push_back(u);
+        pair_best.push_back(found[q]);
+        if (found[q].score >= 0.0f && (best.score < 0.0f || found[q] < best)) best = found[q];
+      }
+      head += take;
+      score_s += seconds(ts, Clock::now());
     }
+    if (best.score < 0.0f) break;  // no positive score left
+    const auto tr = Clock::now();
+    modes.push_back(best);
+    if (static_cast<int>(modes.size()) >= request.top_k) break;
+    std::vector<std::size_t> stale;
+    for (std::size_t q = 0; q < pair_best.size(); ++q) {
+      const Candidate& c = pair_best[q];
+      if (c.score < 0.0f) continue;
+      if (angle_distance_rad(2.0 * kPi * c.slice / K, 2.0 * kPi * best.slice / K) > sep_rad) continue;
+      const double dx = (c.col - best.col) * res, dy = (c.row - best.row) * res;
+      if (std::sqrt(dx * dx + dy * dy) <= sep_m) stale.push_back(q);
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, stale.size(), 8), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) pair_best[stale[i]] = best_live(scored[stale[i]]);
+    });
+    rescored += stale.size();
+    modes_s += seconds(tr, Clock::now());
   }
   result.modes.clear();
   for (const Candidate& c : modes) {
@@ -585,8 +595,9 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   result.stage_s["bounds"] = seconds(t0, t1);
   result.stage_s["scores"] = score_s;
   result.stage_s["modes"] = modes_s;
-  result.counters["pairs_scored"] = static_cast<double>(scored);
-  result.counters["pairs_dropped"] = static_cast<double>(dropped);
+  result.counters["pairs_scored"] = static_cast<double>(scored.size());
+  result.counters["pairs_rescored"] = static_cast<double>(rescored);
+  result.counters["rounds"] = static_cast<double>(rounds);
   result.counters["cells_scored"] = static_cast<double>(cells_scored);
   result.counters["cells_scored_share"] =
       v.num_cells() ? static_cast<double>(cells_scored) / (static_cast<double>(v.num_cells()) * K) : 0.0;

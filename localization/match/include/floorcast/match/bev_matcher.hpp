@@ -39,9 +39,9 @@ enum class BevLikelihood {
 enum class BevSearch {
   /// Exact best-first search over (block of cells, orientation) pairs: an upper bound of each
   /// pair's scores from the range of the block's stop bins and the union of its crossings orders
-  /// the pairs, which are scored exactly in that order until no unscored pair can reach the last
-  /// mode; pairs and candidates below a lower bound of the last mode's score are dropped. Same
-  /// modes, scores and ties as kExhaustive.
+  /// the pairs, which are scored exactly in that order until no unscored pair can reach the next
+  /// mode (each mode the best candidate outside the earlier modes' separation). Same modes,
+  /// scores and ties as kExhaustive.
   kBounded,
   /// Score every stored cell at every orientation (the reference).
   kExhaustive,
