@@ -107,40 +107,58 @@ BevMatcher::BevMatcher(const FloorPlan& plan, const BevMatcherParams& params) : 
   const auto t0 = Clock::now();
   auto pre = std::make_shared<Precomputed>();
   pre->volume = compute_volume(plan, params_);
-  const SemanticVolume& v = pre->volume;
-  pre->row_start.assign(static_cast<std::size_t>(v.grid.height_px) + 1, 0);
-  std::size_t i = 0;
-  for (int r = 0; r <= v.grid.height_px; ++r) {
-    const std::int64_t first_lin = static_cast<std::int64_t>(r) * v.grid.width_px;
-    while (i < v.cells.size() && v.cells[i] < first_lin) ++i;
-    pre->row_start[static_cast<std::size_t>(r)] = static_cast<std::int64_t>(i);
-  }
   index_blocks(*pre);
   pre_ = std::move(pre);
   precompute_s_ = seconds(t0, Clock::now());
 }
 
 void BevMatcher::index_blocks(Precomputed& pre) const {
-  const SemanticVolume& v = pre.volume;
+  SemanticVolume& v = pre.volume;
   const GridSpec& g = v.grid;
   const int B = kBlockCells, A = v.num_directions;
   const std::size_t N = v.num_cells();
-  for (int r0 = 0; r0 < g.height_px; r0 += B) {
-    for (int c0 = 0; c0 < g.width_px; c0 += B) {
-      std::vector<std::pair<std::int64_t, int>> runs;
-      for (int r = r0; r < std::min(g.height_px, r0 + B); ++r) {
-        const auto rb = v.cells.begin() + pre.row_start[static_cast<std::size_t>(r)];
-        const auto re = v.cells.begin() + pre.row_start[static_cast<std::size_t>(r) + 1];
-        const std::int32_t base = r * g.width_px;
-        const auto a = std::lower_bound(rb, re, base + c0);
-        const auto b = std::lower_bound(rb, re, base + std::min(g.width_px, c0 + B));
-        if (b > a) runs.emplace_back(a - v.cells.begin(), static_cast<int>(b - a));
-      }
-      if (!runs.empty()) pre.block_runs.push_back(std::move(runs));
-    }
+  // Stored cells block by block: a stable sort of the row-major cells by block keeps them
+  // row-major within each block.
+  const std::int64_t blocks_per_row = (g.width_px + B - 1) / B;
+  auto block_of = [&](std::int32_t lin) {
+    return static_cast<std::int64_t>(lin / g.width_px / B) * blocks_per_row + (lin % g.width_px) / B;
+  };
+  std::vector<std::uint32_t> perm(N);  // new index -> old index
+  for (std::size_t i = 0; i < N; ++i) perm[i] = static_cast<std::uint32_t>(i);
+  std::stable_sort(perm.begin(), perm.end(),
+                   [&](std::uint32_t x, std::uint32_t y) { return block_of(v.cells[x]) < block_of(v.cells[y]); });
+  std::vector<std::uint32_t> inverse(N);
+  for (std::size_t j = 0; j < N; ++j) inverse[perm[j]] = static_cast<std::uint32_t>(j);
+  {
+    std::vector<std::int32_t> cells(N);
+    for (std::size_t j = 0; j < N; ++j) cells[j] = v.cells[perm[j]];
+    v.cells.swap(cells);
   }
-  const std::size_t NB = pre.block_runs.size();
+  for (std::size_t j = 0; j < N; ++j) v.cell_index[static_cast<std::size_t>(v.cells[j])] = static_cast<std::int32_t>(j);
   const bool semantic = !v.crossings.empty();
+  tbb::parallel_for(0, A, [&](int a) {
+    const std::size_t off = static_cast<std::size_t>(a) * N;
+    std::vector<std::uint8_t> st(N);
+    for (std::size_t j = 0; j < N; ++j) st[j] = v.stop[off + perm[j]];
+    std::copy(st.begin(), st.end(), v.stop.begin() + static_cast<std::ptrdiff_t>(off));
+    if (semantic) {
+      std::vector<std::uint16_t> cr(N);
+      for (std::size_t j = 0; j < N; ++j) cr[j] = v.crossings[off + perm[j]];
+      std::copy(cr.begin(), cr.end(), v.crossings.begin() + static_cast<std::ptrdiff_t>(off));
+    }
+  });
+  // Overflow keys (cell, direction) renumbered; same-key entries keep their order.
+  for (auto& o : v.overflow) o.first = static_cast<std::uint64_t>(inverse[o.first / A]) * A + o.first % A;
+  std::stable_sort(v.overflow.begin(), v.overflow.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (std::size_t j = 0; j < N;) {
+    const std::int64_t blk = block_of(v.cells[j]);
+    std::size_t e = j + 1;
+    while (e < N && block_of(v.cells[e]) == blk) ++e;
+    pre.block_range.emplace_back(static_cast<std::int64_t>(j), static_cast<int>(e - j));
+    j = e;
+  }
+
+  const std::size_t NB = pre.block_range.size();
   pre.block_stop_lo.assign(NB * static_cast<std::size_t>(A), 255);
   pre.block_stop_hi.assign(NB * static_cast<std::size_t>(A), 0);
   if (semantic) {
@@ -155,33 +173,30 @@ void BevMatcher::index_blocks(Precomputed& pre) const {
                                          : pre.block_doors[b * A + static_cast<std::size_t>(a)];
         m |= std::uint64_t{1} << (byte & 0x3f);
       };
+      const auto [first, n] = pre.block_range[b];
       for (int a = 0; a < A; ++a) {
         std::uint8_t lo = 255, hi = 0;
-        for (const auto& [first, n] : pre.block_runs[b]) {
-          const std::uint8_t* st = v.stop.data() + static_cast<std::size_t>(a) * N + static_cast<std::size_t>(first);
+        const std::uint8_t* st = v.stop.data() + static_cast<std::size_t>(a) * N + static_cast<std::size_t>(first);
+        for (int j = 0; j < n; ++j) {
+          lo = std::min(lo, st[j]);
+          hi = std::max(hi, st[j]);
+        }
+        if (semantic) {
+          const std::uint16_t* cr = v.crossings.data() + static_cast<std::size_t>(a) * N + static_cast<std::size_t>(first);
           for (int j = 0; j < n; ++j) {
-            lo = std::min(lo, st[j]);
-            hi = std::max(hi, st[j]);
-          }
-          if (semantic) {
-            const std::uint16_t* cr = v.crossings.data() + static_cast<std::size_t>(a) * N + static_cast<std::size_t>(first);
-            for (int j = 0; j < n; ++j) {
-              mark(a, static_cast<std::uint8_t>(cr[j] & 0xff));
-              mark(a, static_cast<std::uint8_t>(cr[j] >> 8));
-            }
+            mark(a, static_cast<std::uint8_t>(cr[j] & 0xff));
+            mark(a, static_cast<std::uint8_t>(cr[j] >> 8));
           }
         }
         pre.block_stop_lo[b * A + static_cast<std::size_t>(a)] = lo;
         pre.block_stop_hi[b * A + static_cast<std::size_t>(a)] = hi;
       }
       if (!semantic || v.overflow.empty()) continue;
-      for (const auto& [first, n] : pre.block_runs[b]) {
-        const std::uint64_t k0 = static_cast<std::uint64_t>(first) * A;
-        const std::uint64_t k1 = static_cast<std::uint64_t>(first + n) * A;
-        for (auto it = std::lower_bound(v.overflow.begin(), v.overflow.end(), std::make_pair(k0, std::uint8_t{0}));
-             it != v.overflow.end() && it->first < k1; ++it) {
-          mark(static_cast<int>(it->first % A), it->second);
-        }
+      const std::uint64_t k0 = static_cast<std::uint64_t>(first) * A;
+      const std::uint64_t k1 = static_cast<std::uint64_t>(first + n) * A;
+      for (auto it = std::lower_bound(v.overflow.begin(), v.overflow.end(), std::make_pair(k0, std::uint8_t{0}));
+           it != v.overflow.end() && it->first < k1; ++it) {
+        mark(static_cast<int>(it->first % A), it->second);
       }
     }
   });
@@ -202,10 +217,8 @@ BevMatcher::BevMatcher(const BevMatcher& other, const BevMatcherParams& params) 
 BevMatcher::~BevMatcher() = default;
 
 std::size_t BevMatcher::precompute_bytes() const {
-  // The volume and the bounded search's block index (runs, stop ranges, crossing masks).
-  std::size_t runs = 0;
-  for (const auto& r : pre_->block_runs) runs += r.size() * sizeof(r[0]) + sizeof(r);
-  return pre_->volume.bytes() + pre_->row_start.size() * sizeof(std::int64_t) + runs + pre_->block_stop_lo.size() +
+  // The volume and the bounded search's block index (ranges, stop ranges, crossing masks).
+  return pre_->volume.bytes() + pre_->block_range.size() * sizeof(pre_->block_range[0]) + pre_->block_stop_lo.size() +
          pre_->block_stop_hi.size() + (pre_->block_doors.size() + pre_->block_windows.size()) * sizeof(std::uint64_t);
 }
 
@@ -320,10 +333,8 @@ void BevMatcher::score_orientation(const Tables& t, std::size_t first, int n, in
     if (semantic) {
       const std::uint16_t* cr = v.crossings.data() + static_cast<std::size_t>(a) * N + first;
       const float* tx = t.tx.data() + static_cast<std::size_t>(w) * 256;
-      for (int j = 0; j < n; ++j) {
-        const std::uint16_t c = cr[j];
-        if (c) out[j] += tx[c & 0xff] + tx[c >> 8];
-      }
+      // Branch-free: tx[0] = 0, and x + (0 + 0) == x.
+      for (int j = 0; j < n; ++j) out[j] += tx[cr[j] & 0xff] + tx[cr[j] >> 8];
     }
   }
   // Crossings beyond the second: cell-major, so one range per tile.
@@ -392,13 +403,13 @@ MatchResult BevMatcher::match(const Observation2D& obs, const MatchRequest& requ
   std::vector<float*> slices(static_cast<std::size_t>(K));
   for (int k = 0; k < K; ++k) slices[static_cast<std::size_t>(k)] = post.scores[static_cast<std::size_t>(k)].ptr<float>();
   tbb::enumerable_thread_specific<std::vector<float>> scratch;
-  tbb::parallel_for(0, g.height_px, [&](int row) {
+  const std::size_t N = v.num_cells();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (N + kTileCells - 1) / kTileCells), [&](const tbb::blocked_range<std::size_t>& range) {
     std::vector<float>& s = scratch.local();
     s.resize(static_cast<std::size_t>(K) * kTileCells);
-    const std::size_t begin = static_cast<std::size_t>(pre_->row_start[static_cast<std::size_t>(row)]);
-    const std::size_t end = static_cast<std::size_t>(pre_->row_start[static_cast<std::size_t>(row) + 1]);
-    for (std::size_t first = begin; first < end; first += kTileCells) {
-      const int n = static_cast<int>(std::min<std::size_t>(kTileCells, end - first));
+    for (std::size_t tile = range.begin(); tile != range.end(); ++tile) {
+      const std::size_t first = tile * kTileCells;
+      const int n = static_cast<int>(std::min<std::size_t>(kTileCells, N - first));
       score_tile(t, first, n, s.data());
       for (int k = 0; k < K; ++k) {
         float* dst = slices[static_cast<std::size_t>(k)];
@@ -439,7 +450,7 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   const SemanticVolume& v = pre_->volume;
   const GridSpec& g = v.grid;
   const int K = t.K, W = t.W, A = t.A, D1 = t.D + 1;
-  const std::size_t NB = pre_->block_runs.size();
+  const std::size_t NB = pre_->block_range.size();
   const std::size_t NU = NB * static_cast<std::size_t>(K);
   const bool semantic = !v.crossings.empty();
   result.grid = g;
@@ -505,14 +516,13 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
     const int k = static_cast<int>(u % static_cast<std::uint32_t>(K));
     float s[kTileCells];
     Candidate best;
-    for (const auto& [first, n] : pre_->block_runs[b]) {
-      score_orientation(t, static_cast<std::size_t>(first), n, k, s);
-      for (int j = 0; j < n; ++j) {
-        if (!(s[j] > 0.0f)) continue;
-        const int lin = v.cells[static_cast<std::size_t>(first) + static_cast<std::size_t>(j)];
-        const Candidate c{s[j], k, lin / g.width_px, lin % g.width_px};
-        if ((best.score < 0.0f || c < best) && !suppressed(c)) best = c;
-      }
+    const auto [first, n] = pre_->block_range[b];
+    score_orientation(t, static_cast<std::size_t>(first), n, k, s);
+    for (int j = 0; j < n; ++j) {
+      if (!(s[j] > 0.0f)) continue;
+      const int lin = v.cells[static_cast<std::size_t>(first) + static_cast<std::size_t>(j)];
+      const Candidate c{s[j], k, lin / g.width_px, lin % g.width_px};
+      if ((best.score < 0.0f || c < best) && !suppressed(c)) best = c;
     }
     return best;
   };
@@ -521,7 +531,8 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   // the best of the pairs near it: those are scored again.
   std::vector<std::uint32_t> scored;
   std::vector<Candidate> pair_best;
-  std::size_t head = 0, cells_scored = 0, rounds = 0, rescored = 0;
+  std::size_t head = 0, cells_scored = 0, rounds = 0, rescored = 0, dropped = 0;
+  double lower = 0.0;
   double open_max = open.empty() ? -1.0 : std::numeric_limits<double>::infinity();
   double score_s = 0.0, modes_s = 0.0;
   while (static_cast<int>(modes.size()) < request.top_k) {
@@ -553,12 +564,43 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
       });
       for (std::size_t q = 0; q < take; ++q) {
         const std::uint32_t u = open[head + q];
-        for (const auto& run : pre_->block_runs[u / static_cast<std::uint32_t>(K)]) cells_scored += static_cast<std::size_t>(run.second);
+        cells_scored += static_cast<std::size_t>(pre_->block_range[u / static_cast<std::uint32_t>(K)].second);
         scored.push_back(u);
         pair_best.push_back(found[q]);
         if (found[q].score >= 0.0f && (best.score < 0.0f || found[q] < best)) best = found[q];
       }
       head += take;
+      // Lower bound of the last mode's score: K scored candidates pairwise farther apart than
+      // twice the separation (in position or in yaw) are suppressed one at most per mode
+      // (triangle inequality), so greedy suppression finds K modes scoring at least the lowest
+      // of them. Open pairs whose bound is below it can hold no mode: they go.
+      if (request.top_k > 0 && scored.size() >= static_cast<std::size_t>(request.top_k)) {
+        std::vector<Candidate> sorted_best;
+        sorted_best.reserve(pair_best.size());
+        for (const Candidate& c : pair_best) {
+          if (c.score >= 0.0f) sorted_best.push_back(c);
+        }
+        std::sort(sorted_best.begin(), sorted_best.end());
+        std::vector<Candidate> far;
+        for (const Candidate& c : sorted_best) {
+          if (static_cast<int>(far.size()) >= request.top_k) break;
+          if (std::none_of(far.begin(), far.end(), [&](const Candidate& m) {
+                if (angle_distance_rad(2.0 * kPi * c.slice / K, 2.0 * kPi * m.slice / K) > 2.0 * sep_rad + 1e-9) return false;
+                const double dx = (c.col - m.col) * res, dy = (c.row - m.row) * res;
+                return std::sqrt(dx * dx + dy * dy) <= 2.0 * sep_m + 1e-9;
+              })) {
+            far.push_back(c);
+          }
+        }
+        if (static_cast<int>(far.size()) >= request.top_k && static_cast<double>(far.back().score) > lower) {
+          lower = far.back().score;
+          const std::size_t before_drop = open.size();
+          open.erase(std::remove_if(open.begin() + static_cast<std::ptrdiff_t>(head), open.end(),
+                                    [&](std::uint32_t u) { return bound[u] < lower; }),
+                     open.end());
+          dropped += before_drop - open.size();
+        }
+      }
       score_s += seconds(ts, Clock::now());
     }
     if (best.score < 0.0f) break;  // no positive score left
@@ -597,6 +639,7 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   result.stage_s["modes"] = modes_s;
   result.counters["pairs_scored"] = static_cast<double>(scored.size());
   result.counters["pairs_rescored"] = static_cast<double>(rescored);
+  result.counters["pairs_dropped"] = static_cast<double>(dropped);
   result.counters["rounds"] = static_cast<double>(rounds);
   result.counters["cells_scored"] = static_cast<double>(cells_scored);
   result.counters["cells_scored_share"] =

@@ -121,6 +121,7 @@ class BevMatcher final : public Matcher {
   /// The observation's BEV this matcher uses (nullptr when it has none of its class set).
   const BevPrediction* observation_bev(const Observation2D& observation) const;
 
+  /// The semantic volume, its cells stored block by block (Precomputed::block_range).
   const SemanticVolume& volume() const { return pre_->volume; }
   const GridSpec& grid() const { return pre_->volume.grid; }
   const BevMatcherParams& params() const { return params_; }
@@ -132,10 +133,10 @@ class BevMatcher final : public Matcher {
   /// The per-plan precomputation, shared (read-only) by matchers built from one another.
   struct Precomputed {
     SemanticVolume volume;
-    std::vector<std::int64_t> row_start;  ///< first stored cell of each grid row, plus the end
     /// Blocks of kBlockCells x kBlockCells grid cells holding stored cells, for the bounded
-    /// search: their stored cells as runs (first stored cell, count), one per grid row.
-    std::vector<std::vector<std::pair<std::int64_t, int>>> block_runs;
+    /// search: the volume stores its cells block by block (row-major within a block and over the
+    /// blocks), so each block is one range of stored cells (first, count).
+    std::vector<std::pair<std::int64_t, int>> block_range;
     /// Per block b and direction a (index b * A + a): the smallest and largest stop code of its
     /// cells, and (semantic) the union of their door and window crossing bins (bit = bin).
     std::vector<std::uint8_t> block_stop_lo, block_stop_hi;
