@@ -102,6 +102,65 @@ def sweep(run):
               f"{pct(b)} | {pct(n)} | {gain} |")
 
 
+def mcnemar_p(only_a, only_b):
+    """Exact two-sided McNemar p (binomial on the discordant pairs)."""
+    n = only_a + only_b
+    if n == 0:
+        return 1.0
+    k = min(only_a, only_b)
+    tail = sum(math.comb(n, i) for i in range(k + 1)) / 2.0 ** n
+    return min(1.0, 2.0 * tail)
+
+
+def sweep_pooled(run):
+    """The sweep's cells pooled over the other axis, paired per point from the units: bev and
+    bev_nosem on the same views (success @1 m 30 deg, and the truth among the top-5 @1 m)."""
+    units = glob.glob(os.path.join(run, "units", "*", "*", "*.json"))
+    if not units:
+        return
+    s = load(os.path.join(run, "resolved_config.json")) if os.path.exists(os.path.join(run, "resolved_config.json")) else None
+    axes_of = {}
+    if s:
+        for cell in s.get("cells", []):
+            axes_of[cell.get("id")] = cell.get("axes", {})
+    summary = load(os.path.join(run, "summary.json"))
+    for cell in summary["cells"]:
+        axes_of[cell["id"]] = cell["axes"]
+    rows = {}
+    for u in units:
+        j = load(u)
+        a = axes_of.get(j["cell"] if isinstance(j["cell"], str) else u.split(os.sep)[-3], axes_of.get(u.split(os.sep)[-3], {}))
+        out = {o["label"]: o for o in j["outcomes"]}
+        if "bev" not in out or "bev_nosem" not in out:
+            continue
+        def ok(o, top=False):
+            if not o.get("ok"):
+                return False
+            if top:
+                return any(m["position_error_m"] <= 1.0 for m in o.get("top_k", [])[:5])
+            e = o["estimate"]
+            return e["position_error_m"] <= 1.0 and e["yaw_error_deg"] <= 30.0
+        conf = a.get("observation.observe_params.bev.window_as_wall")
+        sig = a.get("observation.observe_params.bev.depth_sigma_ln_per_m")
+        for key in ((a.get("observation.setting"), "depth sigma per m", sig), (a.get("observation.setting"), "window->wall (confusion level)", conf)):
+            r = rows.setdefault(key, [0, 0, 0, 0, 0, 0, 0])
+            b, n = ok(out["bev"]), ok(out["bev_nosem"])
+            r[0] += 1
+            r[1] += b
+            r[2] += n
+            r[3] += b and not n
+            r[4] += n and not b
+            r[5] += ok(out["bev"], True)
+            r[6] += ok(out["bev_nosem"], True)
+    print("\n### Predictor sweep pooled over the other axis (paired per view; success @1 m 30 deg and top-5 @1 m, %)\n")
+    print("| setting | axis | value | n | bev | bev_nosem | only bev | only nosem | McNemar p | top-5 bev | top-5 nosem |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for (setting, axis, value), r in sorted(rows.items(), key=lambda kv: (str(kv[0][0]), kv[0][1], kv[0][2])):
+        n = r[0]
+        print(f"| {setting} | {axis} | {value} | {n} | {100 * r[1] / n:.1f} | {100 * r[2] / n:.1f} | {r[3]} | {r[4]} | "
+              f"{mcnemar_p(r[3], r[4]):.3g} | {100 * r[5] / n:.1f} | {100 * r[6] / n:.1f} |")
+
+
 def sequential(run):
     units = sorted(glob.glob(os.path.join(run, "units", "*", "*", "*.json")))
     if not units:
@@ -182,6 +241,7 @@ def main():
     for path in sorted(glob.glob(os.path.join(out, "bench_*.json"))):
         bench(path, f"Matching cost per view ({os.path.basename(path)}: floorcast bench match --json, medians of 10 perfect views)")
     sweep(os.path.join(out, "sweep"))
+    sweep_pooled(os.path.join(out, "sweep"))
     sequential(os.path.join(out, "sequential"))
 
 
