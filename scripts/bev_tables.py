@@ -36,6 +36,11 @@ def load(path):
         return json.load(f)
 
 
+def setting_and_preset(cell):
+    axes = cell["axes"]
+    return axes.get("observation.setting", ""), axes.get("observation.observe_params.bev.preset", "")
+
+
 def single_shot(run, title):
     path = os.path.join(run, "summary.json")
     if not os.path.exists(path):
@@ -45,9 +50,7 @@ def single_shot(run, title):
     print("| setting | BEV preset | matcher | n | @1 m | @1 m 30 deg | @0.5 m | @0.2 m | top-5 @1 m | median error m |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for cell in s["cells"]:
-        axes = cell["axes"]
-        setting = axes.get("observation.setting", "")
-        preset = axes.get("observation.observe_params.bev.preset", "")
+        setting, preset = setting_and_preset(cell)
         for label, m in cell["groups"]["all"].items():
             top = next((v for k, v in m.items() if k.startswith("top") and k.endswith("_recall_1m")), None)
             med = m.get("median_position_error_m")
@@ -60,9 +63,7 @@ def single_shot(run, title):
     print("| setting | BEV preset | A vs B | only A | only B | A - B | 95% interval | p | verdict at 5% |")
     print("|---|---|---|---|---|---|---|---|---|")
     for cell in s["cells"]:
-        axes = cell["axes"]
-        setting = axes.get("observation.setting", "")
-        preset = axes.get("observation.observe_params.bev.preset", "")
+        setting, preset = setting_and_preset(cell)
         for pair, v in cell.get("paired", {}).get("all", {}).items():
             if "bev" not in pair:
                 continue
