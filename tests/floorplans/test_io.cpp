@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "common/scratch_dir.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include "floorcast/floorplans/io.hpp"
@@ -153,7 +155,8 @@ TEST(PlanIo, MissingFileNamesThePath) {
 }
 
 TEST(PlanIo, SaveThenLoad) {
-  const std::string path = ::testing::TempDir() + "/floorcast_roundtrip.json";
+  const test::ScratchDir scratch;
+  const std::string path = scratch.file("roundtrip.json");
   const FloorPlan plan = test::furnished_room();
   save_floor_plan(plan, path);
   EXPECT_EQ(floor_plan_to_json(load_floor_plan(path)), floor_plan_to_json(plan));

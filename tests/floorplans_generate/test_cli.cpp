@@ -1,8 +1,11 @@
 // End to end through the CLI: `floorcast plan generate` and `floorcast plan render`.
 #include <gtest/gtest.h>
 
+#include "common/scratch_dir.hpp"
+
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
@@ -26,13 +29,11 @@ int run_cli(const std::string& args, const fs::path& log) {
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("floorcast_generate_cli_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    scratch_ = std::make_unique<test::ScratchDir>();
+    dir_ = scratch_->path();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { scratch_.reset(); }
+  std::unique_ptr<test::ScratchDir> scratch_;
   fs::path dir_;
 };
 

@@ -1,7 +1,8 @@
 // Bring your own depth: feeding the simulated depth back through --depth-dir (any format)
 // reproduces the simulated observation exactly; the example folder in the repository works.
 #include <gtest/gtest.h>
-#include <unistd.h>
+
+#include "common/scratch_dir.hpp"
 
 #include <filesystem>
 
@@ -28,8 +29,8 @@ void expect_same_observation(const Observation2D& a, const Observation2D& b) {
 }
 
 TEST(ByoDepth, SimulatedDepthFedBackReproducesTheObservation) {
-  const fs::path dir = fs::temp_directory_path() / ("floorcast_byo_round_trip_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const test::ScratchDir scratch;
+  const fs::path dir = scratch.path();
   const FloorPlan plan = load_floor_plan(std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/apartment.json");
   ScanParams p = scan_preset("mono");
   p.seed = 11;

@@ -2,8 +2,11 @@
 // in scan folders: round trips, the naming rules of a depth folder, repairs and refusals.
 #include <gtest/gtest.h>
 
+#include "common/scratch_dir.hpp"
+
 #include <cmath>
 #include <filesystem>
+#include <memory>
 
 #include "floorcast/core/depth_io.hpp"
 #include "floorcast/core/file_io.hpp"
@@ -20,12 +23,11 @@ namespace fs = std::filesystem;
 class Formats : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("floorcast_formats_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                                        "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    scratch_ = std::make_unique<test::ScratchDir>();
+    dir_ = scratch_->path();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { scratch_.reset(); }
+  std::unique_ptr<test::ScratchDir> scratch_;
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   fs::path dir_;
 };

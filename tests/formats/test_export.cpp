@@ -1,7 +1,8 @@
 // Dataset export of a scenario's scans: the F3Loc map and poses agree with each other, every
 // scan folder reads back, the TUM RGB-D side files list every view.
 #include <gtest/gtest.h>
-#include <unistd.h>
+
+#include "common/scratch_dir.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -44,8 +45,8 @@ TEST(DatasetExport, F3LocMapPosesDepthsAndScanFolders) {
       "observation: {source: scan, sensor: mono, setting: partial, seed: 2}\n"
       "matchers: {kernel: {matcher: kernel}}\n";
   const Scenario s = parse_scenario(yaml, "export-test.yaml", FLOORCAST_SOURCE_DIR, FLOORCAST_SOURCE_DIR);
-  const fs::path out = fs::temp_directory_path() / ("floorcast_export_test_" + std::to_string(::getpid()));
-  fs::remove_all(out);
+  const test::ScratchDir scratch;
+  const fs::path out = scratch.path() / "export";
   DatasetExportOptions o;
   o.map_resolution_m = 0.02;
   const DatasetExportReport r = export_scenario_dataset(s, out.string(), o);
@@ -135,7 +136,8 @@ TEST(DatasetExport, PerfectObservationScenarioHasNothingToExport) {
       "name: perfect\nbuildings: [floorplans/buildings/two_rooms.json]\nsampling: {count: 1}\n"
       "matchers: {kernel: {matcher: kernel}}\n";
   const Scenario s = parse_scenario(yaml, "perfect.yaml", FLOORCAST_SOURCE_DIR, FLOORCAST_SOURCE_DIR);
-  EXPECT_THROW(export_scenario_dataset(s, (fs::temp_directory_path() / ("floorcast_export_none_" + std::to_string(::getpid()))).string(), {}), InputError);
+  const test::ScratchDir scratch;
+  EXPECT_THROW(export_scenario_dataset(s, scratch.file("export"), {}), InputError);
 }
 
 }  // namespace

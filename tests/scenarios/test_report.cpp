@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "common/scratch_dir.hpp"
+
 #include <algorithm>
 #include <filesystem>
 #include <set>
@@ -130,8 +132,8 @@ TEST(Report, RefusesPartialResults) {
 
 TEST(RunDirectory, UnitsRoundTripAndRunsNeverMix) {
   const Scenario s = small_scenario();
-  const std::string dir = ::testing::TempDir() + "/floorcast_rundir";
-  std::filesystem::remove_all(dir);
+  const test::ScratchDir scratch;
+  const std::string dir = scratch.file("run");
   const auto units = fake_units(s);
   {
     RunDirectory run(dir);
