@@ -1,6 +1,7 @@
 #include "cli_common.hpp"
 
 #include <cstring>
+#include "floorcast/core/file_io.hpp"
 #include "floorcast/core/json_text.hpp"
 #include "floorcast/core/limits.hpp"
 #include "floorcast/core/process.hpp"
@@ -29,6 +30,7 @@
 #include <vector>
 
 #include "floorcast/floorplans/io.hpp"
+#include "floorcast/core/hash.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/core/types.hpp"
 
@@ -95,6 +97,8 @@ int run_cli(int argc, char** argv) {
   app.require_subcommand(1);
   register_all(app);
   refuse_non_finite_numbers(app);
+  // The command's inputs are remembered as they are read: no output may replace one.
+  const CommandFiles files;
   try {
     apply_limits_from_environment();
     app.parse(argc, argv);
@@ -187,6 +191,43 @@ void add_override(nlohmann::json& overrides, const std::string& text, const std:
 
 void ensure_directory(const std::string& path) { create_directories_or_throw(path); }
 
+namespace {
+
+CLI::Validator interval(double lo, double hi, bool open_below) {
+  std::ostringstream desc;
+  desc << (open_below ? "(" : "[") << lo << ", " << hi << "]";
+  const std::string range = desc.str();
+  return CLI::Validator(
+      [lo, hi, open_below, range](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0') return "must be a number, got \"" + text + "\"";
+        if (!std::isfinite(v)) return "value " + text + " is not a finite number";
+        if (!(open_below ? v > lo : v >= lo) || !(v <= hi)) return "must be in " + range + ", got " + text;
+        return std::string();
+      },
+      range, "RANGE");
+}
+
+}  // namespace
+
+CLI::Validator in_range(double lo, double hi) { return interval(lo, hi, false); }
+CLI::Validator above(double lo, double hi) { return interval(lo, hi, true); }
+
+CLI::Validator non_empty() {
+  return CLI::Validator([](std::string& text) { return text.empty() ? std::string("must not be empty") : std::string(); },
+                        "", "NONEMPTY");
+}
+
+void prepare_output_file(const std::string& path) {
+  if (path == "-") return;
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  check_output_path(path);
+  if (!parent.empty()) ensure_directory(parent.string());
+}
+
+std::ostream& message_stream(const std::string& output) { return output == "-" ? std::cerr : std::cout; }
+
 void deprecation_note(const std::string& old_spelling, const std::string& current_spelling) {
   static std::mutex mutex;
   static std::vector<std::string> said;
@@ -198,6 +239,16 @@ void deprecation_note(const std::string& old_spelling, const std::string& curren
 }
 
 bool is_random_pose(const std::string& text) { return text == "random"; }
+
+void warn_plan_mismatch(const std::string& source, const std::string& recorded_hash, const std::string& plan_path,
+                        const FloorPlan& plan) {
+  if (recorded_hash.empty()) return;
+  const std::string have = hex64(plan_hash(plan));
+  if (recorded_hash == have) return;
+  std::cerr << "floorcast: warning: " << source << " was made on a plan with hash " << recorded_hash << ", but "
+            << plan_path << " has hash " << have
+            << " (another building or another version of the plan): the estimate may be meaningless\n";
+}
 
 std::string duration_text(double s) {
   if (!std::isfinite(s) || s < 0) return "--";

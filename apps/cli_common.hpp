@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <memory>
+#include <ostream>
 #include <string>
 
 #include "floorcast/core/types.hpp"
@@ -46,11 +47,34 @@ CLI::Option* add_deprecated_option(CLI::App& cmd, const std::string& old_name, C
 /// Prints "floorcast: note: OLD is deprecated, use NEW (docs/cli.md)" on stderr.
 void deprecation_note(const std::string& old_spelling, const std::string& current_spelling);
 
+/// Warns on stderr when `source` (an observation file, a walk folder) was recorded on a plan
+/// whose hash (`recorded_hash`, hex) differs from `plan`'s: another building or another version
+/// of the plan, so the estimate may be meaningless. Not refused: a plan may have been repaired
+/// since. Silent when the hash was not recorded.
+void warn_plan_mismatch(const std::string& source, const std::string& recorded_hash, const std::string& plan_path,
+                        const FloorPlan& plan);
+
 /// "random" or "X,Y,YAW_DEG": what --pose takes in every command that places an observer.
 bool is_random_pose(const std::string& text);
 
 /// Creates a directory (and parents); throws InputError naming it on failure.
 void ensure_directory(const std::string& path);
+
+/// Checks of numeric options with the messages of scenario keys (CLI11 adds the option name):
+/// "--scale: must be in (0, 1e+06], got 0". in_range: LO <= x <= HI; above: LO < x <= HI. Integers
+/// and NaN/inf are refused by every command's number validators before these run.
+CLI::Validator in_range(double lo, double hi);
+CLI::Validator above(double lo, double hi);
+/// Refuses an empty text ("--units ''"): "must not be empty".
+CLI::Validator non_empty();
+
+/// The one output file of a command that writes one (`-o FILE`): "-" is standard output;
+/// otherwise the parent folder is created and the target checked now (not a device, FIFO,
+/// symbolic link or folder; not an input already read), so a wrong -o fails before the work.
+void prepare_output_file(const std::string& path);
+/// Where a command's own messages go: standard error when its result goes to standard output
+/// (`-o -`), standard output otherwise.
+std::ostream& message_stream(const std::string& output);
 
 /// Exit codes of every command (documented in the README, "Exit codes"):
 constexpr int kExitOk = 0;

@@ -21,9 +21,9 @@ void register_bench_filter(CLI::App& root) {
   CLI::App& bench = group(root, "bench", "Benchmarks (medians over repeats, same-run ratios)");
   auto* cmd = bench.add_subcommand("filter", "Particle-filter steps/s (2000 particles, wall checks) and histogram-filter ms/step");
   cmd->add_option("--plan", o->plans, "Plans (default: the shipped office and campus)");
-  cmd->add_option("--steps", o->params.steps, "Steps per repeat")->capture_default_str()->check(CLI::Range(1, 100000));
-  cmd->add_option("--repeats", o->params.repeats, "Repeats (the median is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
-  cmd->add_option("--particles", o->params.particles, "Particles")->capture_default_str()->check(CLI::Range(1, 10000000));
+  cmd->add_option("--steps", o->params.steps, "Steps per repeat")->capture_default_str()->check(in_range(1, 100000));
+  cmd->add_option("--repeats", o->params.repeats, "Repeats (the median is reported)")->capture_default_str()->check(in_range(1, 1000));
+  cmd->add_option("--particles", o->params.particles, "Particles")->capture_default_str()->check(in_range(1, 10000000));
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
     std::vector<std::string> plans = o->plans;

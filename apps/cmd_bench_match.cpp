@@ -109,19 +109,19 @@ void register_bench_match(CLI::App& root) {
   cmd->add_option("--plan", o->plans, "Floor plans (default: floorplans/buildings/campus.json)");
   cmd->add_option("--observations", o->params.observations, "Perfect observations to match (medians)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 10000));
+      ->check(in_range(1, 10000));
   cmd->add_option("--seed", o->params.seed, "Seed of the observation points")->capture_default_str();
   cmd->add_option("--orientations", o->params.kernel_orientations,
                   "Kernel orientations: candidates padded to this many (PALMS+ O = 10; 0 = its own)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 720));
-  cmd->add_option("--top-k", o->params.top_k, "Modes asked for")->capture_default_str()->check(CLI::Range(1, 100));
+      ->check(in_range(0, 720));
+  cmd->add_option("--top-k", o->params.top_k, "Modes asked for")->capture_default_str()->check(in_range(1, 100));
   cmd->add_option("--rays", o->params.ray_directions, "Ray matcher direction counts (none: --rays 0)")
       ->capture_default_str()
       ->delimiter(',');
   cmd->add_option("--precompute-repeats", o->params.ray_precompute_repeats, "Ray precomputations to time (median)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 100));
+      ->check(in_range(1, 100));
   cmd->add_flag("!--no-posteriors", o->params.posteriors, "Skip the full posteriors");
   cmd->add_flag("!--no-kernel", o->params.kernel, "Skip the kernel matcher");
   cmd->add_option("--ray-bits", o->params.ray_volume_bits, "Ray matcher distance volume bits (8 or 16)")
@@ -136,7 +136,7 @@ void register_bench_match(CLI::App& root) {
       ->check(CLI::Range(0.02, 1.0));
   cmd->add_option("--equivalence", o->equivalence,
                   "Instead: compare the search's modes with the posterior's on N seeded observations per plan")
-      ->check(CLI::Range(0, 100000));
+      ->check(in_range(0, 100000));
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
     std::vector<std::string> plans = o->plans;

@@ -30,8 +30,8 @@ void register_bench_observe(CLI::App& root) {
   auto o = std::make_shared<Options>();
   auto* cmd = bench.add_subcommand("observe", "Observation module time per scan: mono (PALMS+) and LiDAR (PALMS) paths");
   cmd->add_option("--plan", o->plan, "Floor plan (default: the first shipped of campus, office, two_rooms)");
-  cmd->add_option("--scans", o->scans, "Scans (poses) per path")->capture_default_str()->check(CLI::Range(1, 100));
-  cmd->add_option("--repeats", o->repeats, "Repeats per scan (median over all)")->capture_default_str()->check(CLI::Range(1, 100));
+  cmd->add_option("--scans", o->scans, "Scans (poses) per path")->capture_default_str()->check(in_range(1, 100));
+  cmd->add_option("--repeats", o->repeats, "Repeats per scan (median over all)")->capture_default_str()->check(in_range(1, 100));
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
     const std::string plan_path = o->plan.empty() ? default_plan() : o->plan;

@@ -20,8 +20,8 @@ void register_bench_planes(CLI::App& root) {
   };
   auto o = std::make_shared<Options>();
   auto* cmd = bench.add_subcommand("planes", "Plane accuracy (angle, offset) on simulated noisy planes: PCA, PCL RANSAC, VoxelPlane");
-  cmd->add_option("--planes", o->planes, "Planes per noise model (Table 2: 9)")->capture_default_str()->check(CLI::Range(1, 1000));
-  cmd->add_option("--points", o->points, "Points per plane")->capture_default_str()->check(CLI::Range(100, 10000000));
+  cmd->add_option("--planes", o->planes, "Planes per noise model (Table 2: 9)")->capture_default_str()->check(in_range(1, 1000));
+  cmd->add_option("--points", o->points, "Points per plane")->capture_default_str()->check(in_range(100, 10000000));
   cmd->add_option("--seed", o->seed, "Seed of the simulated planes")->capture_default_str();
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {

@@ -23,7 +23,7 @@ void register_bench_sim(CLI::App& root) {
   cmd->add_option("--plan", o->plan, "Floor plan (default: floorplans/buildings/campus.json)");
   cmd->add_option("--repeats", o->repeats, "Repeats per measurement (median reported)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000));
+      ->check(in_range(1, 1000));
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
     std::string plan_path = o->plan;

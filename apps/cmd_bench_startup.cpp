@@ -50,7 +50,7 @@ void register_bench_startup(CLI::App& root) {
   static const std::set<std::string> at_start = mapped_libraries();
   CLI::App& bench = group(root, "bench", "Benchmarks (medians over repeats, same-run ratios)");
   auto* cmd = bench.add_subcommand("startup", "Process start cost of the CLI (`floorcast --version` as child processes)");
-  cmd->add_option("--runs", o->runs, "Runs per executable (medians reported)")->capture_default_str()->check(CLI::Range(1, 10000));
+  cmd->add_option("--runs", o->runs, "Runs per executable (medians reported)")->capture_default_str()->check(in_range(1, 10000));
   cmd->add_option("--exe", o->others, "Other executables measured in the same run (e.g. an older build)")->check(CLI::ExistingFile);
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {

@@ -38,16 +38,18 @@ void register_bench_walls(CLI::App& root) {
   cmd->add_option("--plan", o->plans, "Floor plans (default: the shipped apartment and office)");
   cmd->add_option("--points", o->points, "Poses per plan (sampled like `floorcast run`)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000));
+      ->check(in_range(1, 1000));
   cmd->add_option("--seed", o->seed, "Pose sampling seed (scan noise seed = seed + pose index)")->capture_default_str();
-  cmd->add_option("--clearance", o->clearance_m, "Minimum distance of a pose to walls, metres")->capture_default_str();
+  cmd->add_option("--clearance", o->clearance_m, "Minimum distance of a pose to walls, metres")
+      ->capture_default_str()
+      ->check(in_range(0.0, 100.0));
   cmd->add_option("--sensor", o->sensor, "Scan preset")->capture_default_str()->check(
       CLI::IsMember({"lidar", "mono", "phone", "perfect"}));
-  cmd->add_option("--range", o->range_m, "Truth range, metres (default: the preset's maximum range)");
+  cmd->add_option("--range", o->range_m, "Truth range, metres (default: the preset's maximum range)")->check(above(0.0, 1e4));
   cmd->add_option("--reference-range", o->reference_range_m,
                   "Range of the perfect observation the scan is compared with beyond the sensor's range, metres")
       ->capture_default_str()
-      ->check(CLI::Range(0.5, 100.0));
+      ->check(in_range(0.5, 100.0));
   cmd->add_option("--rooms", o->rooms, "Rooms file per plan (labels for --region-kinds, for plans without rooms), in --plan order");
   cmd->add_option("--region-kinds", o->region_kinds,
                   "Sample poses only inside rooms of these kinds (e.g. walkway corridor hallway lobby)");

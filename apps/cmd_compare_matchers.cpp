@@ -74,15 +74,15 @@ void register_compare_matchers(CLI::App& root) {
       "Kernel vs ray vs plane matchers on perfect observations (PALMS+ sec. 4.4; perfect 3-D planes for the plane "
       "matcher): a scenario run into a run directory");
   cmd->add_option("PLANS", o->plans, "Floor-plan JSON files")->required();
-  cmd->add_option("--points", o->points, "Observation points per plan")->capture_default_str()->check(CLI::Range(1, 100000));
+  cmd->add_option("--points", o->points, "Observation points per plan")->capture_default_str()->check(in_range(1, 100000));
   cmd->add_option("--seed", o->seed, "Seed of the points and headings")->capture_default_str();
   cmd->add_option("--rays", o->rays, "Ray counts of the ray matchers (36 -> \"ray\", N -> \"rayN\")")->capture_default_str();
   cmd->add_option("--clearance", o->clearance_m, "Minimum distance of a point from walls, metres")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(in_range(0.0, 100.0));
   cmd->add_option("--range", o->range_m, "Observation and matching range, metres (PALMS+ 4.4: 10)")
       ->capture_default_str()
-      ->check(CLI::Range(0.5, 60.0));
+      ->check(in_range(0.5, 60.0));
   cmd->add_option("--orientations", o->orientations, "Kernel matcher orientation candidates")
       ->capture_default_str()
       ->check(CLI::IsMember({"palms", "palms+", "dense"}));
@@ -101,7 +101,7 @@ void register_compare_matchers(CLI::App& root) {
       ->check(CLI::Range(0, 100000));
   cmd->add_option("--matcher", o->specs,
                   "Extra matcher LABEL=NAME[:JSON overrides], e.g. 'kernel_s1=kernel:{\"scales\":[1]}' (repeatable)");
-  cmd->add_option("--jobs", o->jobs, "Concurrent work units (default: all cores)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--jobs", o->jobs, "Concurrent work units (default: all cores)")->check(in_range(0, 4096));
   cmd->add_flag("--quiet", o->quiet, "No progress output");
   cmd->add_option("-o,--output", o->out, "Output run directory")->required();
   cmd->callback([o] {

@@ -28,7 +28,7 @@ void register_export(CLI::App& root) {
   cmd->add_option("--cell", o->cells, "Export only this cell id (repeatable; default: every scan cell)");
   cmd->add_option("--map-resolution", o->map_resolution_m, "Metres per pixel of map.png (F3Loc: 0.01)")
       ->capture_default_str()
-      ->check(CLI::Range(0.001, 1.0));
+      ->check(in_range(0.001, 1.0));
   cmd->add_option("--camera", o->camera,
                   "Camera of the exported scans: scenario (as the scenario says; a note where F3Loc's differs) or f3loc "
                   "(F3Loc's hard-coded focal length / width 3/8, 106.26 deg across, no pitch)")

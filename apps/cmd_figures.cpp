@@ -50,7 +50,7 @@ void register_figures(CLI::App& root) {
       ->check(CLI::IsMember({"paper", "screen"}));
   cmd->add_option("--walks", o->walks, "Trajectory figures per building and tracker (sequential runs)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 1000));
+      ->check(in_range(0, 1000));
   cmd->add_option("-o,--output", o->out, "Output folder (default RUN_DIR/figures)");
   cmd->callback([o] {
     const std::string script = figures_script();

@@ -223,19 +223,19 @@ void register_localize(CLI::App& root) {
   cmd->add_option("--orientations", o->orientations, "Kernel matcher orientation candidates: palms, palms+ (default), dense")
       ->check(CLI::IsMember({"palms", "palms+", "dense"}));
   cmd->add_option("--rays", o->rays, "Ray matcher: equiangular rays = volume directions (default 36)")
-      ->check(CLI::Range(4, 3600));
+      ->check(in_range(4, 3600));
   CLI::Option* matcher_param = cmd->add_option(
       "--matcher-param", o->params, "Matcher parameter override KEY=VALUE (repeatable; keys as in estimate.json's parameters)");
   add_deprecated_option(*cmd, "--param", matcher_param, o->params);
   CLI::Option* range_opt = cmd->add_option("--range", o->range_m, "Matching range, metres (the matcher's max_range_m; PALMS+ 4.4: 10)")
                                ->capture_default_str()
-                               ->check(CLI::Range(0.5, 60.0));
+                               ->check(in_range(0.5, 60.0));
   cmd->add_option("--bev-hfov-deg", o->bev_hfov_deg,
                   "A BEV .npy as OBS: horizontal field of view its columns span, left to right (360: a full circle "
                   "counter-clockwise from the heading)")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 360.0));
-  cmd->add_option("--top-k", o->top_k, "Modes to report (NMS 1 m, 30 deg)")->capture_default_str()->check(CLI::Range(1, 100));
+      ->check(in_range(1.0, 360.0));
+  cmd->add_option("--top-k", o->top_k, "Modes to report (NMS 1 m, 30 deg)")->capture_default_str()->check(in_range(1, 100));
   cmd->add_option("--posterior", o->posterior,
                   "Posterior volume written: none (estimate, modes and the max-over-heading heatmap only; memory "
                   "bounded), npy (posterior.npy float32), npz-f16 (posterior.npz: float16, deflated), top-k "
@@ -244,7 +244,7 @@ void register_localize(CLI::App& root) {
       ->check(CLI::IsMember({"none", "npy", "npz-f16", "top-k"}));
   cmd->add_option("--posterior-cells", o->posterior_cells, "Cells kept by --posterior top-k")
       ->capture_default_str()
-      ->check(CLI::Range(1, 100000000));
+      ->check(in_range(1, 100000000));
   cmd->add_option("-o,--output", o->out, "Output folder")->required();
   cmd->add_flag("--quiet", o->quiet, "No progress output on stderr");
   add_observation_options(*cmd, o->observe);
@@ -298,11 +298,8 @@ void register_localize(CLI::App& root) {
     }
     // An observation made in another building (or another version of this plan) localizes
     // against the wrong map: say so, do not refuse (a plan may have been repaired since).
-    const std::string plan_hash_hex = hex64(plan_hash(plan));
-    if (auto it = input.record.metadata.find("plan_hash"); it != input.record.metadata.end() && it->second != plan_hash_hex) {
-      std::cerr << "floorcast: warning: " << o->obs << " was made on a plan with hash " << it->second << ", but "
-                << o->plan << " has hash " << plan_hash_hex
-                << " (another building or another version of the plan): the estimate may be meaningless\n";
+    if (auto it = input.record.metadata.find("plan_hash"); it != input.record.metadata.end()) {
+      warn_plan_mismatch(o->obs, it->second, o->plan, plan);
     }
     std::unique_ptr<Matcher> matcher;
     {

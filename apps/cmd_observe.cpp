@@ -51,7 +51,7 @@ void add_observation_options(CLI::App& cmd, ObserveCliOptions& o) {
       ->check(CLI::IsMember(bev_predictor_presets()));
   cmd.add_option("--depth-unit", o.depth_unit_m, "Metres per unit of 16-bit --depth-dir maps (PNG, TIFF, NPY uint16)")
       ->capture_default_str()
-      ->check(CLI::Range(1e-6, 1.0));
+      ->check(in_range(1e-6, 1.0));
 }
 
 Scan load_scan_for_observation(const std::string& scan_dir, const ObserveCliOptions& o) {

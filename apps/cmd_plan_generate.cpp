@@ -25,11 +25,14 @@ void register_plan_generate(CLI::App& root) {
   auto opts = std::make_shared<Options>();
   cmd->add_option("--archetype,-a", opts->archetype, "apartment | office | campus | angled | office_repetitive | campus_repetitive | angled_repetitive")->required();
   cmd->add_option("--seed,-s", opts->seed, "Random seed (non-negative integer)")->capture_default_str();
-  cmd->add_option("-o,--output", opts->output, "Output plan JSON")->required();
+  cmd->add_option("-o,--output", opts->output, "Output plan JSON (- for standard output)")->required();
   cmd->add_option("--rooms", opts->rooms,
                   "Also write the rooms (id, kind, polygon) as JSON to this file (for labelling and sampling)");
   cmd->callback([opts] {
     const Archetype archetype = parse_archetype(opts->archetype);
+    check_distinct_outputs({opts->output, opts->rooms});
+    prepare_output_file(opts->output);
+    if (!opts->rooms.empty()) prepare_output_file(opts->rooms);
     const GeneratedBuilding b = generate_building(archetype, opts->seed);
     save_floor_plan(b.plan, opts->output);
     if (!opts->rooms.empty()) {
@@ -51,7 +54,7 @@ void register_plan_generate(CLI::App& root) {
       write_json(opts->rooms, j);
     }
     const PlanCounts c = plan_counts(b.plan);
-    std::cout << "wrote " << opts->output << ": " << archetype_name(archetype) << " (seed " << opts->seed << "), "
+    message_stream(opts->output == "-" ? opts->output : opts->rooms) << "wrote " << opts->output << ": " << archetype_name(archetype) << " (seed " << opts->seed << "), "
               << b.rooms.size() << " rooms, " << c.walls << " walls (" << c.glass_walls << " glass), " << c.doors
               << " doors (" << c.doors_closed << " closed), " << c.windows << " windows, " << c.obstacles
               << " obstacles\n";

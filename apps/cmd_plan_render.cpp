@@ -29,6 +29,7 @@ void register_plan_render(CLI::App& root) {
   struct Options {
     std::string file;
     std::string output;
+    std::string format;
     double px_per_m = 0.0;
     double margin_m = 1.5;
     bool no_obstacles = false;
@@ -37,19 +38,24 @@ void register_plan_render(CLI::App& root) {
   };
   auto opts = std::make_shared<Options>();
   cmd->add_option("FILE", opts->file, "Floor-plan JSON")->required();
-  cmd->add_option("-o,--output", opts->output, "Output image: .png or .svg")->required();
+  cmd->add_option("-o,--output", opts->output, "Output image: .png or .svg (- for standard output, with --format)")->required();
+  cmd->add_option("--format", opts->format, "Image format when the output's extension does not say it (-o -)")
+      ->check(CLI::IsMember({"png", "svg"}));
   CLI::Option* px_opt = cmd->add_option("--px-per-m", opts->px_per_m,
-                  "Pixels per metre (default: automatic, the longer side ~2400 px, at most 80 px/m)");
-  cmd->add_option("--margin-m", opts->margin_m, "Blank border around the plan, metres")->capture_default_str();
+                  "Pixels per metre (default: automatic, the longer side ~2400 px, at most 80 px/m)")
+      ->check(in_range(0.1, 1000.0));
+  cmd->add_option("--margin-m", opts->margin_m, "Blank border around the plan, metres")->capture_default_str()->check(in_range(0.0, 1000.0));
   cmd->add_flag("--no-obstacles", opts->no_obstacles, "Leave out clutter obstacles");
   cmd->add_flag("--no-interior", opts->no_interior, "Do not tint the building interior");
   cmd->add_flag("--no-coordinates", opts->no_coordinates, "Leave out the metre coordinates along the left and bottom edges");
   cmd->callback([opts, px_opt] {
-    const std::string ext = lower_extension(opts->output);
+    const std::string ext = opts->format.empty() ? lower_extension(opts->output) : opts->format;
+    if (opts->output == "-" && opts->format.empty()) throw InputError("-o -: give --format png or --format svg");
     if (ext != "png" && ext != "svg") {
       throw InputError(opts->output + ": unsupported image format \"" + ext + "\" (use .png or .svg)");
     }
     const FloorPlan p = load_floor_plan(opts->file);
+    prepare_output_file(opts->output);
     RenderOptions ro;
     ro.margin_m = opts->margin_m;
     ro.draw_obstacles = !opts->no_obstacles;
@@ -64,12 +70,12 @@ void register_plan_render(CLI::App& root) {
     }
     if (ext == "svg") {
       write_text_file_atomic(opts->output, render_plan_svg(p, ro));
-      std::cout << "wrote " << opts->output << " (" << ro.px_per_m << " px/m)\n";
+      message_stream(opts->output) << "wrote " << opts->output << " (" << ro.px_per_m << " px/m)\n";
       return;
     }
     const PlanImage img = render_plan(p, ro);
     write_png(opts->output, img.bgr);
-    std::cout << "wrote " << opts->output << " (" << img.bgr.cols << " x " << img.bgr.rows << " px, " << ro.px_per_m
+    message_stream(opts->output) << "wrote " << opts->output << " (" << img.bgr.cols << " x " << img.bgr.rows << " px, " << ro.px_per_m
               << " px/m)\n";
   });
 }

@@ -29,11 +29,11 @@ void register_plan_stats(CLI::App& root) {
   cmd->add_option("--repeat-tolerance", opts->params.repeat_tolerance,
                   "Room widths within this share of each other count as repeated")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(in_range(0.0, 1.0));
   cmd->add_option("--neighbour-gap", opts->params.neighbour_gap_m,
                   "Rooms whose outlines come this close (m) are neighbours")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 10.0));
+      ->check(in_range(0.0, 10.0));
   cmd->callback([opts] {
     nlohmann::ordered_json all = nlohmann::ordered_json::array();
     for (const std::string& f : opts->files) {

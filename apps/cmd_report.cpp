@@ -19,17 +19,16 @@ void register_report(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand(
       "report", "One self-contained HTML page of a finished run: tables, plots, best/worst heatmaps, configuration");
   cmd->add_option("RUN_DIR", o->run_dir, "Run directory (floorcast run/merge -o DIR)")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("--gallery", o->gallery, "Best and worst heatmaps shown (each)")->capture_default_str()->check(CLI::Range(1, 100));
-  cmd->add_option("-o,--output", o->out, "HTML file to write")->required();
+  cmd->add_option("--gallery", o->gallery, "Best and worst heatmaps shown (each)")->capture_default_str()->check(in_range(1, 100));
+  cmd->add_option("-o,--output", o->out, "HTML file to write (- for standard output)")->required();
   cmd->callback([o] {
     HtmlReportOptions options;
     options.gallery_each = o->gallery;
     options.generator = std::string("floorcast ") + FLOORCAST_VERSION;
+    prepare_output_file(o->out);
     const std::string html = render_run_report_html(RunDirectory(o->run_dir), options);
-    const std::filesystem::path parent = std::filesystem::path(o->out).parent_path();
-    if (!parent.empty()) ensure_directory(parent.string());
     write_text_file_atomic(o->out, html);
-    std::cout << "report: " << o->out << " (" << html.size() / 1024 << " KiB, self-contained)\n";
+    message_stream(o->out) << "report: " << o->out << " (" << html.size() / 1024 << " KiB, self-contained)\n";
   });
 }
 

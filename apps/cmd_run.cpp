@@ -74,7 +74,7 @@ void register_run(CLI::App& root) {
   CLI::App* run = root.add_subcommand("run", "Run a scenario: simulate -> observe -> match -> score for every sweep cell");
   run->add_option("SCENARIO", o->scenario, "Scenario YAML file")->required();
   run->add_option("-o,--output", o->out, "Run directory (resumes if it holds a run of the same configuration)")->required();
-  run->add_option("--jobs", o->jobs, "Concurrent work units (default: all cores)")->check(CLI::NonNegativeNumber);
+  run->add_option("--jobs", o->jobs, "Concurrent work units (default: all cores)")->check(in_range(0, 4096));
   run->add_option("--shard", o->shard, "Run only shard I of N (0 <= I < N); combine shards with `floorcast merge`");
   run->add_flag("--quiet", o->quiet, "No progress output");
   run->add_flag("--html", o->html, "Also write DIR/report.html (as `floorcast report`) when the run is complete");

@@ -52,13 +52,13 @@ struct BuildingOptions {
 void add_building_options(CLI::App* cmd, BuildingOptions& o) {
   cmd->add_option("--wall-height", o.wall_height_m, "Wall (ceiling) height, metres")
       ->capture_default_str()
-      ->check(CLI::Range(0.5, 100.0));
+      ->check(in_range(0.5, 100.0));
   cmd->add_option("--door-height", o.door_height_m, "Door height (lintel underside), metres")
       ->capture_default_str()
-      ->check(CLI::Range(0.1, 100.0));
+      ->check(in_range(0.1, 100.0));
   cmd->add_option("--clutter", o.clutter_density, "Clutter density in [0, 1] (0 = none)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(in_range(0.0, 1.0));
 }
 
 FloorPlan plan_with_clutter(const FloorPlan& plan, const BuildingOptions& o, const std::vector<Vec2>& keep_clear) {
@@ -194,13 +194,13 @@ void register_sim(CLI::App& root) {
   perfect->add_option("--seed", po->seed, "Seed of --pose random")->capture_default_str();
   perfect->add_option("--rays", po->rays, "Equiangular rays (F3Loc: 36 or 180; 0 = none)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 100000));
-  perfect->add_option("--range", po->range_m, "Maximum range, metres")->capture_default_str()->check(CLI::Range(0.01, 1e4));
+      ->check(in_range(0, 100000));
+  perfect->add_option("--range", po->range_m, "Maximum range, metres")->capture_default_str()->check(in_range(0.01, 1e4));
   perfect->add_option("--bev-columns", po->bev_columns,
                       "Perfect bird's-eye views (semantic and occupancy, for the bev matcher) on this many equiangular "
                       "columns (72: 5 deg; 0 = none)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 3600));
+      ->check(in_range(0, 3600));
   perfect->add_flag("--doors-open", po->doors_open,
                     "Open doors stay open as drawn (default, as `sim scan` and the matchers' map: every door closed, "
                     "PALMS+ 4.4)");
@@ -244,16 +244,17 @@ void register_sim(CLI::App& root) {
   auto pv = std::make_shared<PreviewOptions>();
   auto* preview = sim.add_subcommand("preview", "Contact sheet of a scan folder: every view's colour image and depth map (PNG)");
   preview->add_option("SCAN_DIR", pv->scan_dir, "Scan folder")->required()->check(CLI::ExistingDirectory);
-  preview->add_option("--columns", pv->columns, "Views per row")->capture_default_str()->check(CLI::Range(1, 64));
+  preview->add_option("--columns", pv->columns, "Views per row")->capture_default_str()->check(in_range(1, 64));
   preview->add_option("--tile-width", pv->tile_width, "Width of each view in the sheet, pixels")
       ->capture_default_str()
-      ->check(CLI::Range(32, 2048));
-  preview->add_option("-o,--output", pv->out, "Output PNG")->required();
+      ->check(in_range(32, 2048));
+  preview->add_option("-o,--output", pv->out, "Output PNG (- for standard output)")->required();
   preview->callback([pv] {
     ScanLoadOptions lo;
     lo.require_depth = false;
     lo.load_rgb = true;
     const Scan scan = load_scan(pv->scan_dir, lo);
+    prepare_output_file(pv->out);
     ScanSheetStyle style;
     style.columns = pv->columns;
     style.tile_width_px = pv->tile_width;
@@ -263,10 +264,8 @@ void register_sim(CLI::App& root) {
                               std::to_string(scan.views.size()) + " views, " + std::to_string(v0.intrinsics.width_px) +
                               "x" + std::to_string(v0.intrinsics.height_px);
     const cv::Mat sheet = draw_scan_contact_sheet(scan, title, style);
-    const std::filesystem::path parent = std::filesystem::path(pv->out).parent_path();
-    if (!parent.empty()) ensure_directory(parent.string());
     write_png(pv->out, sheet);
-    std::cout << "preview: " << scan.views.size() << " views -> " << pv->out << " (" << sheet.cols << "x" << sheet.rows << " px)\n";
+    message_stream(pv->out) << "preview: " << scan.views.size() << " views -> " << pv->out << " (" << sheet.cols << "x" << sheet.rows << " px)\n";
   });
 
   // ---- sim extrude ----
@@ -280,12 +279,13 @@ void register_sim(CLI::App& root) {
   ex->add_option("PLAN", eo->plan, "Floor-plan JSON")->required();
   add_building_options(ex, eo->building);
   ex->add_option("--seed", eo->seed, "Clutter seed")->capture_default_str();
-  ex->add_option("-o,--output", eo->out, "Output .glb file")->required();
+  ex->add_option("-o,--output", eo->out, "Output .glb file (- for standard output)")->required();
   ex->callback([eo] {
-    if (std::filesystem::path(eo->out).extension() != ".glb") {
+    if (eo->out != "-" && std::filesystem::path(eo->out).extension() != ".glb") {
       throw InputError(eo->out + ": output must be a .glb file");
     }
     const FloorPlan plan = load_floor_plan(eo->plan);
+    prepare_output_file(eo->out);
     BuildingOptions b = eo->building;
     b.clutter_seed = eo->seed;
     const FloorPlan full = plan_with_clutter(plan, b, {});
@@ -297,15 +297,14 @@ void register_sim(CLI::App& root) {
                               {"clutter_density", b.clutter_density},
                               {"seed", eo->seed},
                               {"frame", "vertices: floorcast world (x, y plan metres, z up); root node rotates to y up"}};
-    const std::filesystem::path parent = std::filesystem::path(eo->out).parent_path();
-    if (!parent.empty()) ensure_directory(parent.string());
     save_mesh_glb(eo->out, mesh, meta);
-    std::cout << "extrude: " << mesh.num_triangles() << " triangles (";
+    std::ostream& msg = message_stream(eo->out);
+    msg << "extrude: " << mesh.num_triangles() << " triangles (";
     for (int l = 0; l < kNumMeshLabels; ++l) {
-      std::cout << (l ? ", " : "") << mesh_label_name(static_cast<MeshLabel>(l)) << " "
+      msg << (l ? ", " : "") << mesh_label_name(static_cast<MeshLabel>(l)) << " "
                 << mesh.count(static_cast<MeshLabel>(l));
     }
-    std::cout << "), " << (full.obstacles.size() - plan.obstacles.size()) << " clutter items -> " << eo->out << "\n";
+    msg << "), " << (full.obstacles.size() - plan.obstacles.size()) << " clutter items -> " << eo->out << "\n";
   });
 }
 

@@ -43,16 +43,16 @@ void register_sim_walk(CLI::App& root) {
       cmd->add_option("--pose", o->start, "Start pose X,Y,YAW_DEG, or 'random' (seeded by --seed, in the largest free region)")
           ->capture_default_str();
   add_deprecated_option(*cmd, "--start", pose_opt, o->start);
-  cmd->add_option("--steps", o->steps, "Samples of the walk (steps and pauses)")->capture_default_str()->check(CLI::Range(2, 1000000));
+  cmd->add_option("--steps", o->steps, "Samples of the walk (steps and pauses)")->capture_default_str()->check(in_range(2, 1000000));
   cmd->add_option("--odometry", o->odometry, "Odometry model: exact, vio (ARKit-like), pdr (step counting)")
       ->capture_default_str()
       ->check(CLI::IsMember({"exact", "vio", "pdr"}));
   cmd->add_option("--scan-every", o->scan_every, "Also observe every N samples (0 = only the initial scan)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(in_range(0, 1000000));
   cmd->add_option("--scan-every-m", o->scan_every_m, "Also observe every M metres walked (0 = off)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(in_range(0, 1e6));
   cmd->add_flag("--no-initial-scan", o->no_initial, "No observation at the start (default: scan, then walk)");
   std::vector<std::string> sensors = scan_preset_names();
   cmd->add_option("--sensor", o->sensor, "Observations: a sensor preset (simulated scans) or 'perfect' (exact walls)")
@@ -61,10 +61,10 @@ void register_sim_walk(CLI::App& root) {
   cmd->add_option("--setting", o->setting, "Scans: full rotation, partial (3 views) or single (one forward view, F3Loc)")
       ->capture_default_str()
       ->check(CLI::IsMember({"full", "partial", "single"}));
-  cmd->add_option("--rays", o->rays, "Perfect observations: equiangular rays")->capture_default_str()->check(CLI::Range(0, 3600));
+  cmd->add_option("--rays", o->rays, "Perfect observations: equiangular rays")->capture_default_str()->check(in_range(0, 3600));
   cmd->add_option("--range", o->range_m,
                   "Observation range, metres (perfect observations: default 10; scans: default the preset's maximum range)")
-      ->check(CLI::Range(0.01, 1e4));
+      ->check(in_range(0.01, 1e4));
   cmd->add_flag("--doors-open", o->doors_open, "Perfect observations: open doors stay open (default: all closed)");
   cmd->add_flag("--rgb", o->rgb,
                 "Scans: also render every view of every observation in colour (OpenGL through OSMesa, headless) from "

@@ -59,7 +59,7 @@ void register_track(CLI::App& root) {
                   "Matcher parameter override KEY=VALUE (repeatable; keys as in metrics.json's matcher_parameters)");
   CLI::Option* range_opt = cmd->add_option("--range", o->range_m, "Matching range, metres (the matcher's max_range_m; PALMS+ 4.4: 10)")
                                ->capture_default_str()
-                               ->check(CLI::Range(0.5, 60.0));
+                               ->check(in_range(0.5, 60.0));
   cmd->add_option("--seed", o->seed, "Tracker seed")->capture_default_str();
   add_observation_options(*cmd, o->observe);
   cmd->add_flag("--quiet", o->quiet, "No progress output on stderr");
@@ -87,6 +87,7 @@ void register_track(CLI::App& root) {
     (void)observation_params_from_cli(o->observe, nullptr);  // the observation module's, checked now
     const FloorPlan plan = load_floor_plan(o->plan);
     if (walk.observations.empty()) throw InputError(o->walk + ": the walk has no observation to start from");
+    warn_plan_mismatch(o->walk, walk.plan_hash, o->plan, plan);
     const std::unique_ptr<Matcher> matcher = matcher_config->build(plan);
     const std::unique_ptr<Tracker> tracker = tracker_config->build(plan);
 

@@ -131,7 +131,6 @@ DepthKind parse_depth_kind(const std::string& text) {
 }
 
 cv::Mat read_depth_file(const std::string& path, const DepthFileOptions& o) {
-  if (!fs::is_regular_file(path)) throw InputError(path + ": depth file missing");
   const std::string ext = lower_extension(path);
   if (ext == ".npy") return npy_to_depth(read_npy(path), path, o);
   if (ext == ".png") {
@@ -146,6 +145,7 @@ cv::Mat read_depth_file(const std::string& path, const DepthFileOptions& o) {
     return out;
   }
   if (ext == ".tif" || ext == ".tiff" || ext == ".exr") {
+    check_input_file(path);
     const depthio_api::ReadFn read = depth_reader();
     depthio_api::Image img;
     char error[1024] = {0};
@@ -186,9 +186,12 @@ void write_depth_file(const std::string& path, const cv::Mat& depth_m, const Dep
     const float* s = d.ptr<float>();
     for (std::size_t i = 0; i < values.size(); ++i) values[i] = static_cast<float>(s[i] / o.float_unit_m);
     char error[1024] = {0};
-    if (!depth_writer()(depthio_api::kApiVersion, path.c_str(), d.cols, d.rows, values.data(), error, sizeof(error))) {
+    AtomicFileWriter out(path);
+    const std::string& tmp = out.release_temporary_path();
+    if (!depth_writer()(depthio_api::kApiVersion, tmp.c_str(), d.cols, d.rows, values.data(), error, sizeof(error))) {
       throw InputError(path + ": " + error);
     }
+    out.commit();
   } else {
     throw InputError(path + ": unknown depth file type \"" + ext + "\" (expected .npy, .tif, .tiff, .exr or .png)");
   }
@@ -422,63 +425,46 @@ void put32(std::string& o, unsigned long v) {
 }  // namespace
 
 struct NpyStreamWriter::State {
-  std::string path, tmp;
-  std::ofstream out;
+  std::unique_ptr<AtomicFileWriter> out;
   std::size_t expected = 0, written = 0;
   NpyDtype dtype = NpyDtype::kFloat32;
-  bool closed = false;
 };
 
 NpyStreamWriter::NpyStreamWriter(std::string path, std::vector<std::size_t> shape, NpyDtype dtype)
     : state_(std::make_unique<State>()) {
   State& s = *state_;
-  s.path = std::move(path);
-  s.tmp = s.path + ".tmp";
+  s.out = std::make_unique<AtomicFileWriter>(std::move(path));
   s.expected = element_count(shape);
   s.dtype = dtype;
-  s.out.open(s.tmp, std::ios::binary | std::ios::trunc);
-  if (!s.out) throw InputError(s.tmp + ": cannot create");
-  const std::string h = npy_header(dtype_descr(dtype), shape);
-  s.out.write(h.data(), static_cast<std::streamsize>(h.size()));
+  s.out->write(npy_header(dtype_descr(dtype), shape));
 }
 
-NpyStreamWriter::~NpyStreamWriter() {
-  if (state_ && !state_->closed) {
-    state_->out.close();
-    std::remove(state_->tmp.c_str());
-  }
-}
+NpyStreamWriter::~NpyStreamWriter() = default;
 
 void NpyStreamWriter::append(const cv::Mat& block) {
   State& s = *state_;
-  const std::string bytes = block_bytes(block, s.dtype);
-  s.out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  s.out->write(block_bytes(block, s.dtype));
   s.written += block.total();
-  if (!s.out) throw InputError(s.tmp + ": write failed (disk full?)");
 }
 
 void NpyStreamWriter::close() {
   State& s = *state_;
   if (s.written != s.expected) {
-    throw InputError(s.path + ": " + std::to_string(s.written) + " of " + std::to_string(s.expected) + " elements written");
+    throw InputError(s.out->path() + ": " + std::to_string(s.written) + " of " + std::to_string(s.expected) + " elements written");
   }
-  s.out.close();
-  if (!s.out || std::rename(s.tmp.c_str(), s.path.c_str()) != 0) throw InputError(s.path + ": cannot write");
-  s.closed = true;
+  s.out->commit();
 }
 
 struct NpzWriter::State {
-  std::string path, tmp;
-  std::ofstream out;
+  std::string path;
+  std::unique_ptr<AtomicFileWriter> out;
   std::string central;
   unsigned long offset = 0;
   unsigned members = 0;
-  bool closed = false;
 
   void write(const std::string& b) {
-    out.write(b.data(), static_cast<std::streamsize>(b.size()));
+    out->write(b);
     offset += static_cast<unsigned long>(b.size());
-    if (!out) throw InputError(tmp + ": write failed (disk full?)");
   }
 
   /// One member from its pieces (header, then data blocks from `next` until it returns false):
@@ -560,18 +546,11 @@ struct NpzWriter::State {
 };
 
 NpzWriter::NpzWriter(std::string path) : state_(std::make_unique<State>()) {
-  state_->path = std::move(path);
-  state_->tmp = state_->path + ".tmp";
-  state_->out.open(state_->tmp, std::ios::binary | std::ios::trunc);
-  if (!state_->out) throw InputError(state_->tmp + ": cannot create");
+  state_->path = path;
+  state_->out = std::make_unique<AtomicFileWriter>(std::move(path));
 }
 
-NpzWriter::~NpzWriter() {
-  if (state_ && !state_->closed) {
-    state_->out.close();
-    std::remove(state_->tmp.c_str());
-  }
-}
+NpzWriter::~NpzWriter() = default;
 
 void NpzWriter::add(const std::string& name, const std::vector<std::size_t>& shape, const std::vector<float>& values) {
   std::string bytes = npy_bytes(shape, values);
@@ -625,9 +604,7 @@ void NpzWriter::close() {
   put32(e, start);
   put16(e, 0);
   s.write(e);
-  s.out.close();
-  if (!s.out || std::rename(s.tmp.c_str(), s.path.c_str()) != 0) throw InputError(s.path + ": cannot write");
-  s.closed = true;
+  s.out->commit();
 }
 
 }  // namespace floorcast

@@ -237,7 +237,7 @@ void write_png(const std::string& path, const cv::Mat& image) {
 }
 
 cv::Mat read_image(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": image missing");
+  if (std::error_code ec; !std::filesystem::exists(path, ec)) throw InputError(path + ": image missing");  // other kinds: read_text_file
   return decode_image(read_text_file(path), path);
 }
 

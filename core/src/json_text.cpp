@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <unordered_set>
+#include <vector>
 
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/limits.hpp"
@@ -38,6 +40,41 @@ std::size_t utf8_sequence(const std::string& s, std::size_t i) {
 }
 
 struct TooDeep {};
+struct DuplicateKey {
+  std::string key;
+};
+
+/// Where the second occurrence of a key in one object is (the duplicate the parser met first), or
+/// npos: a scan over the text tracking each open object's keys as written.
+std::size_t locate_duplicate_key(const std::string& text) {
+  std::vector<std::vector<std::string>> objects;  // keys of each open container (arrays: unused)
+  std::vector<bool> is_object;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '{' || c == '[') {
+      is_object.push_back(c == '{');
+      objects.emplace_back();
+    } else if (c == '}' || c == ']') {
+      if (!objects.empty()) {
+        objects.pop_back();
+        is_object.pop_back();
+      }
+    } else if (c == '"') {
+      std::size_t j = i + 1;
+      while (j < text.size() && text[j] != '"') j += text[j] == '\\' ? 2 : 1;
+      const std::string token = text.substr(i + 1, std::min(j, text.size()) - i - 1);
+      std::size_t k = j + 1;
+      while (k < text.size() && std::isspace(static_cast<unsigned char>(text[k]))) ++k;
+      if (k < text.size() && text[k] == ':' && !is_object.empty() && is_object.back()) {
+        std::vector<std::string>& keys = objects.back();
+        if (std::find(keys.begin(), keys.end(), token) != keys.end()) return i;
+        keys.push_back(token);
+      }
+      i = j;
+    }
+  }
+  return std::string::npos;
+}
 
 /// Where a parse that the callback stopped went wrong: the first container opened deeper than
 /// `max_depth` (depth_problem) or the first number that overflows a double. npos when neither.
@@ -96,10 +133,12 @@ class DepthLimitedDom : public nlohmann::detail::json_sax_dom_parser<J> {
   DepthLimitedDom(J& root, long max_depth) : Base(root, true), max_depth_(max_depth) {}
   bool start_object(std::size_t n) {
     if (++depth_ > max_depth_) throw TooDeep{};
+    keys_.emplace_back();
     return Base::start_object(n);
   }
   bool end_object() {
     --depth_;
+    keys_.pop_back();
     return Base::end_object();
   }
   bool start_array(std::size_t n) {
@@ -110,10 +149,17 @@ class DepthLimitedDom : public nlohmann::detail::json_sax_dom_parser<J> {
     --depth_;
     return Base::end_array();
   }
+  /// JSON allows a key twice in one object and nlohmann keeps the last: refused, so no value is
+  /// silently dropped (and no error blames the wrong one).
+  bool key(typename J::string_t& k) {
+    if (!keys_.empty() && !keys_.back().insert(k).second) throw DuplicateKey{k};
+    return Base::key(k);
+  }
 
  private:
   long max_depth_;
   long depth_ = 0;
+  std::vector<std::unordered_set<std::string>> keys_;
 };
 
 template <class J>
@@ -133,6 +179,10 @@ J parse_impl(const std::string& text, const std::string& source) {
                          " levels exceeds the limit max_nesting_depth (raise it with "
                          "FLOORCAST_LIMITS=max_nesting_depth=N; docs/limits.md)",
                      "max_nesting_depth");
+  } catch (const DuplicateKey& d) {
+    const std::size_t at = locate_duplicate_key(text);
+    throw InputError(source + (at == std::string::npos ? std::string() : ":" + position(text, at)) + ": duplicate key \"" +
+                     printable_text(d.key, 80) + "\" in one object (JSON keeps only one of them; remove the other)");
   } catch (const nlohmann::json::parse_error& e) {
     std::string reason = e.what();
     const auto cut = reason.find(": ", reason.find("column"));
@@ -172,7 +222,13 @@ nlohmann::ordered_json parse_ordered_json_text(const std::string& text, const st
   return parse_impl<nlohmann::ordered_json>(text, source);
 }
 
-nlohmann::json read_json_file(const std::string& path) { return parse_json_text(read_text_file(path), path); }
+nlohmann::json read_json_file(const std::string& path) { return parse_json_text(read_text_file(path), input_name(path)); }
+
+bool strip_utf8_bom(std::string& text) {
+  if (text.size() < 3 || text.compare(0, 3, "\xEF\xBB\xBF") != 0) return false;
+  text.erase(0, 3);
+  return true;
+}
 
 std::string json_excerpt(const nlohmann::json& value, std::size_t max_chars) { return excerpt_impl(value, max_chars); }
 std::string json_excerpt(const nlohmann::ordered_json& value, std::size_t max_chars) {

@@ -26,7 +26,7 @@ constexpr double kDepthUnitM = 0.001;
 std::string view_file(std::size_t k, const char* what) { return scan_view_file(k, what); }
 
 cv::Mat read_png(const std::string& path, int expected_type, int width, int height, const std::string& what) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": " + what + " image missing");
+  if (std::error_code ec; !std::filesystem::exists(path, ec)) throw InputError(path + ": " + what + " image missing");
   const cv::Mat m = read_image(path);
   if (m.type() != expected_type) {
     throw InputError(path + ": " + what + " image must be single-channel " +
@@ -381,7 +381,8 @@ ScanDescription parse_scan_description(const std::string& json_text, const std::
 Scan load_scan(const std::string& dir, const ScanLoadOptions& options) {
   const std::string json_path = dir + "/scan.json";
   if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": not a scan folder (no such directory)");
-  if (!std::filesystem::is_regular_file(json_path)) throw InputError(json_path + ": missing (not a scan folder?)");
+  // Missing: not a scan folder; a FIFO, device or folder there is named by read_text_file.
+  if (std::error_code ec; !std::filesystem::exists(json_path, ec)) throw InputError(json_path + ": missing (not a scan folder?)");
   ScanDescription d = parse_scan_description(read_text_file(json_path), json_path, options.require_depth);
   Scan& scan = d.scan;
   for (std::size_t k = 0; k < scan.views.size(); ++k) {

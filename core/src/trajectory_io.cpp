@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "floorcast/core/file_io.hpp"
+#include "floorcast/core/json_text.hpp"
 
 namespace floorcast {
 
@@ -26,8 +27,10 @@ void save_tum(const std::string& path, const std::vector<StampedPose>& trajector
   write_text_file_atomic(path, tum_text(trajectory, comment));
 }
 
-std::vector<StampedPose> parse_tum(const std::string& text, const std::string& source) {
+std::vector<StampedPose> parse_tum(const std::string& text_in, const std::string& source) {
   std::vector<StampedPose> out;
+  std::string text = text_in;
+  strip_utf8_bom(text);
   std::istringstream in(text);
   std::string line;
   int number = 0;
@@ -44,6 +47,14 @@ std::vector<StampedPose> parse_tum(const std::string& text, const std::string& s
     if (n != 8 || (fields >> rest)) throw InputError(where + ": expected 8 numbers: timestamp tx ty tz qx qy qz qw");
     for (double x : v) {
       if (!std::isfinite(x)) throw InputError(where + ": not a finite number");
+    }
+    // Positions within the plans' coordinate range (a pose at 1e308 m makes every error inf/NaN).
+    for (int k = 1; k <= 3; ++k) {
+      if (std::abs(v[k]) > kMaxAbsCoordinateM) {
+        std::ostringstream os;
+        os << where << ": position " << v[k] << " m is beyond +-" << kMaxAbsCoordinateM << " m of the origin";
+        throw InputError(os.str());
+      }
     }
     const double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
     if (std::abs(norm - 1.0) > 1e-3) throw InputError(where + ": quaternion is not of unit length");

@@ -55,6 +55,27 @@ GateOutcome evaluate_gate(const Json& summary, const Json& baseline, const std::
         it.key() != "scenario_hash" && it.key() != "paired_checks")
       throw InputError(baseline_source + ": unknown key \"" + it.key() + "\"");
   }
+  // A baseline belongs to one scenario: its "scenario" (the scenario file, or its name) must name
+  // the run's scenario, or the floors are checked against another experiment's numbers.
+  if (baseline.contains("scenario")) {
+    if (!baseline["scenario"].is_string()) throw InputError(baseline_source + ": \"scenario\" must be a string");
+    const std::string named = baseline["scenario"].get<std::string>();
+    std::string want = named;
+    const auto slash = want.find_last_of('/');
+    if (slash != std::string::npos) want = want.substr(slash + 1);
+    for (const char* ext : {".yaml", ".yml"}) {
+      const std::string e(ext);
+      if (want.size() > e.size() && want.compare(want.size() - e.size(), e.size(), e) == 0) want.resize(want.size() - e.size());
+    }
+    const std::string have = summary.is_object() && summary.contains("scenario") && summary["scenario"].is_string()
+                                 ? summary["scenario"].get<std::string>()
+                                 : std::string();
+    if (have != want && have != named) {
+      throw InputError("the summary is a run of scenario " + (have.empty() ? std::string("(none named)") : "\"" + have + "\"") +
+                       ", but " + baseline_source + " holds the floors of scenario \"" + named +
+                       "\": gate each run against its own baseline");
+    }
+  }
   // Floors hold for the configuration they were measured with: refuse any other.
   if (baseline.contains("scenario_hash")) {
     if (!baseline["scenario_hash"].is_string()) throw InputError(baseline_source + ": \"scenario_hash\" must be a string");
@@ -208,6 +229,11 @@ GateOutcome evaluate_gate(const Json& summary, const Json& baseline, const std::
 
   const Json ratios = baseline.value("timing_ratios", Json::array());
   if (!ratios.is_array()) throw InputError(baseline_source + ": \"timing_ratios\" must be a list");
+  // A gate that checks nothing passes every run: refused, not reported as "passed (0 checks)".
+  if (checks.empty() && ratios.empty()) {
+    throw InputError(baseline_source + ": no \"checks\" and no \"timing_ratios\": a gate with nothing to check would pass "
+                     "any run");
+  }
   for (std::size_t i = 0; i < ratios.size(); ++i) {
     const Json& r = ratios[i];
     const std::string where = baseline_source + ": timing_ratios[" + std::to_string(i) + "]";

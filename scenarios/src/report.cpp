@@ -593,6 +593,14 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
         csv << ",0,,,,,,," << (o ? o->match_s : 0.0);
         continue;
       }
+      // A metric is finite before it is written: a matcher (a user's own, registered from Python)
+      // that reports a NaN pose is named here instead of writing "nan" into the table.
+      for (const double v : {o->estimate.x_m, o->estimate.y_m, o->estimate.yaw_rad, o->estimate.position_error_m,
+                             o->estimate.yaw_error_deg}) {
+        if (!std::isfinite(v)) {
+          throw InputError(w.id + ": matcher " + label + " reported a non-finite estimate or error; the report was not written");
+        }
+      }
       double best = kInf;
       for (int i = 0; i < std::min<int>(sp.top_k, static_cast<int>(o->top_k.size())); ++i)
         best = std::min(best, o->top_k[static_cast<std::size_t>(i)].position_error_m);

@@ -12,6 +12,7 @@
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/format.hpp"
 #include "floorcast/core/image_io.hpp"
+#include "floorcast/core/json_text.hpp"
 #include "floorcast/core/types.hpp"
 #include "floorcast/eval/plot.hpp"
 #include "floorcast/eval/trajectory_plot.hpp"
@@ -205,8 +206,8 @@ std::string render_run_report_html(const RunDirectory& run, const HtmlReportOpti
     throw InputError(run.root() + ": no summary.md/summary.json: not a finished run (run it to completion, or merge its "
                                   "shards with `floorcast merge`)");
   }
-  const nlohmann::json summary = nlohmann::json::parse(read_text_file(summary_json.string()), nullptr, false);
-  if (summary.is_discarded() || !summary.is_object()) throw InputError(summary_json.string() + ": malformed JSON");
+  const nlohmann::json summary = read_json_file(summary_json.string());
+  if (!summary.is_object()) throw InputError(summary_json.string() + ": expected a JSON object");
   const Scenario scenario = run.stored_scenario();
   const std::vector<UnitResult> units = run.read_units(scenario);
 

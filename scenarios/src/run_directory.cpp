@@ -53,9 +53,8 @@ std::size_t RunDirectory::acquire() {
   if (lock_fd_ >= 0) return 0;
   const fs::path root(root_);
   std::error_code ec;
-  if (fs::exists(root, ec) && !fs::is_directory(root, ec)) {
-    throw InputError(root_ + ": exists and is not a directory; give a new or empty folder for the run");
-  }
+  // A file, device or FIFO where the run folder should be: refused, naming what it is.
+  if (fs::exists(root, ec) && !fs::is_directory(root, ec)) create_directories_or_throw(root_);
   if (fs::is_directory(root, ec) && !fs::exists(root / "run.json", ec) && !fs::exists(root / "run.lock", ec) &&
       fs::directory_iterator(root, ec) != fs::directory_iterator()) {
     throw InputError(root_ + ": folder is not empty and holds no run (no run.json); give a new or empty folder, so "
@@ -91,6 +90,8 @@ std::size_t RunDirectory::acquire() {
     ::close(fd);
     if (attempt > 100) throw InputError(root_ + ": cannot lock run.lock (it keeps being replaced)");
   }
+  // Files below a run folder we hold are our own state (rewritten as the run goes), not inputs.
+  note_owned_output_folder(root_);
   const std::string pid = std::to_string(::getpid()) + "\n";
   if (::ftruncate(lock_fd_, 0) != 0 || ::pwrite(lock_fd_, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
     throw InputError(root_ + ": cannot write into the run folder (run.lock: " + std::strerror(errno) + ")");

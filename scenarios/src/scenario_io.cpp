@@ -108,7 +108,12 @@ class YamlConverter {
       case YAML::NodeType::Map: {
         ancestors_.push_back(node);
         out = OJson::object();
+        std::vector<YAML::Node> merged;  // values of merge keys (<<), applied after the map's own keys
         for (const auto& kv : node) {
+          if (kv.first.Type() == YAML::NodeType::Scalar && kv.first.Scalar() == "<<" && kv.first.Tag() == "?") {
+            merged.push_back(kv.second);
+            continue;
+          }
           if (kv.first.Type() != YAML::NodeType::Scalar) {
             throw InputError(mark_text(source_, kv.first.Mark()) + ": " + (path.empty() ? std::string("document") : path) +
                              ": mapping keys must be plain text");
@@ -123,6 +128,27 @@ class YamlConverter {
           convert(kv.second, child, v);
           marks_[child] = kv.first.Mark();  // messages about a key point at the key
           out[key] = std::move(v);
+        }
+        // YAML 1.1 merge keys (`<<: *defaults`, `<<: [*a, *b]`): the merged maps' keys that the map
+        // does not set itself, the earlier map first (yaml-cpp reads "<<" as an ordinary key).
+        for (const YAML::Node& m : merged) {
+          std::vector<YAML::Node> sources;
+          if (m.Type() == YAML::NodeType::Sequence) {
+            for (const auto& item : m) sources.push_back(item);
+          } else {
+            sources.push_back(m);  // a mapping; anything else is refused below
+          }
+          for (const YAML::Node& src : sources) {
+            if (src.Type() != YAML::NodeType::Map) {
+              throw InputError(mark_text(source_, src.Mark()) + ": " + (path.empty() ? std::string("document") : path) +
+                               ": a merge key (<<) takes a mapping or a list of mappings (e.g. <<: *defaults)");
+            }
+            OJson v;
+            convert(src, path, v);
+            for (auto it = v.begin(); it != v.end(); ++it) {
+              if (!out.contains(it.key())) out[it.key()] = it.value();
+            }
+          }
         }
         ancestors_.pop_back();
         break;
@@ -290,18 +316,27 @@ class Checker {
 
 const std::vector<std::string> kArchetypes = {"apartment", "office", "campus", "angled"};
 
-/// Absolute path of a file (or, with `folder`, a folder) named in a scenario: as is when
-/// absolute, else relative to the scenario's folder, then to the source tree root; empty when not
-/// found.
-std::string find_file(const std::string& file, const std::string& base_dir, const std::string& source_root,
-                      bool folder = false) {
+/// Absolute path of a file or folder named in a scenario: as is when absolute, else relative to
+/// the scenario's folder, then to the source tree root; empty when not found.
+std::string find_file(const std::string& file, const std::string& base_dir, const std::string& source_root) {
   const fs::path p(file);
   const std::vector<fs::path> candidates =
       p.is_absolute() ? std::vector<fs::path>{p} : std::vector<fs::path>{fs::path(base_dir) / p, fs::path(source_root) / p};
+  std::error_code ec;
   for (const auto& c : candidates) {
-    if (folder ? fs::is_directory(c) : fs::is_regular_file(c)) return fs::weakly_canonical(c).string();
+    // Any kind: the callers name what a found path is when it is the wrong kind (a folder used to be
+    // reported as "not found").
+    if (fs::exists(c, ec)) return fs::weakly_canonical(c).string();
   }
   return {};
+}
+
+/// Refuses a found path that is not a regular file, naming what it is (a folder used to be
+/// reported as "not found").
+void require_file(const Checker& chk, const std::string& path, const std::string& what, const std::string& found) {
+  std::error_code ec;
+  if (fs::is_directory(found, ec)) chk.fail(path, what + " \"" + found + "\" is a folder, expected a file");
+  if (!fs::is_regular_file(found, ec)) chk.fail(path, what + " \"" + found + "\" is not a regular file (a FIFO, device or socket)");
 }
 
 /// True if the building's points can be placed by room kind: generated (rooms built in), a rooms
@@ -340,6 +375,7 @@ std::vector<BuildingSpec> parse_buildings(const OJson& root, const Checker& chk,
         if (b.rooms_file.empty()) {
           chk.fail(path + ".rooms", "rooms file \"" + rooms + "\" not found (looked in " + base_dir + " and " + source_root + ")");
         }
+        require_file(chk, path + ".rooms", "rooms file", b.rooms_file);
         b.rooms_given = rooms;
         b.rooms_hash = hex64(fnv1a64(read_text_file(b.rooms_file)));
       }
@@ -347,6 +383,7 @@ std::vector<BuildingSpec> parse_buildings(const OJson& root, const Checker& chk,
     if (!file.empty()) {
       b.file = find_file(file, base_dir, source_root);
       if (b.file.empty()) chk.fail(path, "plan file \"" + file + "\" not found (looked in " + base_dir + " and " + source_root + ")");
+      require_file(chk, path, "plan file", b.file);
       b.file_given = file;
       b.file_hash = hex64(fnv1a64(read_text_file(b.file)));
       if (b.label.empty()) b.label = fs::path(b.file).stem().string();
@@ -493,10 +530,14 @@ ObservationSpec parse_observation(const OJson& obj, const Checker& chk, const st
     o.depth_dir_given = user.depth_dir;
     o.depth_dir = user.depth_dir;
     if (!files.base_dir.empty()) {
-      o.depth_dir = find_file(user.depth_dir, files.base_dir, files.source_root, true);
+      o.depth_dir = find_file(user.depth_dir, files.base_dir, files.source_root);
       if (o.depth_dir.empty()) {
         chk.fail(Checker::join(path, "depth_dir"), "folder \"" + user.depth_dir + "\" not found (looked in " +
                                                         files.base_dir + " and " + files.source_root + ")");
+      }
+      std::error_code ec;
+      if (!fs::is_directory(o.depth_dir, ec)) {
+        chk.fail(Checker::join(path, "depth_dir"), "\"" + o.depth_dir + "\" is not a folder (depth maps are read from a folder)");
       }
     }
     o.depth_file.kind = parse_depth_kind(user.depth_kind);
@@ -540,7 +581,8 @@ std::vector<MatcherSpec> parse_matchers(const OJson& obj, const Checker& chk, co
       for (Json& e : overrides["command"]) {
         if (!e.is_string() || e.get<std::string>().empty() || fs::path(e.get<std::string>()).is_absolute()) continue;
         const std::string found = find_file(e.get<std::string>(), files.base_dir, files.source_root);
-        if (!found.empty()) e = found;
+        std::error_code ec;
+        if (!found.empty() && fs::is_regular_file(found, ec)) e = found;
       }
     }
     try {

@@ -221,7 +221,6 @@ void save_mesh_glb(const std::string& path, const Mesh& mesh, const nlohmann::js
 }
 
 Mesh load_mesh_glb(const std::string& path, nlohmann::json* metadata) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
   const std::string bytes = read_text_file(path);
   if (bytes.size() < 12 || bytes.compare(0, 4, "glTF") != 0) throw InputError(path + ": not a binary glTF (.glb) file");
   if (bytes.size() > 0xffffffffULL) throw InputError(path + ": file too large");

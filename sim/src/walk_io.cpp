@@ -191,21 +191,45 @@ void save_walk(const std::string& dir, const WalkRecord& rec) {
   write_text_file_atomic(dir + "/steps.csv", csv);
 }
 
+namespace {
+
+/// The name of column k of steps.csv.
+std::string csv_column_name(int k) {
+  std::stringstream header(kCsvHeader);
+  std::string name;
+  for (int i = 0; i <= k && std::getline(header, name, ','); ++i) {
+  }
+  return name;
+}
+
+}  // namespace
+
 WalkRecord load_walk(const std::string& dir) {
   const std::string json_path = dir + "/walk.json";
   if (!std::filesystem::is_directory(dir)) throw InputError(dir + ": not a walk folder (no such directory)");
-  if (!std::filesystem::is_regular_file(json_path)) throw InputError(json_path + ": missing (not a walk folder?)");
+  // Missing: not a walk folder; a FIFO, device or folder there is named by read_text_file.
+  if (std::error_code ec; !std::filesystem::exists(json_path, ec)) throw InputError(json_path + ": missing (not a walk folder?)");
   const nlohmann::json j = read_json_file(json_path);
   WalkRecord rec;
   walk_json_fields().read_record(rec, j, json_path);
 
   // steps.csv: truth and odometry, one row per sample.
   const std::string csv_path = dir + "/steps.csv";
-  std::istringstream csv(read_text_file(csv_path));
+  std::string csv_text = read_text_file(csv_path);
+  strip_utf8_bom(csv_text);  // a spreadsheet's byte-order mark
+  std::istringstream csv(csv_text);
   std::string line;
-  if (!std::getline(csv, line) || line != kCsvHeader) throw InputError(csv_path + ":1: unexpected header (expected: " + kCsvHeader + ")");
+  // Windows line ends (a file edited in a spreadsheet) are line ends.
+  auto next_line = [&csv, &line] {
+    if (!std::getline(csv, line)) return false;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  };
+  if (!next_line() || line != kCsvHeader) {
+    throw InputError(csv_path + ":1: unexpected header \"" + printable_text(line, 80) + "\" (expected: " + kCsvHeader + ")");
+  }
   int number = 1;
-  while (std::getline(csv, line)) {
+  while (next_line()) {
     ++number;
     if (line.empty()) continue;
     std::vector<double> v;
@@ -220,6 +244,31 @@ WalkRecord load_walk(const std::string& dir) {
       v.push_back(x);
     }
     if (v.size() != 15) throw InputError(csv_path + ":" + std::to_string(number) + ": expected 15 columns");
+    // Finite is not enough: an odometry step of 1e308 m overflows the integrated track to inf and
+    // every error to NaN. Positions and steps stay within the coordinate range of plans.
+    static const int kLengthColumns[] = {3, 4, 6, 8, 9, 11, 12};
+    for (const int k : kLengthColumns) {
+      if (std::abs(v[static_cast<std::size_t>(k)]) > kMaxAbsCoordinateM) {
+        std::ostringstream os;
+        os << csv_path << ":" << number << ": column " << (k + 1) << " (" << csv_column_name(k) << ") = " << v[static_cast<std::size_t>(k)]
+           << " m is beyond +-" << kMaxAbsCoordinateM << " m";
+        throw InputError(os.str());
+      }
+    }
+    static const int kAngleColumns[] = {5, 10, 13};
+    for (const int k : kAngleColumns) {
+      if (std::abs(v[static_cast<std::size_t>(k)]) > 1.0e6) {
+        std::ostringstream os;
+        os << csv_path << ":" << number << ": column " << (k + 1) << " (" << csv_column_name(k) << ") = " << v[static_cast<std::size_t>(k)]
+           << " rad is beyond +-1e6 rad";
+        throw InputError(os.str());
+      }
+    }
+    if (v[1] < 0.0 || v[1] > 1.0e12) {
+      std::ostringstream os;
+      os << csv_path << ":" << number << ": t_s = " << v[1] << " s is outside [0, 1e12]";
+      throw InputError(os.str());
+    }
     if (static_cast<std::size_t>(v[0]) != rec.walk.steps.size()) {
       throw InputError(csv_path + ":" + std::to_string(number) + ": step numbers must count up from 0");
     }

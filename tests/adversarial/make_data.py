@@ -438,4 +438,55 @@ put("gate/baseline_name_number.json", json.dumps({"timing_ratios": [{"name": 5, 
 put("gate/summary_zero.json", json.dumps({"complete": True, "zero": 0, "cells": [{"id": "c000", "recall": 0.5}]}))
 put("gate/summary_deep_array.json", "{\"complete\": true, \"x\": " + "[" * 300 + "]" * 300 + "}")
 
+# ---- issue 28: hostile input round two --------------------------------------------------------
+# Duplicate keys: JSON keeps the last, so the first "walls" (the real ones) was silently dropped and
+# the error blamed an empty plan.
+put(P + "duplicate_key_walls.json", plan()[:-1] + ', "walls": []}')
+put(P + "duplicate_key_nested.json", plan().replace('"id": "s", ', '"id": "s", "id": "t", ', 1))
+put("obs/duplicate_key.json", json.dumps({"format": "floorcast-observation", "format_version": 1, "frame": "observer",
+                                          "max_range_m": 10, "segments_m": [[1, -1, 1, 1]]})[:-1] + ', "max_range_m": 1}')
+# Gate: a baseline that checks nothing, and one of another scenario.
+put("gate/summary_named.json", json.dumps({"complete": True, "scenario": "gate", "cells": [{"id": "c000", "recall": 0.5}]}))
+put("gate/baseline_zero_checks.json", json.dumps({"description": "nothing", "checks": []}))
+put("gate/baseline_empty_object.json", json.dumps({}))
+put("gate/baseline_other_scenario.json", json.dumps({"scenario": "scenarios/gate_sequential.yaml",
+                                                     "checks": [{"pointer": "/cells/0/recall", "min": 0.1}]}))
+put("gate/baseline_same_scenario.json", json.dumps({"scenario": "scenarios/gate.yaml",
+                                                    "checks": [{"pointer": "/cells/0/recall", "min": 0.1}]}))
+# YAML merge keys (YAML 1.1 `<<`): yaml-cpp reads "<<" as a key, which the loader called unknown.
+RUN_BASE = ("name: t\nbuildings: [floorplans/buildings/two_rooms.json]\nsampling: {count: 2, seed: 1}\n"
+            "observation: {source: perfect}\noutput: {heatmaps: 0}\n")
+y("merge_key", RUN_BASE + "matchers:\n  k: &k {matcher: kernel, resolution_m: 0.1}\n  k2: {<<: *k, resolution_m: 0.2}\n")
+y("merge_key_list", RUN_BASE + "matchers:\n  k: &k {matcher: kernel}\n  r: &r {matcher: ray, max_range_m: 8}\n"
+  "  k2: {<<: [*k, *r]}\n")
+y("merge_key_scalar", BASE + "observation: {<<: 5}\n")
+y("merge_key_unknown_after", RUN_BASE + "matchers:\n  k: &k {matcher: kernel}\n  k2: {<<: *k, colour: red}\n")
+# A folder where a plan file is expected ("not found" before).
+y("building_is_folder", "buildings: [floorplans/buildings]\nmatchers: {k: {matcher: kernel}}\n")
+# CSV from a spreadsheet: a UTF-8 byte-order mark before the first number.
+put("csv/bom.csv", b"\xef\xbb\xbf" + b"0,0,8,0\n8,0,8,5\n8,5,0,5\n0,5,0,0\n")
+put("csv/bom_crlf.csv", b"\xef\xbb\xbf" + b"0,0,8,0\r\n8,0,8,5\r\n8,5,0,5\r\n0,5,0,0\r\n")
+
+
+def gray_png(width, height, value):
+    """An 8-bit grayscale PNG of one value."""
+    sig = b"\x89PNG\r\n\x1a\n"
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    raw = b"".join(b"\x00" + bytes([value]) * width for _ in range(height))
+    return sig + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)) + \
+        chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b"")
+
+
+# Occupancy images with nothing free (all black) or nothing occupied (all white).
+put("png/all_black.png", gray_png(64, 48, 0))
+put("png/all_white.png", gray_png(64, 48, 255))
+# The shipped two-room plan under another name: another plan hash, the same geometry.
+with open(os.path.join(HERE, "..", "..", "floorplans", "buildings", "two_rooms.json")) as f:
+    two_rooms = json.load(f)
+two_rooms["name"] = "two_rooms_renamed"
+put(P + "two_rooms_renamed.json", json.dumps(two_rooms, indent=1))
+
 print("wrote", sum(len(f) for _, _, f in os.walk(DATA)), "files under", DATA)

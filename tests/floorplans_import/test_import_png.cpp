@@ -2,6 +2,8 @@
 // plan -> raster -> PNG -> import -> raster with stated tolerances.
 #include <gtest/gtest.h>
 
+#include "common/scratch_dir.hpp"
+
 #include <cstdio>
 #include <filesystem>
 
@@ -82,12 +84,11 @@ FloorPlan round_trip_plan() {
 
 /// Writes occupancy (255 = blocked, rows growing with +y) as an F3Loc image (255 free, 0
 /// occupied, top row = largest y).
-std::string write_f3loc_png(const cv::Mat& occupancy, const std::string& name) {
+std::string write_f3loc_png(const cv::Mat& occupancy, const std::string& path) {
   cv::Mat img(occupancy.size(), CV_8UC1);
   for (int r = 0; r < occupancy.rows; ++r) {
     for (int c = 0; c < occupancy.cols; ++c) img.at<uchar>(occupancy.rows - 1 - r, c) = occupancy.at<uchar>(r, c) ? 0 : 255;
   }
-  const std::string path = (std::filesystem::temp_directory_path() / name).string();
   EXPECT_TRUE(cv::imwrite(path, img));
   return path;
 }
@@ -119,14 +120,12 @@ TEST_P(PngRoundTrip, KeepsOccupancyAndWallPositions) {
   const BlockingOptions blocking;  // closed doors block, open doors are gaps
   const GridSpec grid = grid_for_plan(truth, res, 0.5);
   const cv::Mat occ = rasterize_occupancy(truth, grid, blocking);
-  const std::string path = write_f3loc_png(
-      occ, "floorcast_png_round_trip_" + std::to_string(static_cast<int>(res * 1000)) + "_" +
-               std::to_string(static_cast<int>(angle * 1000)) + ".png");
+  const test::ScratchDir scratch;
+  const std::string path = write_f3loc_png(occ, scratch.file("round_trip.png"));
 
   ImportOptions o = png_options(res);
   o.png_origin_m = Vec2(grid.origin_x_m, grid.origin_y_m);
   const ImportResult r = import_floor_plan(path, ImportFormat::kPng, o);
-  std::filesystem::remove(path);
   const FloorPlan& got = r.plan;
 
   // 1. Occupancy IoU of the re-rasterised import against the original raster.
@@ -213,7 +212,7 @@ TEST(ImportPng, RefusesWhatItCannotRead) {
   cv::Mat deep(20, 20, CV_16UC1, cv::Scalar(0));
   expect_input_error([&] { import_png_image(deep, "deep.png", png_options(0.05)); }, {"deep.png", "8-bit"});
   cv::Mat empty(20, 20, CV_8UC1, cv::Scalar(255));
-  expect_input_error([&] { import_png_image(empty, "free.png", png_options(0.05)); }, {"free.png", "no occupied pixels"});
+  expect_input_error([&] { import_png_image(empty, "free.png", png_options(0.05)); }, {"free.png", "every pixel is free"});
 }
 
 TEST(ImportPng, ColourImagesUseAllChannels) {

@@ -9,6 +9,7 @@
 
 #include "floorcast/floorplans/import.hpp"
 #include "import_common.hpp"
+#include "floorcast/core/json_text.hpp"
 
 namespace floorcast {
 namespace {
@@ -39,7 +40,9 @@ ImportResult import_csv_text(const std::string& text, const std::string& source,
   const double unit_m = import_detail::source_unit_m(options, "m", source);
   FloorPlan plan;
   plan.level = import_detail::plain_level(options, source);
-  std::istringstream in(text);
+  std::string body = text;
+  const bool had_bom = strip_utf8_bom(body);  // Excel's "CSV UTF-8" starts with one
+  std::istringstream in(body);
   std::string line;
   int line_number = 0;
   while (std::getline(in, line)) {
@@ -76,6 +79,7 @@ ImportResult import_csv_text(const std::string& text, const std::string& source,
   if (plan.walls.empty()) throw InputError(source + ": no wall segments (expected lines x1,y1,x2,y2)");
   ImportResult result;
   result.source_counts.emplace_back("segments", static_cast<int>(plan.walls.size()));
+  if (had_bom) result.notes.push_back("ignored the UTF-8 byte-order mark at the start of the file");
   const import_detail::UnitCheck check{unit_m, "m", "--units"};
   return import_detail::finish_import(std::move(plan), source, import_detail::stem_of(source), options, std::move(result),
                                       options.units || options.scale ? nullptr : &check);

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "floorcast/core/limits.hpp"
 #include "floorcast/floorplans/import.hpp"
 #include "import_common.hpp"
 
@@ -145,6 +146,8 @@ ImportResult import_osm_xml(const std::string& xml_text, const std::string& sour
       }
       w.nodes.push_back(ref);
     }
+    check_limit("max_vertices_per_element", static_cast<double>(w.nodes.size()),
+                source + ": way " + std::to_string(id), "nodes");
     w.tags = read_tags(e);
     ways[id] = std::move(w);
   }

@@ -695,6 +695,14 @@ ImportResult import_png_image(const cv::Mat& image, const std::string& source, c
   }
   ImportResult result;
   const int occupied_px = cv::countNonZero(occupied);
+  if (occupied_px == 0) {
+    throw InputError(source + ": every pixel is free (255): no walls to vectorise (F3Loc maps: 255 free, anything else "
+                              "occupied)");
+  }
+  if (occupied_px == image.rows * image.cols) {
+    throw InputError(source + ": every pixel is occupied (no free pixel of value 255): not an occupancy map of a floor, "
+                              "or its colours are inverted (F3Loc maps: 255 free, 0 walls)");
+  }
   import_detail::count_repair(result, "solid_regions_hollowed",
                               hollow_solid_regions(occupied, res, options.png_max_wall_thickness_m, result.notes));
   ImportOptions opts = options;
@@ -707,7 +715,10 @@ ImportResult import_png_image(const cv::Mat& image, const std::string& source, c
   result.source_counts = {{"pixels", image.rows * image.cols},
                           {"occupied_pixels", occupied_px},
                           {"vectorised_walls", static_cast<int>(plan.walls.size())}};
-  if (plan.walls.empty()) throw InputError(source + ": the image has no occupied pixels to vectorise (255 = free)");
+  if (plan.walls.empty()) {
+    throw InputError(source + ": no wall could be vectorised from the " + std::to_string(occupied_px) +
+                     " occupied pixels (too few, or only solid mass)");
+  }
   const import_detail::UnitCheck check{res, "px", "--resolution"};
   return import_detail::finish_import(std::move(plan), source, import_detail::stem_of(source), opts, std::move(result), &check);
 }

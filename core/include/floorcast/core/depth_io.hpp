@@ -77,8 +77,9 @@ void write_npy(const std::string& path, const std::vector<std::size_t>& shape, c
 enum class NpyDtype { kFloat32, kFloat16 };
 
 /// A .npy file written block by block (a volume slice by slice) without holding the whole array:
-/// rows go to PATH.tmp, renamed to PATH by close() once exactly the shape's element count was
-/// appended (InputError otherwise; the destructor removes an unfinished temporary).
+/// rows go to a temporary file (AtomicFileWriter, core/file_io.hpp), renamed to PATH by close()
+/// once exactly the shape's element count was appended (InputError otherwise; the destructor
+/// removes an unfinished temporary).
 class NpyStreamWriter {
  public:
   NpyStreamWriter(std::string path, std::vector<std::size_t> shape, NpyDtype dtype);
@@ -95,8 +96,8 @@ class NpyStreamWriter {
 };
 
 /// A .npz archive (numpy.load reads it: a ZIP of .npy members), every member deflated with zlib
-/// as it is written, so a volume is compressed slice by slice. Written to PATH.tmp, renamed by
-/// close(). Members larger than 4 GiB uncompressed are refused (no ZIP64).
+/// as it is written, so a volume is compressed slice by slice. Written to a temporary file,
+/// renamed by close(). Members larger than 4 GiB uncompressed are refused (no ZIP64).
 class NpzWriter {
  public:
   explicit NpzWriter(std::string path);

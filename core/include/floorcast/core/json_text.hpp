@@ -29,6 +29,11 @@ std::string printable_text(const std::string& text, std::size_t max_chars = 200)
 /// `bad_offset` receives the offset of the first invalid byte.
 bool valid_utf8(const std::string& text, std::size_t* bad_offset = nullptr);
 
+/// Removes a UTF-8 byte-order mark (EF BB BF, written by Excel and Windows editors) from the
+/// start of `text`; returns whether there was one. Text readers (CSV, TUM, steps.csv) call it so
+/// the mark does not glue itself to the first number (JSON, YAML and XML parsers skip it).
+bool strip_utf8_bom(std::string& text);
+
 /// 1-based line and column of byte `offset` in `text`.
 void line_column(const std::string& text, std::size_t offset, std::size_t& line, std::size_t& column);
 

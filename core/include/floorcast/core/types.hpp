@@ -47,6 +47,11 @@ struct Pose2 {
   }
 };
 
+/// The largest coordinate any position may have, metres from the origin (plans, poses, walks,
+/// trajectories): 100 km. Inputs beyond it are refused where they are read, so that squares and
+/// sums of coordinates (errors, RMSE, odometry integrated over a walk) stay finite.
+constexpr double kMaxAbsCoordinateM = 1.0e5;
+
 /// Wraps an angle to (-pi, pi].
 inline double wrap_angle_rad(double a) {
   a = std::fmod(a + kPi, 2.0 * kPi);

@@ -14,7 +14,8 @@ namespace floorcast {
 /// tracker time per step. The distance counts the steps after first_step only: the step the
 /// tracker starts at is its initialisation (its step length is the walking done before the
 /// tracker existed), so a track started at the walk's third observation is scored from there,
-/// exactly as one started at step 0 is scored from step 0.
+/// exactly as one started at step 0 is scored from step 0. Throws InputError naming the step when
+/// an error, distance or time is not finite (nothing non-finite is scored or written).
 SequentialRecord track_record(const TrackRun& run, const std::vector<WalkStep>& truth, int first_step);
 
 }  // namespace floorcast

@@ -11,7 +11,7 @@ namespace floorcast {
 
 /// Limits the validator enforces; anything outside is refused as absurd.
 struct PlanLimits {
-  double max_abs_coordinate_m = 1.0e5;   ///< 100 km from the origin
+  double max_abs_coordinate_m = kMaxAbsCoordinateM;  ///< 100 km from the origin
   double min_wall_length_m = 1.0e-3;     ///< shorter walls are degenerate
   double max_wall_length_m = 1.0e4;      ///< 10 km
   double min_thickness_m = 1.0e-3;
