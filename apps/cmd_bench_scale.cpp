@@ -5,14 +5,19 @@
 // resident memory (wait4) is its own: plan, precomputation, observations and matches, the
 // bench's own side measurements included (the kernel's FFT floor probe, the ray matcher's
 // exhaustive search and max-over-yaw map, which run beside the bounded search for the ratio).
+// With --walls N,...: plans of N walls on one fixed area (bench/scale_bench.hpp many_walls_plan),
+// each through `plan info`, `plan stats`, `plan validate`, `plan render` and the kernel matcher's
+// set-up (`bench match`), every one a child process timed with wait4 (issue 28: nothing that pairs
+// or searches walls may grow with the square of the wall count).
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
 
 #include "cli_common.hpp"
 #include "floorcast/bench/scale_bench.hpp"
+#include "floorcast/core/file_io.hpp"
+#include "floorcast/core/json_text.hpp"
 #include "floorcast/floorplans/io.hpp"
 
 namespace floorcast::cli {
@@ -20,16 +25,8 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-Json read_json_file(const std::string& path) {
-  std::ifstream in(path);
-  Json j;
-  try {
-    in >> j;
-  } catch (const std::exception& e) {
-    throw InputError("bench scale: cannot parse the child's output " + path + ": " + e.what());
-  }
-  return j;
-}
+/// A child's JSON output, through the one input layer and JSON reader.
+Json read_child_json(const std::string& path) { return parse_ordered_json_text(read_text_file(path), path); }
 
 double at(const Json& j, std::initializer_list<const char*> keys) {
   const Json* x = &j;
@@ -43,6 +40,8 @@ double at(const Json& j, std::initializer_list<const char*> keys) {
 void register_bench_scale(CLI::App& root) {
   struct Options {
     std::vector<double> areas = {2000.0, 10000.0, 40000.0, 100000.0};
+    std::vector<double> walls;
+    double walls_area = 100000.0;
     int rays = 36;
     int ray_bits = 16;
     int observations = 3;
@@ -55,13 +54,23 @@ void register_bench_scale(CLI::App& root) {
   auto o = std::make_shared<Options>();
   CLI::App& bench = group(root, "bench", "Benchmarks (medians over repeats, same-run ratios)");
   auto* cmd = bench.add_subcommand("scale", "Matcher time and peak memory vs floor area (child `bench match` per matcher and area)");
-  cmd->add_option("--areas", o->areas, "Floor areas, m^2")->capture_default_str()->delimiter(',')->check(CLI::Range(100.0, 1e6));
-  cmd->add_option("--rays", o->rays, "Ray matcher directions")->capture_default_str()->check(CLI::Range(4, 3600));
+  cmd->add_option("--areas", o->areas, "Floor areas, m^2")->capture_default_str()->delimiter(',')->check(in_range(100.0, 1e6));
+  CLI::Option* walls_opt =
+      cmd->add_option("--walls", o->walls,
+                      "Wall counts: plans of this many walls on --walls-area, timed through plan info/stats/validate/render "
+                      "and the kernel matcher's set-up (without --areas, only these rows run)")
+          ->delimiter(',')
+          ->check(in_range(1.0, 1e6));
+  cmd->add_option("--walls-area", o->walls_area, "Floor area of the --walls plans, m^2")
+      ->capture_default_str()
+      ->check(in_range(5000.0, 1e6));
+  CLI::Option* areas_opt = cmd->get_option("--areas");
+  cmd->add_option("--rays", o->rays, "Ray matcher directions")->capture_default_str()->check(in_range(4, 3600));
   cmd->add_option("--ray-bits", o->ray_bits, "Ray matcher distance volume bits (8 or 16)")->capture_default_str()->check(CLI::IsMember({8, 16}));
   cmd->add_option("--observations", o->observations, "Perfect observations per plan (medians)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000));
-  cmd->add_option("--orientations", o->orientations, "Kernel orientations (PALMS+ O = 10)")->capture_default_str()->check(CLI::Range(0, 720));
+      ->check(in_range(1, 1000));
+  cmd->add_option("--orientations", o->orientations, "Kernel orientations (PALMS+ O = 10)")->capture_default_str()->check(in_range(0, 720));
   cmd->add_option("--seed", o->seed, "Seed of the plans and observation points")->capture_default_str();
   cmd->add_option("-o,--output", o->dir,
                                          "Output folder: the table as bench_scale.json, the generated plans and the "
@@ -72,7 +81,7 @@ void register_bench_scale(CLI::App& root) {
     deprecation_note("bench scale --dir", "bench scale -o DIR");
   });
   cmd->add_flag("--json", o->json, "Print JSON");
-  cmd->callback([o] {
+  cmd->callback([o, walls_opt, areas_opt] {
     // The old grammar: --dir was the work folder and -o FILE.json the table.
     std::string table_path = o->dir + "/bench_scale.json";
     if (std::filesystem::path(o->dir).extension() == ".json") {
@@ -83,8 +92,9 @@ void register_bench_scale(CLI::App& root) {
     if (!o->old_dir.empty()) o->dir = o->old_dir;
     ensure_directory(o->dir);
     const std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
+    if (walls_opt->count() > 0 && areas_opt->count() == 0) o->areas.clear();
     Json rows = Json::array();
-    if (!o->json) {
+    if (!o->json && !o->areas.empty()) {
       std::cout << "area m^2 | plan | valid cells | kernel: precompute s, estimate+top-5 CPU s, estimate CPU s, peak MB | ray "
                 << o->rays << " (" << o->ray_bits << "-bit): precompute s, volume MB, bounded top-5 CPU s, exhaustive CPU s, peak MB\n";
     }
@@ -107,7 +117,7 @@ void register_bench_scale(CLI::App& root) {
                                       "--no-kernel", "--rays", std::to_string(o->rays), "--ray-bits", std::to_string(o->ray_bits),
                                       "--no-posteriors", "--json"},
                                      ray_out, "bench scale (ray, " + plan.name + ")");
-      const Json kj = read_json_file(kernel_out), rj = read_json_file(ray_out);
+      const Json kj = read_child_json(kernel_out), rj = read_child_json(ray_out);
       const Json& k = kj.contains("kernel") ? kj["kernel"] : Json::object();
       const std::string D = std::to_string(o->rays);
       const Json& r = rj.contains("ray") && rj["ray"].contains(D) ? rj["ray"][D] : Json::object();
@@ -144,10 +154,55 @@ void register_bench_scale(CLI::App& root) {
                   << std::endl;
       }
     }
+    // Wall counts: each command a child process, its wall time, CPU time and peak memory.
+    Json wall_rows = Json::array();
+    if (!o->json && !o->walls.empty()) {
+      std::cout << "walls | area m^2 | info s | stats s | validate s | render s | kernel set-up s (precompute) | peak MB (max)\n";
+    }
+    for (const double target : o->walls) {
+      ScalePlanParams sp;
+      sp.area_m2 = o->walls_area;
+      sp.seed = o->seed;
+      const FloorPlan plan = many_walls_plan(sp, static_cast<std::size_t>(target));
+      const std::string plan_path = o->dir + "/" + plan.name + ".json";
+      save_floor_plan(plan, plan_path);
+      Json row;
+      row["walls_requested"] = target;
+      row["walls"] = plan.walls.size();
+      row["doors"] = plan.doors.size();
+      row["area_m2"] = o->walls_area;
+      auto timed = [&](const std::string& key, const std::vector<std::string>& args, const std::string& out_file) {
+        const ChildCost c = run_child(exe, args, out_file, "bench scale (" + key + ", " + plan.name + ")");
+        row[key] = {{"wall_s", c.wall_s}, {"cpu_s", c.cpu_s}, {"peak_mb", c.max_rss_mb}};
+        return c;
+      };
+      timed("info", {"plan", "info", plan_path, "--json"}, "");
+      timed("stats", {"plan", "stats", plan_path, "--json"}, "");
+      timed("validate", {"plan", "validate", plan_path}, "");
+      timed("render", {"plan", "render", plan_path, "-o", o->dir + "/" + plan.name + ".png"}, "");
+      const std::string kernel_out = o->dir + "/" + plan.name + ".kernel.json";
+      timed("kernel",
+            {"bench", "match", "--plan", plan_path, "--observations", "1", "--seed", std::to_string(o->seed), "--orientations",
+             std::to_string(o->orientations), "--rays", "0", "--no-posteriors", "--json"},
+            kernel_out);
+      const Json kj = read_child_json(kernel_out);
+      row["kernel"]["precompute_wall_s"] = kj.contains("kernel") ? at(kj["kernel"], {"precompute_wall_s"}) : std::nan("");
+      wall_rows.push_back(row);
+      if (!o->json) {
+        double peak = 0.0;
+        for (const char* k : {"info", "stats", "validate", "render", "kernel"}) peak = std::max(peak, row[k]["peak_mb"].get<double>());
+        std::cout << std::fixed << std::setprecision(1) << plan.walls.size() << " | " << std::setprecision(0) << o->walls_area
+                  << " | " << std::setprecision(2) << row["info"]["wall_s"].get<double>() << " | "
+                  << row["stats"]["wall_s"].get<double>() << " | " << row["validate"]["wall_s"].get<double>() << " | "
+                  << row["render"]["wall_s"].get<double>() << " | " << row["kernel"]["wall_s"].get<double>() << " ("
+                  << row["kernel"]["precompute_wall_s"].get<double>() << ") | " << std::setprecision(0) << peak << std::endl;
+      }
+    }
     Json out;
     out["observations"] = o->observations;
     out["seed"] = o->seed;
     out["rows"] = rows;
+    if (!wall_rows.empty()) out["wall_rows"] = wall_rows;
     write_json(table_path, out);
     if (o->json) std::cout << out.dump(2) << "\n";
   });

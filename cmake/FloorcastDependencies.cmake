@@ -4,6 +4,9 @@ foreach(_floorcast_package IN ITEMS Threads Eigen3 OpenCV PNG ZLIB embree TinyGL
                                     OSMesa FFTW3F LBFGSpp)
   floorcast_find_package(${_floorcast_package})
 endforeach()
+# Boost.Geometry (header-only, private to core: no link item, so the installed config does not
+# look for it): the R-tree of core/box_index.hpp.
+find_package(Boost 1.74 REQUIRED)
 # The `floorcast` CLI only (never a library dependency).
 find_package(CLI11 REQUIRED)
 

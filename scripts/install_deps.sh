@@ -8,7 +8,7 @@ PACKAGES=(
   libembree-dev libeigen3-dev libopencv-dev libopencv-contrib-dev libosmesa6-dev libtinygltf-dev libpcl-dev
   libgtest-dev libbenchmark-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libtbb-dev libfftw3-dev liblbfgspp-dev
-  libnanoflann-dev libpugixml-dev libproj-dev libpng-dev
+  libnanoflann-dev libpugixml-dev libproj-dev libpng-dev libboost-dev
   libtiff-dev libopenexr-dev
   python3-dev python3-numpy python3-pybind11 pybind11-dev python3-pytest
   python3-matplotlib poppler-utils python3-distributed

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "floorcast/core/types.hpp"
 #include "floorcast/floorplans/generate.hpp"
@@ -68,6 +70,46 @@ FloorPlan scale_plan(const ScalePlanParams& params) {
     append_shifted(plan, part, Vec2(-box[0], y - box[1]), "b" + std::to_string(k) + "_");
     y += box[3] - box[1] + params.gap_m;
   }
+  return plan;
+}
+
+FloorPlan many_walls_plan(const ScalePlanParams& params, std::size_t walls) {
+  const FloorPlan base = scale_plan(params);
+  std::vector<char> holds_opening(base.walls.size(), 0);
+  std::unordered_map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < base.walls.size(); ++i) index.emplace(base.walls[i].id, i);
+  for (const Door& d : base.doors) holds_opening[index.at(d.wall_id)] = 1;
+  for (const Window& w : base.windows) holds_opening[index.at(w.wall_id)] = 1;
+  double free_length = 0.0;
+  std::size_t fixed = 0;
+  for (std::size_t i = 0; i < base.walls.size(); ++i) {
+    if (holds_opening[i]) ++fixed;
+    else free_length += base.walls[i].length_m();
+  }
+  if (walls <= base.walls.size() || free_length <= 0.0) {
+    FloorPlan plan = base;
+    plan.name = "walls_" + std::to_string(plan.walls.size());
+    return plan;
+  }
+  // Pieces of one length everywhere: each free wall in round(length / piece) pieces.
+  const double piece = free_length / static_cast<double>(walls - fixed);
+  if (piece < 0.02) throw InputError("many-walls plan: " + std::to_string(walls) + " walls need pieces shorter than 2 cm");
+  FloorPlan plan = base;
+  plan.walls.clear();
+  for (std::size_t i = 0; i < base.walls.size(); ++i) {
+    const Wall& w = base.walls[i];
+    const int k = holds_opening[i] ? 1 : std::max(1, static_cast<int>(std::lround(w.length_m() / piece)));
+    for (int j = 0; j < k; ++j) {
+      Wall p = w;
+      if (k > 1) {
+        p.id = w.id + "_" + std::to_string(j);
+        p.a_m = w.a_m + (w.b_m - w.a_m) * (static_cast<double>(j) / k);
+        p.b_m = w.a_m + (w.b_m - w.a_m) * (static_cast<double>(j + 1) / k);
+      }
+      plan.walls.push_back(std::move(p));
+    }
+  }
+  plan.name = "walls_" + std::to_string(plan.walls.size());
   return plan;
 }
 

@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include "floorcast/floorplans/extrusion.hpp"
+#include "floorcast/floorplans/generate.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/core/math.hpp"
 #include "test_plans.hpp"
@@ -116,6 +118,61 @@ TEST(Outline, RandomOverlappingFootprintsAgreeWithPointTests) {
     ++checked;
   }
   EXPECT_GT(checked, 200);
+}
+
+// The R-tree neighbourhood (WallJoins, issue 28) against the obvious scan over every wall, at
+// every wall end of generated buildings (corners, T-junctions, door jambs, thin and thick walls)
+// and of the same walls cut into short collinear pieces.
+TEST(WallJoins, EndJoinsEqualAScanOverEveryWall) {
+  auto scan_joined = [](const FloorPlan& plan, std::size_t self, const Vec2& p) {
+    for (std::size_t j = 0; j < plan.walls.size(); ++j) {
+      if (j == self) continue;
+      const Wall& w = plan.walls[j];
+      const Vec2 d = w.b_m - w.a_m;
+      const double len2 = d.squaredNorm();
+      if (len2 <= 0.0) continue;
+      const double t = std::clamp((p - w.a_m).dot(d) / len2, 0.0, 1.0);
+      const double tol = 0.5 * std::max(w.thickness_m, plan.walls[self].thickness_m) + 0.01;
+      if ((w.a_m + t * d - p).norm() <= tol) return true;
+    }
+    return false;
+  };
+  int checked = 0, joined = 0;
+  for (const Archetype a : {Archetype::kOffice, Archetype::kCampus, Archetype::kAngled}) {
+    FloorPlan plan = generate_building(a, 3).plan;
+    // Every fifth wall cut into three pieces: many ends meeting collinear neighbours.
+    const std::size_t n = plan.walls.size();
+    for (std::size_t i = 0; i < n; i += 5) {
+      Wall w = plan.walls[i];
+      const Vec2 a0 = w.a_m, b0 = w.b_m;
+      plan.walls[i].b_m = a0 + (b0 - a0) / 3.0;
+      w.id += "_cut";
+      w.a_m = plan.walls[i].b_m;
+      plan.walls.push_back(w);
+    }
+    // A free-standing wall (a screen): ends that join nothing, and one within the tolerance.
+    Wall screen = plan.walls.front();
+    screen.id = "screen";
+    screen.a_m = Vec2(500.0, 500.0);
+    screen.b_m = Vec2(502.0, 500.0);
+    plan.walls.push_back(screen);
+    screen.id = "screen_near";
+    screen.a_m = Vec2(502.0 + 0.5 * screen.thickness_m + 0.005, 500.0);
+    screen.b_m = Vec2(504.0, 500.0);
+    plan.walls.push_back(screen);
+    const WallJoins joins(plan);
+    for (std::size_t i = 0; i < plan.walls.size(); ++i) {
+      for (const Vec2& p : {plan.walls[i].a_m, plan.walls[i].b_m}) {
+        const bool want = scan_joined(plan, i, p);
+        EXPECT_EQ(joins.end_joined(i, p), want) << archetype_name(a) << " wall " << plan.walls[i].id;
+        ++checked;
+        joined += want ? 1 : 0;
+      }
+    }
+  }
+  EXPECT_GT(checked, 500);
+  EXPECT_GT(joined, checked / 2);  // the test meets both answers
+  EXPECT_LT(joined, checked);
 }
 
 TEST(Geometry, RaySegmentDistance) {

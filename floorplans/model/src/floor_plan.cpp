@@ -17,9 +17,26 @@ int FloorPlan::wall_index(const std::string& wall_id) const {
 
 OpeningSpan opening_span(const FloorPlan& plan, const std::string& wall_id, const Vec2& center_m,
                          double width_m) {
+  return opening_span(plan, plan.wall_index(wall_id), center_m, width_m);
+}
+
+WallIdIndex::WallIdIndex(const FloorPlan& plan) {
+  index_.reserve(plan.walls.size());
+  for (std::size_t i = 0; i < plan.walls.size(); ++i) index_.emplace(plan.walls[i].id, static_cast<int>(i));
+}
+
+int WallIdIndex::find(const std::string& wall_id) const {
+  const auto it = index_.find(wall_id);
+  return it == index_.end() ? -1 : it->second;
+}
+
+OpeningSpan opening_span(const FloorPlan& plan, int wall_index, const Vec2& center_m, double width_m) {
   OpeningSpan span;
-  span.wall_index = plan.wall_index(wall_id);
-  if (span.wall_index < 0) return span;
+  span.wall_index = wall_index;
+  if (span.wall_index < 0 || static_cast<std::size_t>(wall_index) >= plan.walls.size()) {
+    span.wall_index = -1;
+    return span;
+  }
   const Wall& wall = plan.walls[static_cast<std::size_t>(span.wall_index)];
   const double t = (center_m - wall.a_m).dot(wall.direction());
   span.t0_m = t - 0.5 * width_m;

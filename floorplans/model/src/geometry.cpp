@@ -1,4 +1,5 @@
 #include "floorcast/floorplans/geometry.hpp"
+#include "floorcast/core/box_index.hpp"
 #include "floorcast/core/math.hpp"
 
 #include <algorithm>
@@ -17,22 +18,6 @@ struct Interval {
   SurfaceLabel label;
   bool blocking;
 };
-
-/// True if the endpoint of wall `self` at `p` joins another wall (lies on or inside its rectangle
-/// near the centreline): such ends get a square cap of half the thickness so corners close.
-bool endpoint_is_joined(const FloorPlan& plan, std::size_t self, const Vec2& p) {
-  for (std::size_t j = 0; j < plan.walls.size(); ++j) {
-    if (j == self) continue;
-    const Wall& w = plan.walls[j];
-    const Vec2 d = w.b_m - w.a_m;
-    const double len2 = d.squaredNorm();
-    const double t = std::clamp((p - w.a_m).dot(d) / len2, 0.0, 1.0);
-    const double dist = (w.a_m + t * d - p).norm();
-    const double tol = 0.5 * std::max(w.thickness_m, plan.walls[self].thickness_m) + 0.01;
-    if (dist <= tol) return true;
-  }
-  return false;
-}
 
 std::vector<Vec2> oriented_rectangle(const Vec2& a, const Vec2& b, double half_width) {
   const Vec2 d = (b - a).normalized();
@@ -82,10 +67,52 @@ std::vector<Segment2> outline_segments(const std::vector<LabeledSegment>& outlin
   return out;
 }
 
+WallJoins::WallJoins(const FloorPlan& plan) : plan_(&plan) {
+  std::vector<IndexBox> centre_lines;
+  centre_lines.reserve(plan.walls.size());
+  double max_thickness = 0.0;
+  for (const Wall& w : plan.walls) {
+    centre_lines.push_back({std::min(w.a_m.x(), w.b_m.x()), std::min(w.a_m.y(), w.b_m.y()), std::max(w.a_m.x(), w.b_m.x()),
+                            std::max(w.a_m.y(), w.b_m.y())});
+    max_thickness = std::max(max_thickness, w.thickness_m);
+  }
+  tree_ = BoxIndex(centre_lines);
+  reach_m_ = 0.5 * max_thickness + 0.01 + 1e-9;
+  doors_.resize(plan.walls.size());
+  windows_.resize(plan.walls.size());
+  const WallIdIndex ids(plan);
+  for (std::size_t i = 0; i < plan.doors.size(); ++i) {
+    const int wi = ids.find(plan.doors[i].wall_id);
+    if (wi >= 0) doors_[static_cast<std::size_t>(wi)].push_back(i);
+  }
+  for (std::size_t i = 0; i < plan.windows.size(); ++i) {
+    const int wi = ids.find(plan.windows[i].wall_id);
+    if (wi >= 0) windows_[static_cast<std::size_t>(wi)].push_back(i);
+  }
+}
+
+bool WallJoins::end_joined(std::size_t self, const Vec2& p) const {
+  const FloorPlan& plan = *plan_;
+  thread_local std::vector<std::uint32_t> near;
+  tree_.query({p.x() - reach_m_, p.y() - reach_m_, p.x() + reach_m_, p.y() + reach_m_}, near);
+  for (const std::uint32_t j : near) {
+    if (j == self) continue;
+    const Wall& w = plan.walls[j];
+    const Vec2 d = w.b_m - w.a_m;
+    const double len2 = d.squaredNorm();
+    if (len2 <= 0.0) continue;
+    const double t = std::clamp((p - w.a_m).dot(d) / len2, 0.0, 1.0);
+    const double tol = 0.5 * std::max(w.thickness_m, plan.walls[self].thickness_m) + 0.01;
+    if ((w.a_m + t * d - p).norm() <= tol) return true;
+  }
+  return false;
+}
+
 std::vector<Footprint> blocking_footprints(const FloorPlan& plan, const BlockingOptions& options) {
   std::vector<Footprint> out;
   const double h = options.cut_height_m;
 
+  const WallJoins joins(plan);  // each wall used to scan every wall and opening: quadratic
   for (std::size_t wi = 0; wi < plan.walls.size(); ++wi) {
     const Wall& wall = plan.walls[wi];
     const double len = wall.length_m();
@@ -104,15 +131,15 @@ std::vector<Footprint> blocking_footprints(const FloorPlan& plan, const Blocking
 
     // Openings on this wall at the cut height.
     std::vector<Interval> openings;
-    for (const Door& d : plan.doors) {
-      if (d.wall_id != wall.id) continue;
-      const OpeningSpan s = opening_span(plan, d.wall_id, d.center_m, d.width_m);
+    for (const std::size_t di : joins.doors_on(wi)) {
+      const Door& d = plan.doors[di];
+      const OpeningSpan s = opening_span(plan, static_cast<int>(wi), d.center_m, d.width_m);
       const bool blocks = d.closed ? options.closed_doors_block : options.open_doors_block;
       openings.push_back({s.t0_m, s.t1_m, SurfaceLabel::kDoorClosed, blocks});
     }
-    for (const Window& win : plan.windows) {
-      if (win.wall_id != wall.id) continue;
-      const OpeningSpan s = opening_span(plan, win.wall_id, win.center_m, win.width_m);
+    for (const std::size_t wni : joins.windows_on(wi)) {
+      const Window& win = plan.windows[wni];
+      const OpeningSpan s = opening_span(plan, static_cast<int>(wi), win.center_m, win.width_m);
       if (h >= win.sill_m && h < win.head_m) {
         openings.push_back({s.t0_m, s.t1_m, SurfaceLabel::kGlass, options.glass_blocks});
       }
@@ -122,8 +149,8 @@ std::vector<Footprint> blocking_footprints(const FloorPlan& plan, const Blocking
 
     // Square caps at joined ends close corners.
     const double cap = 0.5 * wall.thickness_m;
-    const double t_begin = endpoint_is_joined(plan, wi, wall.a_m) ? -cap : 0.0;
-    const double t_end = endpoint_is_joined(plan, wi, wall.b_m) ? len + cap : len;
+    const double t_begin = joins.end_joined(wi, wall.a_m) ? -cap : 0.0;
+    const double t_end = joins.end_joined(wi, wall.b_m) ? len + cap : len;
 
     std::vector<Interval> pieces;
     double cursor = t_begin;
@@ -178,8 +205,6 @@ std::vector<LabeledSegment> footprint_outline(const std::vector<Footprint>& foot
   struct Box { double x0, y0, x1, y1; };
   std::vector<Box> boxes;
   boxes.reserve(footprints.size());
-  double gx0 = std::numeric_limits<double>::infinity(), gy0 = gx0;
-  double max_extent = 0.0;
   for (const Footprint& f : footprints) {
     Box b{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
           -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
@@ -189,53 +214,23 @@ std::vector<LabeledSegment> footprint_outline(const std::vector<Footprint>& foot
       b.x1 = std::max(b.x1, p.x());
       b.y1 = std::max(b.y1, p.y());
     }
-    gx0 = std::min(gx0, b.x0);
-    gy0 = std::min(gy0, b.y0);
-    max_extent = std::max({max_extent, b.x1 - b.x0, b.y1 - b.y0});
     boxes.push_back(b);
   }
   if (footprints.empty()) return {};
 
-  // Bucket grid over footprint boxes for neighbour queries.
-  const double cell = std::max(1.0, 0.5 * max_extent);
-  auto key = [](long long i, long long j) { return (i << 32) ^ (j & 0xffffffffLL); };
-  std::unordered_map<long long, std::vector<int>> buckets;
-  auto cell_range = [&](const Box& b, long long& i0, long long& j0, long long& i1, long long& j1) {
-    i0 = static_cast<long long>(std::floor((b.x0 - gx0) / cell));
-    j0 = static_cast<long long>(std::floor((b.y0 - gy0) / cell));
-    i1 = static_cast<long long>(std::floor((b.x1 - gx0) / cell));
-    j1 = static_cast<long long>(std::floor((b.y1 - gy0) / cell));
-  };
-  for (std::size_t k = 0; k < boxes.size(); ++k) {
-    long long i0, j0, i1, j1;
-    cell_range(boxes[k], i0, j0, i1, j1);
-    for (long long i = i0; i <= i1; ++i)
-      for (long long j = j0; j <= j1; ++j) buckets[key(i, j)].push_back(static_cast<int>(k));
-  }
-  auto neighbours = [&](const Box& b) {
-    std::vector<int> out;
-    long long i0, j0, i1, j1;
-    const Box grown{b.x0 - 1e-6, b.y0 - 1e-6, b.x1 + 1e-6, b.y1 + 1e-6};
-    cell_range(grown, i0, j0, i1, j1);
-    for (long long i = i0; i <= i1; ++i)
-      for (long long j = j0; j <= j1; ++j) {
-        auto it = buckets.find(key(i, j));
-        if (it == buckets.end()) continue;
-        for (int k : it->second) {
-          const Box& o = boxes[static_cast<std::size_t>(k)];
-          if (o.x0 <= grown.x1 && o.x1 >= grown.x0 && o.y0 <= grown.y1 && o.y1 >= grown.y0) out.push_back(k);
-        }
-      }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
-  };
+  // Neighbours from an R-tree over the footprint boxes (a bucket grid sized by the largest
+  // footprint put every piece of a plan with one long wall into a few buckets: quadratic).
+  std::vector<IndexBox> index_boxes;
+  index_boxes.reserve(boxes.size());
+  for (const Box& b : boxes) index_boxes.push_back({b.x0, b.y0, b.x1, b.y1});
+  const BoxIndex tree(index_boxes);
+  auto neighbours = [&](const Box& b) { return tree.query({b.x0 - 1e-6, b.y0 - 1e-6, b.x1 + 1e-6, b.y1 + 1e-6}); };
 
   constexpr double kOffset = 1e-6;  // probe distance off the edge, metres
   std::vector<LabeledSegment> pieces;
   for (std::size_t fi = 0; fi < footprints.size(); ++fi) {
     const Footprint& f = footprints[fi];
-    const std::vector<int> near = neighbours(boxes[fi]);
+    const std::vector<std::uint32_t> near = neighbours(boxes[fi]);
     const std::size_t n = f.polygon_m.size();
     for (std::size_t k = 0; k < n; ++k) {
       const Vec2 p = f.polygon_m[k];
@@ -247,7 +242,7 @@ std::vector<LabeledSegment> footprint_outline(const std::vector<Footprint>& foot
       const Vec2 outward(u.y(), -u.x());  // CCW polygon: interior on the left of p->q
 
       std::vector<double> cuts{0.0, 1.0};
-      for (int g : near) {
+      for (const std::uint32_t g : near) {
         if (static_cast<std::size_t>(g) == fi) continue;
         const auto& poly = footprints[static_cast<std::size_t>(g)].polygon_m;
         for (std::size_t m = 0; m < poly.size(); ++m) {
@@ -276,7 +271,7 @@ std::vector<LabeledSegment> footprint_outline(const std::vector<Footprint>& foot
         const Vec2 mid = p + 0.5 * (t0 + t1) * e;
         const Vec2 probe = mid + kOffset * outward;
         bool covered = false;
-        for (int g : near) {
+        for (const std::uint32_t g : near) {
           if (static_cast<std::size_t>(g) == fi) continue;
           if (point_in_convex_polygon(footprints[static_cast<std::size_t>(g)].polygon_m, probe)) {
             covered = true;

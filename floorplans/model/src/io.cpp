@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "floorcast/core/file_io.hpp"
 #include "floorcast/core/json_text.hpp"
 #include "floorcast/core/limits.hpp"
 
@@ -206,12 +207,13 @@ void validate_floor_plan(const FloorPlan& plan, const std::string& source, const
   // Openings per wall, to refuse overlaps.
   struct Span { double t0, t1; std::string name; };
   std::vector<std::vector<Span>> spans(plan.walls.size());
+  const WallIdIndex wall_ids(plan);
   auto check_opening = [&](const std::string& name, const std::string& wall_id, const Vec2& center,
                            double width) {
     auto fail = [&](const std::string& reason) { throw InputError(source + ": " + name + ": " + reason); };
     check_point(center, limits, fail, "center");
     check_range(width, limits.min_opening_width_m, limits.max_opening_width_m, fail, "width_m", true);
-    const int wi = plan.wall_index(wall_id);
+    const int wi = wall_ids.find(wall_id);
     if (wi < 0) fail("refers to unknown wall " + quoted(wall_id));
     const Wall& w = plan.walls[static_cast<std::size_t>(wi)];
     const Vec2 d = w.direction();
@@ -516,7 +518,7 @@ std::string floor_plan_to_json(const FloorPlan& plan) {
 }
 
 FloorPlan load_floor_plan(const std::string& path, const PlanLimits& limits) {
-  return parse_floor_plan_json(read_text_file(path), path, limits);
+  return parse_floor_plan_json(read_text_file(path), input_name(path), limits);
 }
 
 void save_floor_plan(const FloorPlan& plan, const std::string& path) {

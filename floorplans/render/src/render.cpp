@@ -3,6 +3,7 @@
 #include "floorcast/floorplans/render.hpp"
 
 #include "floorcast/floorplans/figure.hpp"
+#include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/core/image_io.hpp"
 
 #include <algorithm>
@@ -49,22 +50,6 @@ struct Scene {
   std::vector<Prim> prims;
   std::vector<Text> texts;
 };
-
-/// Is the end point p of wall `self` joined to another wall? (Same rule as the blocking
-/// footprints: such ends get a square cap of half the thickness.)
-bool end_joined(const FloorPlan& plan, std::size_t self, const Vec2& p) {
-  for (std::size_t j = 0; j < plan.walls.size(); ++j) {
-    if (j == self) continue;
-    const Wall& w = plan.walls[j];
-    const Vec2 d = w.b_m - w.a_m;
-    const double len2 = d.squaredNorm();
-    if (len2 <= 0.0) continue;
-    const double t = std::clamp((p - w.a_m).dot(d) / len2, 0.0, 1.0);
-    const double tol = 0.5 * std::max(w.thickness_m, plan.walls[self].thickness_m) + 0.01;
-    if ((w.a_m + t * d - p).norm() <= tol) return true;
-  }
-  return false;
-}
 
 /// Width in pixels of a text drawn by the raster backend (the SVG uses the same layout).
 double text_width_px(const std::string& text, double size_px) {
@@ -200,6 +185,7 @@ Scene build_scene(const FloorPlan& plan, const RenderOptions& o) {
     int type;  // 0 open door, 1 closed door, 2 window
   };
   std::vector<Prim> swings;
+  const WallJoins joins(plan);
   for (std::size_t wi = 0; wi < plan.walls.size(); ++wi) {
     const Wall& w = plan.walls[wi];
     const double len = w.length_m();
@@ -208,21 +194,21 @@ Scene build_scene(const FloorPlan& plan, const RenderOptions& o) {
     const Vec2 nrm(-dir.y(), dir.x());
     const double half = 0.5 * w.thickness_m;
     std::vector<Opening> ops;
-    for (const Door& d : plan.doors) {
-      if (d.wall_id != w.id) continue;
-      const OpeningSpan sp = opening_span(plan, d.wall_id, d.center_m, d.width_m);
+    for (const std::size_t di : joins.doors_on(wi)) {
+      const Door& d = plan.doors[di];
+      const OpeningSpan sp = opening_span(plan, static_cast<int>(wi), d.center_m, d.width_m);
       ops.push_back({std::max(0.0, sp.t0_m), std::min(len, sp.t1_m), d.closed ? 1 : 0});
     }
-    for (const Window& win : plan.windows) {
-      if (win.wall_id != w.id) continue;
-      const OpeningSpan sp = opening_span(plan, win.wall_id, win.center_m, win.width_m);
+    for (const std::size_t ni : joins.windows_on(wi)) {
+      const Window& win = plan.windows[ni];
+      const OpeningSpan sp = opening_span(plan, static_cast<int>(wi), win.center_m, win.width_m);
       ops.push_back({std::max(0.0, sp.t0_m), std::min(len, sp.t1_m), 2});
     }
     std::sort(ops.begin(), ops.end(), [](const Opening& a, const Opening& b) { return a.t0 < b.t0; });
     const cv::Scalar body = w.material == WallMaterial::kGlass ? RenderColors::glass() : RenderColors::wall();
     const std::string body_group = w.material == WallMaterial::kGlass ? "glass" : "walls";
-    double cursor = end_joined(plan, wi, w.a_m) ? -half : 0.0;
-    const double t_end = end_joined(plan, wi, w.b_m) ? len + half : len;
+    double cursor = joins.end_joined(wi, w.a_m) ? -half : 0.0;
+    const double t_end = joins.end_joined(wi, w.b_m) ? len + half : len;
     auto at = [&](double t) { return Vec2(w.a_m + t * dir); };
     for (const Opening& op : ops) {
       if (op.t0 > cursor) rect_prim(at(cursor), at(op.t0), half, body, body_group);

@@ -8,6 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "floorcast/core/box_index.hpp"
 #include "floorcast/core/fields.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/floorplans/geometry.hpp"
@@ -178,9 +179,17 @@ PlanStats plan_stats(const FloorPlan& plan, const PlanStatsParams& params) {
     for (int i : plain) boxes.push_back(bounds(plan.rooms[static_cast<std::size_t>(i)].polygon_m));
     int repeated = 0;
     const double gap = params.neighbour_gap_m;
+    // Neighbours from an R-tree over the room boxes (every room against every room was quadratic).
+    std::vector<IndexBox> room_boxes;
+    room_boxes.reserve(boxes.size());
+    for (const Box& b : boxes) room_boxes.push_back({b.xmin, b.ymin, b.xmax, b.ymax});
+    const BoxIndex room_tree(room_boxes);
+    std::vector<std::uint32_t> near;
     for (std::size_t i = 0; i < plain.size(); ++i) {
       bool rep = false;
-      for (std::size_t j = 0; j < plain.size() && !rep; ++j) {
+      room_tree.query(room_boxes[i].grown(gap), near);
+      for (std::size_t n = 0; n < near.size() && !rep; ++n) {
+        const std::size_t j = near[n];
         if (i == j) continue;
         const Box& a = boxes[i];
         const Box& b = boxes[j];

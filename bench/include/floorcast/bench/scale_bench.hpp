@@ -25,4 +25,12 @@ struct ScalePlanParams {
 /// between them, ids prefixed "b<k>_". Deterministic.
 FloorPlan scale_plan(const ScalePlanParams& params);
 
+/// A plan of about `walls` walls (issue 28: commands that pair or search walls must stay
+/// near-linear in the wall count): scale_plan(params) with every wall that holds no door or
+/// window cut into equal collinear pieces, as walls traced from images or exported from CAD
+/// drawings arrive, so the wall count grows while the area (and every raster over it) stays that
+/// of scale_plan. Named "walls_<N>". Deterministic; refuses a count that would need pieces
+/// shorter than 2 cm.
+FloorPlan many_walls_plan(const ScalePlanParams& params, std::size_t walls);
+
 }  // namespace floorcast

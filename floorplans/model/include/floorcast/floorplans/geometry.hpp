@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "floorcast/core/blocking.hpp"
+#include "floorcast/core/box_index.hpp"
 #include "floorcast/core/observation.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 
@@ -21,6 +22,27 @@ struct Footprint {
   /// draw it so thin walls stay watertight. Unset (has_axis false) for obstacles.
   Segment2 axis_m;
   bool has_axis = false;
+};
+
+/// The neighbourhood of every wall, built once per plan (an R-tree over the centre lines, and the
+/// openings of each wall): what drawing walls needs without scanning all walls and openings for
+/// each one (quadratic: a 1,000,000-wall plan took hours). Keeps a pointer to `plan`.
+class WallJoins {
+ public:
+  explicit WallJoins(const FloorPlan& plan);
+  /// True if the end `p` of wall `self` joins another wall (lies within half the thicker wall +
+  /// 1 cm of its centre line): such ends get a square cap of half the thickness so corners close.
+  bool end_joined(std::size_t self, const Vec2& p) const;
+  /// Positions in plan.doors / plan.windows of the openings on wall `wall` (by id; with duplicate
+  /// wall ids, the first wall of the id holds them, as FloorPlan::wall_index resolves them).
+  const std::vector<std::size_t>& doors_on(std::size_t wall) const { return doors_[wall]; }
+  const std::vector<std::size_t>& windows_on(std::size_t wall) const { return windows_[wall]; }
+
+ private:
+  const FloorPlan* plan_;
+  BoxIndex tree_;
+  double reach_m_ = 0.0;
+  std::vector<std::vector<std::size_t>> doors_, windows_;
 };
 
 /// Convex blocking footprints at the cut height: wall pieces between openings (full thickness),
