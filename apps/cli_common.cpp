@@ -177,13 +177,17 @@ void add_override(nlohmann::json& overrides, const std::string& text, const std:
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0) throw InputError(option + " \"" + text + "\": expected KEY=VALUE");
   const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
-  // Valid JSON is taken as JSON (depth-limited); anything else is the string itself.
+  // Valid JSON is taken as JSON (depth-limited); anything else is the string itself, except text
+  // that opens an object or a list: that is meant as JSON, and its error (a duplicate key, a
+  // missing bracket) is reported instead of passing the text on as a string.
   nlohmann::json parsed;
   try {
     parsed = parse_json_text(value, option + " " + key);
   } catch (const LimitError&) {
     throw;
   } catch (const InputError&) {
+    const auto first = value.find_first_not_of(" \t\r\n");
+    if (first != std::string::npos && (value[first] == '{' || value[first] == '[')) throw;
     parsed = value;
   }
   overrides[key] = parsed;

@@ -21,6 +21,23 @@ using Value = std::pair<Box, std::uint32_t>;
 
 Box to_box(const IndexBox& b) { return Box(Point(b.xmin, b.ymin), Point(b.xmax, b.ymax)); }
 
+/// Output iterator of the R-tree query: appends the ids of the values it is given.
+struct IdInserter {
+  std::vector<std::uint32_t>* out;
+  using iterator_category = std::output_iterator_tag;
+  using value_type = void;
+  using difference_type = std::ptrdiff_t;
+  using pointer = void;
+  using reference = void;
+  IdInserter& operator=(const Value& v) {
+    out->push_back(v.second);
+    return *this;
+  }
+  IdInserter& operator*() { return *this; }
+  IdInserter& operator++() { return *this; }
+  IdInserter operator++(int) { return *this; }
+};
+
 }  // namespace
 
 struct BoxIndex::Tree {
@@ -49,21 +66,6 @@ BoxIndex& BoxIndex::operator=(BoxIndex&&) noexcept = default;
 void BoxIndex::query(const IndexBox& box, std::vector<std::uint32_t>& out) const {
   out.clear();
   if (std::isnan(box.xmin) || std::isnan(box.ymin) || std::isnan(box.xmax) || std::isnan(box.ymax)) return;
-  struct IdInserter {
-    std::vector<std::uint32_t>* out;
-    using iterator_category = std::output_iterator_tag;
-    using value_type = void;
-    using difference_type = std::ptrdiff_t;
-    using pointer = void;
-    using reference = void;
-    IdInserter& operator=(const Value& v) {
-      out->push_back(v.second);
-      return *this;
-    }
-    IdInserter& operator*() { return *this; }
-    IdInserter& operator++() { return *this; }
-    IdInserter operator++(int) { return *this; }
-  };
   tree_->rtree.query(bgi::intersects(to_box(box)), IdInserter{&out});
   std::sort(out.begin(), out.end());
 }
