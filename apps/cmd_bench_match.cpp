@@ -133,7 +133,7 @@ void register_bench_match(CLI::App& root) {
       ->delimiter(',');
   cmd->add_option("--bev-resolution", o->params.bev_resolution_m, "BEV matcher grid resolution, metres")
       ->capture_default_str()
-      ->check(CLI::Range(0.02, 1.0));
+      ->check(in_range(0.02, 1.0));
   cmd->add_option("--equivalence", o->equivalence,
                   "Instead: compare the search's modes with the posterior's on N seeded observations per plan")
       ->check(in_range(0, 100000));

@@ -314,6 +314,34 @@ const std::map<std::string, Generator>& generators() {
          for (int i = 0; i < 2000000; ++i) s += "0," + std::to_string(i % 997) + ",1," + std::to_string(i % 997) + "\n";
          write_file(p, s);
        }},
+      // Issue 28: nothing that pairs or searches walls may be quadratic. 100,000 walls (100 rows of
+      // 1,000 collinear 0.5 m pieces 2 m apart, as traced from an image): `plan info` took 175 s.
+      {"plan_walls_100k.json",
+       [](const fs::path& p) {
+         std::string walls;
+         walls.reserve(100000 * 60);
+         for (int row = 0; row < 100; ++row) {
+           for (int k = 0; k < 1000; ++k) {
+             walls += (row || k ? ",{\"id\":\"w" : "{\"id\":\"w") + std::to_string(row) + "_" + std::to_string(k) +
+                      "\",\"a\":[" + std::to_string(0.5 * k) + "," + std::to_string(2 * row) + "],\"b\":[" +
+                      std::to_string(0.5 * (k + 1)) + "," + std::to_string(2 * row) + "]}";
+           }
+         }
+         walls += ",{\"id\":\"left\",\"a\":[0,0],\"b\":[0,198]},{\"id\":\"right\",\"a\":[500,0],\"b\":[500,198]}";
+         write_file(p, "{\"format_version\":1,\"name\":\"walls_100k\",\"walls\":[" + walls + "]}");
+       }},
+      // An OSM way of 200,000 nodes (refused after 84 s before the limit was checked as it is read).
+      {"osm_way_200k.osm",
+       [](const fs::path& p) {
+         std::string s = "<?xml version=\"1.0\"?><osm version=\"0.6\">";
+         for (int i = 1; i <= 200000; ++i) {
+           s += "<node id=\"" + std::to_string(i) + "\" lat=\"" + std::to_string(47.0 + 1e-7 * i) + "\" lon=\"8.5\"/>";
+         }
+         s += "<way id=\"1\">";
+         for (int i = 1; i <= 200000; ++i) s += "<nd ref=\"" + std::to_string(i) + "\"/>";
+         s += "<tag k=\"indoor\" v=\"wall\"/><tag k=\"level\" v=\"0\"/></way></osm>";
+         write_file(p, s);
+       }},
       {"osm_deep_10k.osm",
        [](const fs::path& p) { write_file(p, "<?xml version=\"1.0\"?><osm>" + repeat("<a>", 10000) + repeat("</a>", 10000) + "</osm>"); }},
       {"imdf_unit_200k/",
