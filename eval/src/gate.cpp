@@ -230,9 +230,9 @@ GateOutcome evaluate_gate(const Json& summary, const Json& baseline, const std::
   const Json ratios = baseline.value("timing_ratios", Json::array());
   if (!ratios.is_array()) throw InputError(baseline_source + ": \"timing_ratios\" must be a list");
   // A gate that checks nothing passes every run: refused, not reported as "passed (0 checks)".
-  if (checks.empty() && ratios.empty()) {
-    throw InputError(baseline_source + ": no \"checks\" and no \"timing_ratios\": a gate with nothing to check would pass "
-                     "any run");
+  if (checks.empty() && ratios.empty() && paired.empty()) {
+    throw InputError(baseline_source + ": no \"checks\", \"paired_checks\" or \"timing_ratios\": a gate with nothing to "
+                     "check would pass any run");
   }
   for (std::size_t i = 0; i < ratios.size(); ++i) {
     const Json& r = ratios[i];
