@@ -2,6 +2,8 @@
 // observation schema's "bev" entries, and the scan folder's column semantics and view BEV files.
 #include <gtest/gtest.h>
 
+#include "common/scratch_dir.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -121,12 +123,6 @@ TEST(BevObservationIo, RoundTripAndRefusals) {
 
 class BevScanIo : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("floorcast_bev_scan_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                                        "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   static Scan scan() {
     Scan s;
     DepthView v;
@@ -140,7 +136,8 @@ class BevScanIo : public ::testing::Test {
     s.views.push_back(v);
     return s;
   }
-  fs::path dir_;
+  const test::ScratchDir scratch_;
+  const fs::path dir_ = scratch_.path() / "scan";
 };
 
 TEST_F(BevScanIo, ColumnSemanticsAndViewBevRoundTrip) {
