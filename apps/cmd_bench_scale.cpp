@@ -109,13 +109,13 @@ void register_bench_scale(CLI::App& root) {
       const std::string kernel_out = o->dir + "/" + plan.name + ".kernel.json";
       const ChildCost kc = run_child(exe,
                                      {"bench", "match", "--plan", plan_path, "--observations", obs, "--seed", seed,
-                                      "--orientations", std::to_string(o->orientations), "--rays", "0", "--no-posteriors", "--json"},
+                                      "--orientations", std::to_string(o->orientations), "--rays", "0", "--bev-fov", "0", "--no-posteriors", "--json"},
                                      kernel_out, "bench scale (kernel, " + plan.name + ")");
       const std::string ray_out = o->dir + "/" + plan.name + ".ray.json";
       const ChildCost rc = run_child(exe,
                                      {"bench", "match", "--plan", plan_path, "--observations", obs, "--seed", seed,
                                       "--no-kernel", "--rays", std::to_string(o->rays), "--ray-bits", std::to_string(o->ray_bits),
-                                      "--no-posteriors", "--json"},
+                                      "--bev-fov", "0", "--no-posteriors", "--json"},
                                      ray_out, "bench scale (ray, " + plan.name + ")");
       const Json kj = read_child_json(kernel_out), rj = read_child_json(ray_out);
       const Json& k = kj.contains("kernel") ? kj["kernel"] : Json::object();
@@ -183,7 +183,7 @@ void register_bench_scale(CLI::App& root) {
       const std::string kernel_out = o->dir + "/" + plan.name + ".kernel.json";
       timed("kernel",
             {"bench", "match", "--plan", plan_path, "--observations", "1", "--seed", std::to_string(o->seed), "--orientations",
-             std::to_string(o->orientations), "--rays", "0", "--no-posteriors", "--json"},
+             std::to_string(o->orientations), "--rays", "0", "--bev-fov", "0", "--no-posteriors", "--json"},
             kernel_out);
       const Json kj = read_child_json(kernel_out);
       row["kernel"]["precompute_wall_s"] = kj.contains("kernel") ? at(kj["kernel"], {"precompute_wall_s"}) : std::nan("");

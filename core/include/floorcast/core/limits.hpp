@@ -32,7 +32,7 @@ struct InputLimits {
   /// Side of a plan's bounding box, metres.
   double max_plan_extent_m = 5000.0;
   /// Elements of one plan (walls + doors + windows + obstacles) and of one imported source.
-  double max_plan_elements = 1.0e6;
+  double max_plan_elements = 2.0e6;
   /// Cells of one raster over a plan (occupancy, distance, posterior slice, belief slice).
   double max_raster_cells = 4.0e8;
   /// Estimated bytes of the rasters one stage builds over a plan (every orientation, every
