@@ -1,5 +1,6 @@
 #include "floorcast/scenarios/report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -23,15 +24,24 @@ OJson finite_or_null(double v) { return std::isfinite(v) ? OJson(v) : OJson(null
 
 std::string axis_value_text(const OJson& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
 
-std::string cell_title(const CellSpec& cell) {
-  if (cell.axes.empty()) return cell.id;
-  std::string t = cell.id + " (";
-  bool first = true;
+/// The sweep values of a cell in words ("schedule.every_steps = 10, ..."); empty without a sweep.
+std::string cell_axes_text(const CellSpec& cell) {
+  std::string t;
   for (auto it = cell.axes.begin(); it != cell.axes.end(); ++it) {
-    t += (first ? "" : ", ") + it.key() + " = " + axis_value_text(it.value());
-    first = false;
+    t += (t.empty() ? "" : ", ") + it.key() + " = " + axis_value_text(it.value());
   }
-  return t + ")";
+  return t;
+}
+
+std::string cell_title(const CellSpec& cell) {
+  const std::string axes = cell_axes_text(cell);
+  return axes.empty() ? cell.id : cell.id + " (" + axes + ")";
+}
+
+/// A plot title for one cell: the sweep values in words, never the internal cell id.
+std::string plot_title(const std::string& what, const CellSpec& cell) {
+  const std::string axes = cell_axes_text(cell);
+  return axes.empty() ? what : what + ", " + axes;
 }
 
 std::string pct(const MetricValue& v) {
@@ -614,17 +624,20 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
 
   // Plots.
   for (const CellSpec& cell : scenario.cells) {
-    const LinePlot p = error_cdf_plot(cdf_by_cell[cell.id], 10.0, "Position error CDF, " + cell_title(cell), "position error [m]");
+    const LinePlot p = error_cdf_plot(cdf_by_cell[cell.id], 10.0, plot_title("Position error CDF", cell), "position error [m]");
     rep.plots.emplace_back("error_cdf_" + cell.id + ".png", draw_line_plot(p));
   }
   // Sequential: median position error vs step, and the share of walks within 1 m vs step.
   for (const auto& [cell_id, by_tracker] : seq_records) {
+    const auto cell_it = std::find_if(scenario.cells.begin(), scenario.cells.end(),
+                                      [&](const CellSpec& c) { return c.id == cell_id; });
+    const CellSpec cell = cell_it != scenario.cells.end() ? *cell_it : CellSpec{};
     LinePlot err, ok;
-    err.title = "Tracking error vs step, " + cell_id + " (median over walks)";
+    err.title = plot_title("Tracking error vs step (median over walks)", cell);
     err.x_label = "step";
     err.y_label = "position error [m]";
     err.y_min = 0.0;
-    ok.title = "Walks within 1 m vs step, " + cell_id;
+    ok.title = plot_title("Walks within 1 m vs step", cell);
     ok.x_label = "step";
     ok.y_label = "share of walks";
     ok.y_min = 0.0;
