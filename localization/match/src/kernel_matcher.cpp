@@ -670,14 +670,11 @@ MatchResult KernelMatcher::match_frame(const Observation2D& obs, const std::vect
   return result;
 }
 
-MatchResult KernelMatcher::search_modes(const Observation2D& obs, const std::vector<double>& yaws,
-                                        const MatchRequest& request) const {
-  const auto t0 = Clock::now();
-  MatchResult result;
-  result.grid = grid_;
+std::vector<detail::SearchKernel> KernelMatcher::search_kernels(const Observation2D& obs, const std::vector<double>& yaws,
+                                                               std::vector<cv::Mat>& lines, double& kernel_s) const {
   const std::size_t S = params_.scales.size();
   std::vector<detail::SearchKernel> kernels(yaws.size() * S);
-  std::vector<cv::Mat> lines(kernels.size());
+  lines.assign(kernels.size(), cv::Mat());
   tbb::enumerable_thread_specific<double> kernel_cpu(0.0);
   tbb::parallel_for(std::size_t{0}, kernels.size(), [&](std::size_t j) {
     const double a = thread_cpu_s();
@@ -685,11 +682,16 @@ MatchResult KernelMatcher::search_modes(const Observation2D& obs, const std::vec
                                              impl_->distance_weight, *impl_->search, false, &lines[j]);
     kernel_cpu.local() += thread_cpu_s() - a;
   });
-  double kernel_s = 0.0;
+  kernel_s = 0.0;
   for (double v : kernel_cpu) kernel_s += v;
+  return kernels;
+}
+
+void KernelMatcher::search_with(std::vector<detail::SearchKernel>& kernels, const std::vector<cv::Mat>& lines,
+                                const std::vector<double>& yaws, const MatchRequest& request, MatchResult& result) const {
   const double b = thread_cpu_s();
   detail::SearchRequest sr;
-  sr.num_scales = static_cast<int>(S);
+  sr.num_scales = static_cast<int>(params_.scales.size());
   sr.yaw_rad = yaws;
   sr.alpha = correlation_alpha(params_.alpha);
   sr.zero_below = params_.zero_below;
@@ -706,13 +708,82 @@ MatchResult KernelMatcher::search_modes(const Observation2D& obs, const std::vec
     ++leaf_kernels;
   };
   result.modes = detail::branch_and_bound_modes(*impl_->search, grid_, kernels, sr, &result.counters);
-  result.stage_s["search_kernels"] = kernel_s;
   result.stage_s["branch_and_bound"] = thread_cpu_s() - b - leaf_kernel_s;
   result.stage_s["leaf_kernels"] = leaf_kernel_s;
   result.counters["kernels"] = static_cast<double>(kernels.size());
   result.counters["leaf_kernels"] = leaf_kernels;
+}
+
+MatchResult KernelMatcher::search_modes(const Observation2D& obs, const std::vector<double>& yaws,
+                                        const MatchRequest& request) const {
+  const auto t0 = Clock::now();
+  MatchResult result;
+  result.grid = grid_;
+  std::vector<cv::Mat> lines;
+  double kernel_s = 0.0;
+  std::vector<detail::SearchKernel> kernels = search_kernels(obs, yaws, lines, kernel_s);
+  search_with(kernels, lines, yaws, request, result);
+  result.stage_s["search_kernels"] = kernel_s;
   result.match_s = seconds(t0, Clock::now());
   return result;
+}
+
+PosteriorQuery KernelMatcher::query(const Observation2D& obs) const {
+  // The search's maps score cells directly in the matcher's frame on the output grid; tilted
+  // plans and the variants searched through the posterior look the full posterior up instead.
+  if (!impl_->search || tilt_rad_ != 0.0) return Matcher::query(obs);
+  const std::vector<double> yaws = orientation_candidates(params_.orientation, orientation_cache_, obs.segments_m);
+  // The kernels of every (orientation, scale), shared by the maximum's search and the scorer.
+  struct Kernels {
+    std::vector<detail::SearchKernel> kernels;
+    std::vector<cv::Mat> lines;
+    std::mutex mutex;
+  };
+  auto state = std::make_shared<Kernels>();
+  double kernel_s = 0.0;
+  state->kernels = search_kernels(obs, yaws, state->lines, kernel_s);
+  MatchResult best;
+  search_with(state->kernels, state->lines, yaws, MatchRequest::modes(1), best);
+  // The posterior's maximum: the best mode's score as the posterior stores it (float).
+  const double max_score = best.modes.empty() ? 0.0 : static_cast<double>(static_cast<float>(best.modes.front().score));
+  const int S = static_cast<int>(params_.scales.size());
+  auto scorer = [this, state, S](const std::vector<PosteriorCell>& cells, float* out) {
+    {
+      // P of the kernels of the asked slices (those the search did not evaluate yet).
+      std::lock_guard<std::mutex> lock(state->mutex);
+      std::vector<char> asked(state->kernels.size() / static_cast<std::size_t>(S), 0);
+      for (const PosteriorCell& c : cells) asked[static_cast<std::size_t>(c.slice)] = 1;
+      std::vector<std::size_t> todo;
+      for (std::size_t o = 0; o < asked.size(); ++o)
+        for (int s = 0; asked[o] && s < S; ++s)
+          if (!state->kernels[o * S + static_cast<std::size_t>(s)].has_leaf_data) todo.push_back(o * S + static_cast<std::size_t>(s));
+      tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) {
+        detail::add_leaf_data(state->kernels[todo[i]], rw_kernel(params_, state->lines[todo[i]], impl_->distance_weight),
+                              *impl_->search);
+      });
+    }
+    // Each cell as posterior_yaws scores it: max over scales of the value clipped at zero_below,
+    // 0 outside the valid area; the value summed directly (exact_cell_score, as the search).
+    const double alpha = correlation_alpha(params_.alpha);
+    const float zero_below = static_cast<float>(params_.zero_below);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 16), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const PosteriorCell& c = cells[i];
+        float v = 0.0f;
+        if (valid_.at<std::uint8_t>(c.row, c.col)) {
+          for (int s = 0; s < S; ++s) {
+            const detail::SearchKernel& k = state->kernels[static_cast<std::size_t>(c.slice) * S + static_cast<std::size_t>(s)];
+            const float h = static_cast<float>(detail::exact_cell_score(*impl_->search, k, alpha, c.row, c.col));
+            if (h >= zero_below) v = std::max(v, h);
+          }
+        }
+        out[i] = v;
+      }
+    });
+  };
+  Observation2D copy = obs;
+  auto full = [this, copy = std::move(copy), yaws]() { return posterior_yaws(copy, yaws).posterior; };
+  return PosteriorQuery(grid_, yaws, max_score, scorer, full);
 }
 
 MatchResult KernelMatcher::posterior_yaws(const Observation2D& obs, const std::vector<double>& yaws) const {

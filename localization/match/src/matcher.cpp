@@ -9,6 +9,8 @@ const PoseHypothesis& MatchResult::estimate() const {
   return modes.front();
 }
 
+PosteriorQuery Matcher::query(const Observation2D& observation) const { return PosteriorQuery(match(observation).posterior); }
+
 void finish_from_posterior(MatchResult& result, const MatchRequest& request) {
   Posterior& post = result.posterior;
   result.grid = post.grid;

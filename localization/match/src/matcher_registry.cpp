@@ -38,6 +38,8 @@ class Abstaining final : public Matcher {
     }
     return r;
   }
+  /// The inner matcher's point queries (abstention concerns modes only, never the posterior).
+  PosteriorQuery query(const Observation2D& observation) const override { return inner_->query(observation); }
   const Matcher& unwrapped() const override { return inner_->unwrapped(); }
 
  private:

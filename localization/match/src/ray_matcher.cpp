@@ -575,6 +575,48 @@ MatchResult RayMatcher::match(const Observation2D& obs, const MatchRequest& requ
   return result;
 }
 
+PosteriorQuery RayMatcher::query(const Observation2D& obs) const {
+  auto ru = std::make_shared<const RayUnits>(ray_units(obs));
+  MatchResult best;
+  match_modes(*ru, MatchRequest::modes(1), best);
+  const double max_score = best.modes.empty() ? 0.0 : best.modes.front().score;
+  const int D = params_.num_directions;
+  std::vector<double> yaws(static_cast<std::size_t>(D));
+  for (int o = 0; o < D; ++o) yaws[static_cast<std::size_t>(o)] = 2.0 * kPi * o / D;
+  auto scorer = [this, ru](const std::vector<PosteriorCell>& cells, float* out) {
+    // Each cell's L1 at its slice, in integers as l1_tile sums it, then the same exp.
+    const DistanceVolume& v = pre_->volume;
+    const std::size_t N = v.num_cells();
+    const int Dv = v.num_directions;
+    const float k = static_cast<float>(1e-3 * v.step_mm / params_.lambda_m);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
+      std::vector<std::int32_t> acc(range.size());
+      std::vector<char> stored(range.size());
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const PosteriorCell& c = cells[i];
+        const std::int32_t index = v.cell_index[static_cast<std::size_t>(c.row) * v.grid.width_px + static_cast<std::size_t>(c.col)];
+        std::int32_t sum = 0;
+        stored[i - range.begin()] = index >= 0;
+        if (index >= 0) {
+          for (std::size_t j = 0; j < ru->offsets.size(); ++j) {
+            const std::size_t d = static_cast<std::size_t>((c.slice + ru->offsets[j]) % Dv);
+            const int raw = v.bits == 8 ? v.q8[d * N + static_cast<std::size_t>(index)] : v.mm[d * N + static_cast<std::size_t>(index)];
+            const int value = ru->clipped ? std::min<int>(raw, ru->clip) : raw;
+            sum += std::abs(value - static_cast<int>(ru->rays[j]));
+          }
+        }
+        acc[i - range.begin()] = sum;
+      }
+      exp_neg_scaled(acc.data(), static_cast<int>(range.size()), k, out + range.begin());
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+        if (!stored[i - range.begin()]) out[i] = 0.0f;
+    });
+  };
+  Observation2D copy = obs;
+  auto full = [this, copy = std::move(copy)]() { return match(copy).posterior; };
+  return PosteriorQuery(pre_->volume.grid, std::move(yaws), max_score, scorer, full);
+}
+
 RayMatcher::RankTables RayMatcher::rank_tables(const std::vector<std::uint16_t>& rays_u, int top_mm) const {
   // Lower bound of min over orientations of L1(cell, o): the sorted rays matched rank for rank
   // with the cell's sorted distances (the L1-optimal pairing, so no rotation does better), each

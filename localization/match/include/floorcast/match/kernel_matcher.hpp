@@ -40,6 +40,7 @@ namespace floorcast {
 
 namespace detail {
 class KernelSearchMaps;
+struct SearchKernel;
 }
 
 /// What the kernel matcher's plan raster draws.
@@ -231,6 +232,11 @@ class KernelMatcher final : public Matcher {
   BlockingOptions blocking() const override { return params_.blocking; }
   using Matcher::match;
   MatchResult match(const Observation2D& observation, const MatchRequest& request) const override;
+  /// Point queries: the posterior's maximum by the branch-and-bound search (top 1), each asked
+  /// cell correlated directly at every scale (exact_cell_score: within the FFT posterior's
+  /// round-off of its value). map_tilt and the variants searched through the posterior
+  /// (palms_code, reflect, modes_search posterior) compute the full posterior instead.
+  PosteriorQuery query(const Observation2D& observation) const override;
 
   /// The orientation candidates match() searches for this observation (world yaws).
   std::vector<double> yaw_candidates(const Observation2D& observation) const;
@@ -279,6 +285,13 @@ class KernelMatcher final : public Matcher {
   MatchResult posterior_yaws(const Observation2D& observation, const std::vector<double>& yaws_rad) const;
   MatchResult search_modes(const Observation2D& observation, const std::vector<double>& yaws_rad,
                            const MatchRequest& request) const;
+  /// The search kernels of every (orientation, scale) (j = o * scales + s) and their RW line
+  /// pixels; kernel_s: thread CPU seconds summed.
+  std::vector<detail::SearchKernel> search_kernels(const Observation2D& observation, const std::vector<double>& yaws_rad,
+                                                   std::vector<cv::Mat>& lines, double& kernel_s) const;
+  /// The branch-and-bound modes over those kernels into result (modes, stages, counters).
+  void search_with(std::vector<detail::SearchKernel>& kernels, const std::vector<cv::Mat>& lines,
+                   const std::vector<double>& yaws_rad, const MatchRequest& request, MatchResult& result) const;
   /// Modes (and posterior) from the matcher's frame to the world: report point, tilt.
   void to_world(MatchResult& result) const;
   KernelMatcherParams params_;

@@ -14,6 +14,7 @@
 #include "floorcast/core/params.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 #include "floorcast/match/posterior.hpp"
+#include "floorcast/match/posterior_query.hpp"
 
 namespace floorcast {
 
@@ -91,6 +92,13 @@ class Matcher {
   /// The matcher itself under any wrapper the registry adds (the min_score abstention): what a
   /// caller casts to a matcher type to read its typed parameters.
   virtual const Matcher& unwrapped() const { return *this; }
+  /// The posterior of one observation as point queries (posterior_query.hpp): its grid, slices
+  /// and maximum, and the scores of match(observation).posterior at the cells a caller asks for,
+  /// computed only there (kernel: direct correlation at each asked cell and scale, within the
+  /// FFT posterior's round-off; ray: each asked cell's L1, bit for bit). This default computes the
+  /// full posterior and looks cells up (bev, external and run-time registered matchers). The
+  /// query refers to this matcher: it must not outlive it.
+  virtual PosteriorQuery query(const Observation2D& observation) const;
 };
 
 /// A matcher's parameters, parsed, validated and complete (every default filled in), before any

@@ -145,6 +145,9 @@ class RayMatcher final : public Matcher {
   BlockingOptions blocking() const override { return params_.blocking; }
   using Matcher::match;
   MatchResult match(const Observation2D& observation, const MatchRequest& request) const override;
+  /// Point queries: the maximum by the bounded search (top 1), each asked cell's L1 at its slice
+  /// (the posterior's arithmetic: bit for bit its value).
+  PosteriorQuery query(const Observation2D& observation) const override;
 
   /// The observation's rays (metres, ray i at 2 pi i / D), before the ray convention.
   std::vector<double> observation_rays(const Observation2D& observation) const;
