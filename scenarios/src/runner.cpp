@@ -472,11 +472,14 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
     r.walk["truth_xy"] = xy;
   }
   // Observations on the schedule (step 0 again: the single-shot observation, same seed) and the
-  // posteriors each tracker's matcher makes of them, computed once per (matcher, step). A
-  // posterior is kept only while a later tracker uses its matcher (a walk's posteriors are
-  // 100+ MB each on an office at 0.1 m: a 100-frame walk kept whole would not fit in memory).
+  // posteriors each tracker's matcher makes of them, computed once per (matcher, step): as point
+  // queries (Matcher::query: a tracker asks for the cells it needs; the full posterior is computed
+  // here for the first observation, the trackers' initialisation, and otherwise only when a
+  // tracker asks for it). A posterior is kept only while a later tracker uses its matcher (a
+  // walk's full posteriors are 100+ MB each on an office at 0.1 m: a 100-frame walk kept whole
+  // would not fit in memory).
   std::map<int, std::optional<Observation2D>> observations;
-  std::map<std::pair<std::string, int>, Posterior> posteriors;
+  std::map<std::pair<std::string, int>, PosteriorQuery> posteriors;
   std::map<std::pair<std::string, int>, std::string> posterior_errors;  // an external matcher's error
   std::size_t current_tracker = 0;
   auto needed_later = [&](const std::string& matcher_label) {
@@ -485,7 +488,7 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
     }
     return false;
   };
-  auto posterior = [&](const std::string& matcher_label, int step) -> std::optional<Posterior> {
+  auto posterior = [&](const std::string& matcher_label, int step) -> std::optional<PosteriorQuery> {
     if (std::find(scheduled.begin(), scheduled.end(), step) == scheduled.end()) return std::nullopt;
     auto oit = observations.find(step);
     if (oit == observations.end()) {
@@ -501,16 +504,17 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
     auto pit = posteriors.find(k);
     if (pit != posteriors.end()) return pit->second;
     const auto tm = Clock::now();
-    Posterior p;
+    std::optional<PosteriorQuery> p;
     try {
-      p = d.matchers.at(Impl::matcher_key(b, *spec))->match(*oit->second).posterior;
+      p = d.matchers.at(Impl::matcher_key(b, *spec))->query(*oit->second);
+      if (step == 0) p->full();
     } catch (const ExternalMethodError& e) {
       posterior_errors[k] = "error: matcher " + matcher_label + " at step " + std::to_string(step) + ": " + e.what();
       r.timings_s["track_match"] += seconds_since(tm);
       return std::nullopt;
     }
     r.timings_s["track_match"] += seconds_since(tm);
-    if (needed_later(matcher_label)) posteriors.emplace(k, p);
+    if (needed_later(matcher_label)) posteriors.emplace(k, *p);
     return p;
   };
   for (std::size_t ti = 0; ti < q.trackers.size(); ++ti) {
@@ -529,7 +533,7 @@ void ScenarioRunner::run_sequential(const WorkUnit& unit, UnitResult& r,
     o.label = t.label;
     int used = 0;
     const TrackRun run = run_tracker(*tracker, odo.steps, 0, [&](int step) {
-      std::optional<Posterior> p = posterior(t.matcher, step);
+      std::optional<PosteriorQuery> p = posterior(t.matcher, step);
       used += p ? 1 : 0;
       return p;
     });

@@ -80,13 +80,13 @@ WalkTrack track_walk_folder(const std::string& walk_dir, const WalkRecord& walk,
 
   out.first_step = by_step.begin()->first;
   std::size_t done = 0;
-  out.run = run_tracker(tracker, walk.odometry.steps, out.first_step, [&](int step) -> std::optional<Posterior> {
+  out.run = run_tracker(tracker, walk.odometry.steps, out.first_step, [&](int step) -> std::optional<PosteriorQuery> {
     auto it = by_step.find(step);
     if (it == by_step.end()) return std::nullopt;
     const std::optional<Observation2D> observation = observe(*it->second);
-    std::optional<Posterior> post;
+    std::optional<PosteriorQuery> post;
     if (observation) {
-      post = matcher.match(*observation).posterior;
+      post = matcher.query(*observation);
       ++out.observations_used;
     }
     ++done;

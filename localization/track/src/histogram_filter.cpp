@@ -100,6 +100,8 @@ const FieldList<HistogramFilterParams>& HistogramFilterParams::fields() {
           .number("measurement_floor", &P::measurement_floor, 0.0, 1.0,
                   "measurement update: belief x (floor + (1 - floor) x posterior / max)")
           .number("prune_below", &P::prune_below, 0.0, 1.0, "belief below this fraction of the maximum set to 0 (0 = never)")
+          .flag("sparse", &P::sparse,
+                "visit only the cells holding belief and ask the matcher for those only (false: every cell, the dense filter; same results)")
           .choice("estimate", &P::estimate, belief_estimate_names(),
                   "the belief's largest cell (F3Loc) or the pose with the most mass within the support window")
           .number("support_radius_m", &P::support_radius_m, 0.0, 100.0, "support window radius, m (success: 1 m)")
@@ -150,6 +152,51 @@ HistogramFilter::HistogramFilter(const FloorPlan& plan, const HistogramFilterPar
     belief_.push_back(cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_32F));
     scratch_.push_back(cv::Mat::zeros(grid_.height_px, grid_.width_px, CV_32F));
   }
+  blocks_ = (H + kBlockRows - 1) / kBlockRows;
+  span_.assign(static_cast<std::size_t>(D) * blocks_, Span{});
+  scratch_span_.assign(static_cast<std::size_t>(D) * blocks_, Span{});
+}
+
+void HistogramFilter::scan_spans() {
+  const int D = params_.num_orientations;
+  const int H = grid_.height_px;
+  tbb::parallel_for(0, D, [&](int o) {
+    const cv::Mat& b = belief_[static_cast<std::size_t>(o)];
+    for (int blk = 0; blk < blocks_; ++blk) {
+      Span sp;
+      sp.lo = grid_.width_px;
+      for (int r = blk * kBlockRows; r < std::min(H, (blk + 1) * kBlockRows); ++r) {
+        const float* row = b.ptr<float>(r);
+        for (int c = 0; c < grid_.width_px; ++c) {
+          if (row[c] == 0.0f) continue;
+          sp.lo = std::min(sp.lo, c);
+          sp.hi = std::max(sp.hi, c);
+        }
+      }
+      span_[static_cast<std::size_t>(o) * blocks_ + blk] = sp;
+    }
+  });
+}
+
+void HistogramFilter::dense_spans() {
+  if (params_.sparse) return;
+  for (std::vector<Span>* spans : {&span_, &scratch_span_})
+    for (Span& sp : *spans) sp = Span{0, grid_.width_px - 1};
+}
+
+std::int64_t HistogramFilter::live_cells() const {
+  std::int64_t n = 0;
+  const int H = grid_.height_px;
+  for (std::size_t i = 0; i < span_.size(); ++i) {
+    const Span& sp = span_[i];
+    if (sp.empty()) continue;
+    const int blk = static_cast<int>(i % static_cast<std::size_t>(blocks_));
+    for (int r = blk * kBlockRows; r < std::min(H, (blk + 1) * kBlockRows); ++r) {
+      const int lo = std::max(sp.lo, row_lo_[static_cast<std::size_t>(r)]), hi = std::min(sp.hi, row_hi_[static_cast<std::size_t>(r)]);
+      n += std::max(0, hi - lo + 1);
+    }
+  }
+  return n;
 }
 
 HistogramFilter::~HistogramFilter() = default;
@@ -159,6 +206,7 @@ std::size_t HistogramFilter::state_bytes() const {
 }
 
 void HistogramFilter::measure_slices() {
+  dense_spans();
   const int D = params_.num_orientations;
   const int H = grid_.height_px;
   mass_.assign(static_cast<std::size_t>(D), 0.0);
@@ -168,7 +216,8 @@ void HistogramFilter::measure_slices() {
     double sum = 0.0;
     float mx = 0.0f;
     for (int r = 0; r < H; ++r) {
-      const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
+      const Span& sp = span_[static_cast<std::size_t>(o) * blocks_ + r / kBlockRows];
+      const int c0 = std::max(sp.lo, row_lo_[static_cast<std::size_t>(r)]), c1 = std::min(sp.hi, row_hi_[static_cast<std::size_t>(r)]);
       const float* row = b.ptr<float>(r);
       double rs = 0.0;
       for (int c = c0; c <= c1; ++c) {
@@ -195,6 +244,7 @@ void HistogramFilter::finish_normalise() {
   degenerate_ = !(total > 0.0);
   lost_ = degenerate_;
   if (degenerate_) return;
+  dense_spans();
   peak_.assign(static_cast<std::size_t>(D), 0.0);
   peak_at_.assign(static_cast<std::size_t>(D), cv::Point(0, 0));
   const float scale = static_cast<float>(1.0 / total);
@@ -204,9 +254,19 @@ void HistogramFilter::finish_normalise() {
     cv::Mat& b = belief_[static_cast<std::size_t>(o)];
     float mx = 0.0f;
     cv::Point at(0, 0);
-    if (slice_max_[static_cast<std::size_t>(o)] > 0.0f) {
-      for (int r = 0; r < H; ++r) {
-        const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
+    const bool live = slice_max_[static_cast<std::size_t>(o)] > 0.0f;
+    for (int blk = 0; blk < blocks_; ++blk) {
+      // The span shrinks to the cells that stay non-zero (pruned or empty cells drop out).
+      Span& sp = span_[static_cast<std::size_t>(o) * blocks_ + blk];
+      if (!live) {
+        sp = Span{};
+        continue;
+      }
+      if (sp.empty()) continue;
+      Span kept;
+      kept.lo = grid_.width_px;
+      for (int r = blk * kBlockRows; r < std::min(H, (blk + 1) * kBlockRows); ++r) {
+        const int c0 = std::max(sp.lo, row_lo_[static_cast<std::size_t>(r)]), c1 = std::min(sp.hi, row_hi_[static_cast<std::size_t>(r)]);
         float* row = b.ptr<float>(r);
         for (int c = c0; c <= c1; ++c) {
           const float v = row[c] * scale;
@@ -216,7 +276,16 @@ void HistogramFilter::finish_normalise() {
           }
           row[c] = v < floor ? 0.0f : v;
         }
+        // First and last non-zero cells of the row (scans from both ends).
+        int a = c0, z = c1;
+        while (a <= z && row[a] == 0.0f) ++a;
+        while (z >= a && row[z] == 0.0f) --z;
+        if (a <= z) {
+          kept.lo = std::min(kept.lo, a);
+          kept.hi = std::max(kept.hi, z);
+        }
       }
+      sp = kept;
     }
     peak_[static_cast<std::size_t>(o)] = mx;
     peak_at_[static_cast<std::size_t>(o)] = at;
@@ -240,6 +309,7 @@ void HistogramFilter::initialise(const Posterior& post, const OdometryStep& firs
   }
   if (params_.init == BeliefInit::kUniform) {
     for (cv::Mat& b : belief_) interior_.copyTo(b);
+    scan_spans();
     normalise();
     return;
   }
@@ -273,6 +343,7 @@ void HistogramFilter::initialise(const Posterior& post, const OdometryStep& firs
       }
     }
   }
+  scan_spans();
   normalise();
   if (degenerate_) throw InputError("histogram filter: the initial posterior is empty (every cell scored 0): no pose to start from");
 }
@@ -320,14 +391,19 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
     for (int o = 0; o < D; ++o) moved[static_cast<std::size_t>(((o + shift) % D + D) % D)] = offset_px_[static_cast<std::size_t>(o)];
     offset_px_ = std::move(moved);
   }
+  dense_spans();
   // Row blocks: each block translates the rows it needs of every slice into a block buffer that
   // stays in cache, then rotates across slices into the output; the belief is read and the output
   // written once per step. Per-block slice sums and maxima are reduced in block order (the same
   // bytes at any thread count) and stand in for the first pass of the next normalisation.
-  constexpr int kBlockRows = 16;
-  const int blocks = (H + kBlockRows - 1) / kBlockRows;
+  // Sparse: a source slice is translated only over the columns its spans (in the rows the block
+  // reads) can reach through the kernel, an output slice written only where some source reached;
+  // each output block's span becomes its non-zero columns, and the old contents of the output
+  // buffer are cleared over its old span only.
+  const int blocks = blocks_;
   std::vector<double> block_sum(static_cast<std::size_t>(blocks) * D, 0.0);
   std::vector<float> block_max(static_cast<std::size_t>(blocks) * D, 0.0f);
+  std::vector<Span> out_span(static_cast<std::size_t>(D) * blocks);
   const std::size_t block_stride = static_cast<std::size_t>(kBlockRows) * W;
   tbb::parallel_for(0, blocks, [&](int blk) {
     const int r0 = blk * kBlockRows, r1 = std::min(H, r0 + kBlockRows);
@@ -337,28 +413,45 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
     MotionWorkspace& ws = workspace_.local();
     ws.block.resize(block_stride * D);
     ws.rows.resize(static_cast<std::size_t>(kBlockRows + 2 * reach_rows_ + 1) * W);
+    std::vector<Span> reach(static_cast<std::size_t>(D));  // per source slice: the columns it reaches in this block
     for (int s = 0; s < D; ++s) {
       const auto ss = static_cast<std::size_t>(s);
       if (!nonzero[ss]) continue;
       const cv::Mat& b = belief_[ss];
       // Horizontal pass over the rows the vertical pass reads (row rr -> ws.rows row rr - first).
       const int first = std::max(0, r0 + y_lo[ss]), last = std::min(H - 1, r1 - 1 + y_hi[ss]);
+      Span src;
+      src.lo = W;
+      for (int q = first / kBlockRows; first <= last && q <= last / kBlockRows; ++q) {
+        const Span& sp = span_[ss * static_cast<std::size_t>(blocks) + static_cast<std::size_t>(q)];
+        if (sp.empty()) continue;
+        src.lo = std::min(src.lo, sp.lo);
+        src.hi = std::max(src.hi, sp.hi);
+      }
+      if (src.empty()) continue;
+      const int taps = static_cast<int>(kx[ss].w.size());
+      Span& t_span = reach[ss];
+      t_span.lo = std::max(0, src.lo - kx[ss].first_offset - (taps - 1));
+      t_span.hi = std::min(W - 1, src.hi - kx[ss].first_offset);
+      if (t_span.empty()) continue;
       for (int rr = first; rr <= last; ++rr) {
-        const int c0 = reach_lo_[static_cast<std::size_t>(rr)], c1 = reach_hi_[static_cast<std::size_t>(rr)];
+        const int c0 = std::max(t_span.lo, reach_lo_[static_cast<std::size_t>(rr)]);
+        const int c1 = std::min(t_span.hi, reach_hi_[static_cast<std::size_t>(rr)]);
         if (c0 > c1) continue;
         const float* in = b.ptr<float>(rr);
         float* t = ws.rows.data() + static_cast<std::size_t>(rr - first) * W;
         std::fill(t + c0, t + c1 + 1, 0.0f);
-        for (std::size_t i = 0; i < kx[ss].w.size(); ++i) {
-          const float wi = kx[ss].w[i];
-          const int off = kx[ss].first_offset + static_cast<int>(i);
+        for (int i = 0; i < taps; ++i) {
+          const float wi = kx[ss].w[static_cast<std::size_t>(i)];
+          const int off = kx[ss].first_offset + i;
           const int clo = std::max(c0, -off), chi = std::min(c1, W - 1 - off);
           if (clo <= chi) axpy(t + clo, in + clo + off, wi, chi - clo + 1);
         }
       }
       // Vertical pass into the block buffer, times the interior mask.
       for (int r = r0; r < r1; ++r) {
-        const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
+        const int c0 = std::max(t_span.lo, row_lo_[static_cast<std::size_t>(r)]);
+        const int c1 = std::min(t_span.hi, row_hi_[static_cast<std::size_t>(r)]);
         if (c0 > c1) continue;
         float* acc = ws.block.data() + ss * block_stride + static_cast<std::size_t>(r - r0) * W + c0;
         std::fill(acc, acc + (c1 - c0 + 1), 0.0f);
@@ -373,23 +466,43 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
         for (int c = 0; c <= c1 - c0; ++c) acc[c] *= in[c];
       }
     }
-    // Rotation into the output slices, with the block's per-slice sum and maximum.
+    // Rotation into the output slices, with the block's per-slice sum, maximum and span.
     for (int o = 0; o < D; ++o) {
       double sum = 0.0;
       float mx = 0.0f;
       cv::Mat& out = scratch_[static_cast<std::size_t>(o)];
+      const std::size_t si = static_cast<std::size_t>(o) * blocks + static_cast<std::size_t>(blk);
+      // Clear the output buffer's old contents of this block.
+      const Span old = scratch_span_[si];
+      Span written;
+      written.lo = W;
+      for (int k = lo; k <= hi; ++k) {
+        const Span& sp = reach[static_cast<std::size_t>(((o - k) % D + D) % D)];
+        if (sp.empty()) continue;
+        written.lo = std::min(written.lo, sp.lo);
+        written.hi = std::max(written.hi, sp.hi);
+      }
+      Span nz;
+      nz.lo = W;
       for (int r = r0; r < r1; ++r) {
-        const int c0 = row_lo_[static_cast<std::size_t>(r)], c1 = row_hi_[static_cast<std::size_t>(r)];
-        if (c0 > c1) continue;
         float* dst = out.ptr<float>(r);
+        const int rlo = row_lo_[static_cast<std::size_t>(r)], rhi = row_hi_[static_cast<std::size_t>(r)];
+        {
+          const int c0 = std::max(old.lo, rlo), c1 = std::min(old.hi, rhi);
+          if (c0 <= c1) std::fill(dst + c0, dst + c1 + 1, 0.0f);
+        }
+        const int c0 = std::max(written.lo, rlo), c1 = std::min(written.hi, rhi);
+        if (c0 > c1) continue;
         std::fill(dst + c0, dst + c1 + 1, 0.0f);
         for (int k = lo; k <= hi; ++k) {
           const int src = ((o - k) % D + D) % D;  // mass of heading src moves to heading src + k
-          if (!nonzero[static_cast<std::size_t>(src)]) continue;
+          const Span& sp = reach[static_cast<std::size_t>(src)];
+          const int a = std::max(c0, sp.lo), z = std::min(c1, sp.hi);
+          if (a > z) continue;
           const float wk = w[static_cast<std::size_t>(k - lo)];
           const float* in = ws.block.data() + static_cast<std::size_t>(src) * block_stride +
                             static_cast<std::size_t>(r - r0) * W;
-          axpy(dst + c0, in + c0, wk, c1 - c0 + 1);
+          axpy(dst + a, in + a, wk, z - a + 1);
         }
         double rs = 0.0;
         for (int c = c0; c <= c1; ++c) {
@@ -397,11 +510,22 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
           mx = std::max(mx, dst[c]);
         }
         sum += rs;
+        int a = c0, z = c1;
+        while (a <= z && dst[a] == 0.0f) ++a;
+        while (z >= a && dst[z] == 0.0f) --z;
+        if (a <= z) {
+          nz.lo = std::min(nz.lo, a);
+          nz.hi = std::max(nz.hi, z);
+        }
       }
       block_sum[static_cast<std::size_t>(blk) * D + o] = sum;
       block_max[static_cast<std::size_t>(blk) * D + o] = mx;
+      out_span[si] = nz;
     }
   });
+  // Blocks without interior rows were skipped: their buffers are 0 in both.
+  for (std::size_t i = 0; i < out_span.size(); ++i) scratch_span_[i] = out_span[i];
+  std::swap(span_, scratch_span_);
   std::swap(belief_, scratch_);
   mass_.assign(static_cast<std::size_t>(D), 0.0);
   slice_max_.assign(static_cast<std::size_t>(D), 0.0f);
@@ -448,65 +572,128 @@ void HistogramFilter::predict(const OdometryStep& step) {
   finish_normalise();  // move() measured the slices
 }
 
-void HistogramFilter::update(const Posterior& post) {
-  double best = 0.0;
-  for (const cv::Mat& m : post.scores) {
-    double mx = 0.0;
-    cv::minMaxLoc(m, nullptr, &mx);
-    best = std::max(best, mx);
-  }
-  if (!(best > 0.0) || post.num_slices() == 0) {
+void HistogramFilter::update(const PosteriorQuery& query) {
+  const int D = params_.num_orientations;
+  const int H = grid_.height_px;
+  const double floor = params_.measurement_floor;
+  if (query.num_slices() == 0) {
     degenerate_ = true;  // an empty posterior carries no information: the belief stays
     return;
   }
-  const int D = params_.num_orientations;
-  const double floor = params_.measurement_floor;
-  // The weighted belief goes into the scratch slices; it replaces the belief only when some mass
-  // survives (an update that zeroes everything is reported, and the prior kept).
+  // The posterior slice of each belief slice, and whether it stands for that heading: a posterior
+  // slice stands for headings within half a belief bin of its yaw; farther headings were not
+  // evaluated by the matcher: they get the floor.
+  std::vector<int> slice_of(static_cast<std::size_t>(D));
+  std::vector<char> covered(static_cast<std::size_t>(D));
+  std::vector<Vec2> offset_m(static_cast<std::size_t>(D));
+  for (int o = 0; o < D; ++o) {
+    double gap = 0.0;
+    slice_of[static_cast<std::size_t>(o)] = query.nearest_slice(kTwoPi * o / D + yaw_residual_rad_, &gap);
+    covered[static_cast<std::size_t>(o)] = gap <= 0.5 * kTwoPi / D + 1e-9;
+    offset_m[static_cast<std::size_t>(o)] = offset_px_[static_cast<std::size_t>(o)] * grid_.resolution_m_per_px;
+  }
+  dense_spans();
+  const bool same_grid = query.grid() == grid_;
+  // The posterior cell of belief cell (o, r, c) (false: outside the posterior's grid). Same
+  // grid: the offset (<= half a cell) keeps the cell.
+  auto posterior_cell = [&](int o, int r, int c, int& pr, int& pc) {
+    pr = r;
+    pc = c;
+    return same_grid || query.grid().world_to_cell(grid_.cell_center_m(r, c) + offset_m[static_cast<std::size_t>(o)], pr, pc);
+  };
+  // Point queries when the live cells are few against the full posterior's (its grid cells x
+  // slices; the full posterior is read otherwise): the same values either way.
+  const double posterior_cells = static_cast<double>(query.grid().width_px) * query.grid().height_px * query.num_slices();
+  const bool points = params_.sparse && query.scores_points() && 8.0 * static_cast<double>(live_cells()) < posterior_cells;
+  const Posterior* post = points ? nullptr : &query.full();
+  double best = 0.0;
+  if (points) {
+    best = query.max_score();
+  } else {
+    for (const cv::Mat& m : post->scores) {
+      double mx = 0.0;
+      cv::minMaxLoc(m, nullptr, &mx);
+      best = std::max(best, mx);
+    }
+  }
+  if (!(best > 0.0)) {
+    degenerate_ = true;  // an empty posterior carries no information: the belief stays
+    return;
+  }
+  // Point queries: the non-zero covered cells of every slice, in the order the weighting below
+  // visits them.
+  std::vector<std::vector<PosteriorCell>> asked(static_cast<std::size_t>(D));
+  std::vector<std::size_t> first_value(static_cast<std::size_t>(D) + 1, 0);
+  std::vector<float> values;
+  if (points) {
+    tbb::parallel_for(0, D, [&](int o) {
+      if (!covered[static_cast<std::size_t>(o)]) return;
+      const cv::Mat& b = belief_[static_cast<std::size_t>(o)];
+      std::vector<PosteriorCell>& cells = asked[static_cast<std::size_t>(o)];
+      for (int blk = 0; blk < blocks_; ++blk) {
+        const Span& sp = span_[static_cast<std::size_t>(o) * blocks_ + blk];
+        if (sp.empty()) continue;
+        for (int r = blk * kBlockRows; r < std::min(H, (blk + 1) * kBlockRows); ++r) {
+          const float* row = b.ptr<float>(r);
+          for (int c = sp.lo; c <= sp.hi; ++c) {
+            int pr = 0, pc = 0;
+            if (row[c] != 0.0f && posterior_cell(o, r, c, pr, pc)) cells.push_back({slice_of[static_cast<std::size_t>(o)], pr, pc});
+          }
+        }
+      }
+    });
+    std::vector<PosteriorCell> all;
+    for (int o = 0; o < D; ++o) {
+      first_value[static_cast<std::size_t>(o)] = all.size();
+      all.insert(all.end(), asked[static_cast<std::size_t>(o)].begin(), asked[static_cast<std::size_t>(o)].end());
+    }
+    first_value[static_cast<std::size_t>(D)] = all.size();
+    query.scores(all, values);
+    ++point_query_updates_;
+  }
+  // The weighted belief goes into the scratch slices (cleared over their old spans, written over
+  // the belief's); it replaces the belief only when some mass survives (an update that zeroes
+  // everything is reported, and the prior kept).
+  std::vector<double> slice_total(static_cast<std::size_t>(D), 0.0);
   tbb::parallel_for(0, D, [&](int o) {
-    const double yaw = kTwoPi * o / D + yaw_residual_rad_;
-    const Vec2 offset_m = offset_px_[static_cast<std::size_t>(o)] * grid_.resolution_m_per_px;
-    int slice = 0;
-    double gap = 1e9;
-    for (int s = 0; s < post.num_slices(); ++s) {
-      const double a = angle_distance_rad(yaw, post.yaw_rad[static_cast<std::size_t>(s)]);
-      if (a < gap) {
-        gap = a;
-        slice = s;
-      }
-    }
-    // A posterior slice stands for headings within half a belief bin of its yaw; farther
-    // headings were not evaluated by the matcher: they get the floor.
-    const bool covered = gap <= 0.5 * kTwoPi / D + 1e-9;
-    const cv::Mat& m = post.scores[static_cast<std::size_t>(slice)];
-    const cv::Mat& b = belief_[static_cast<std::size_t>(o)];
-    cv::Mat& out = scratch_[static_cast<std::size_t>(o)];
-    for (int r = 0; r < grid_.height_px; ++r) {
-      const float* row = b.ptr<float>(r);
-      float* dst = out.ptr<float>(r);
-      for (int c = 0; c < grid_.width_px; ++c) {
-        if (row[c] == 0.0f) {
-          dst[c] = 0.0f;
-          continue;
+    const auto so = static_cast<std::size_t>(o);
+    const cv::Mat& m = points ? cv::Mat() : post->scores[static_cast<std::size_t>(slice_of[so])];
+    const cv::Mat& b = belief_[so];
+    cv::Mat& out = scratch_[so];
+    std::size_t next = first_value[so];
+    double total = 0.0;
+    for (int blk = 0; blk < blocks_; ++blk) {
+      const std::size_t si = so * static_cast<std::size_t>(blocks_) + static_cast<std::size_t>(blk);
+      const Span old = scratch_span_[si], sp = span_[si];
+      for (int r = blk * kBlockRows; r < std::min(H, (blk + 1) * kBlockRows); ++r) {
+        float* dst = out.ptr<float>(r);
+        if (!old.empty()) std::fill(dst + old.lo, dst + old.hi + 1, 0.0f);
+        if (sp.empty()) continue;
+        const float* row = b.ptr<float>(r);
+        for (int c = sp.lo; c <= sp.hi; ++c) {
+          if (row[c] == 0.0f) {
+            dst[c] = 0.0f;
+            continue;
+          }
+          double value = 0.0;
+          int pr = 0, pc = 0;
+          if (covered[so] && posterior_cell(o, r, c, pr, pc)) value = (points ? values[next++] : m.at<float>(pr, pc)) / best;
+          dst[c] = static_cast<float>(row[c] * (floor + (1.0 - floor) * value));
+          total += dst[c];
         }
-        double value = 0.0;
-        if (covered) {
-          int pr = r, pc = c;
-          // Same grid: the offset (<= half a cell) keeps the cell.
-          if (!(post.grid == grid_) && !post.grid.world_to_cell(grid_.cell_center_m(r, c) + offset_m, pr, pc)) pr = -1;
-          if (pr >= 0) value = m.at<float>(pr, pc) / best;
-        }
-        dst[c] = static_cast<float>(row[c] * (floor + (1.0 - floor) * value));
       }
+      scratch_span_[si] = sp;
     }
+    slice_total[so] = total;
   });
   double total = 0.0;
-  for (const cv::Mat& m : scratch_) total += cv::sum(m)[0];
+  for (double t : slice_total) total += t;
   if (!(total > 0.0)) {
     degenerate_ = true;
     return;
   }
   std::swap(belief_, scratch_);
+  std::swap(span_, scratch_span_);
   normalise();
   elapsed_ = {};  // the biases' error restarts from the pose this update told
 }

@@ -264,37 +264,44 @@ void ParticleFilter::predict(const OdometryStep& step) {
   update_convergence();
 }
 
-void ParticleFilter::update(const Posterior& post) {
+void ParticleFilter::update(const PosteriorQuery& post) {
   Impl& d = *impl_;
-  double best = 0.0;
-  for (const cv::Mat& m : post.scores) {
-    double mx = 0.0;
-    cv::minMaxLoc(m, nullptr, &mx);
-    best = std::max(best, mx);
-  }
-  if (!(best > 0.0)) {
+  const double best = post.max_score();
+  if (!(best > 0.0) || post.num_slices() == 0) {
     d.degenerate = true;  // an empty posterior carries no information: the weights stay
     return;
   }
-  const int S = post.num_slices();
-  for (std::size_t i = 0; i < d.x.size(); ++i) {
+  // The posterior's cell of every particle (its grid cell, the slice nearest its heading), each
+  // distinct cell asked once: converged particles share a few cells.
+  const std::size_t n = d.x.size();
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;  // (cell key, particle)
+  keyed.reserve(n);
+  const GridSpec& g = post.grid();
+  for (std::size_t i = 0; i < n; ++i) {
     int r = 0, c = 0;
-    double value = 0.0;
-    if (post.grid.world_to_cell({d.x[i], d.y[i]}, r, c)) {
-      const double h = d.odo_heading + d.drift[i];
-      int slice = 0;
-      double gap = 1e9;
-      for (int s = 0; s < S; ++s) {
-        const double a = angle_distance_rad(h, post.yaw_rad[static_cast<std::size_t>(s)]);
-        if (a < gap) {
-          gap = a;
-          slice = s;
-        }
-      }
-      value = post.scores[static_cast<std::size_t>(slice)].at<float>(r, c) / best;
-    }
-    d.w[i] *= params_.measurement_floor + (1.0 - params_.measurement_floor) * value;
+    if (!g.world_to_cell({d.x[i], d.y[i]}, r, c)) continue;
+    const int slice = post.nearest_slice(d.odo_heading + d.drift[i]);
+    const std::uint64_t key = (static_cast<std::uint64_t>(slice) * static_cast<std::uint64_t>(g.height_px) + static_cast<std::uint64_t>(r)) *
+                                  static_cast<std::uint64_t>(g.width_px) + static_cast<std::uint64_t>(c);
+    keyed.emplace_back(key, static_cast<std::uint32_t>(i));
   }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<PosteriorCell> cells;
+  std::vector<std::uint32_t> cell_of(keyed.size());
+  for (std::size_t k = 0; k < keyed.size(); ++k) {
+    if (k == 0 || keyed[k].first != keyed[k - 1].first) {
+      const std::uint64_t key = keyed[k].first;
+      const std::uint64_t W = static_cast<std::uint64_t>(g.width_px), H = static_cast<std::uint64_t>(g.height_px);
+      cells.push_back({static_cast<int>(key / (W * H)), static_cast<int>((key / W) % H), static_cast<int>(key % W)});
+    }
+    cell_of[k] = static_cast<std::uint32_t>(cells.size() - 1);
+  }
+  std::vector<float> scores;
+  post.scores(cells, scores);
+  // Particles outside the grid weigh the floor alone.
+  std::vector<double> value(n, 0.0);
+  for (std::size_t k = 0; k < keyed.size(); ++k) value[keyed[k].second] = scores[cell_of[k]] / best;
+  for (std::size_t i = 0; i < n; ++i) d.w[i] *= params_.measurement_floor + (1.0 - params_.measurement_floor) * value[i];
   elapsed_ = {};  // the biases' error restarts from the pose this update told
   resample(true);
   update_convergence();

@@ -12,20 +12,21 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 TrackRun run_tracker(Tracker& tracker, const std::vector<OdometryStep>& odometry, int first_step,
-                     const std::function<std::optional<Posterior>(int step)>& posterior_at) {
+                     const std::function<std::optional<PosteriorQuery>(int step)>& posterior_at) {
   TrackRun run;
   if (first_step < 0 || static_cast<std::size_t>(first_step) >= odometry.size()) {
     run.failure = "no odometry at the first observation's step";
     return run;
   }
-  const std::optional<Posterior> first = posterior_at(first_step);
+  const std::optional<PosteriorQuery> first = posterior_at(first_step);
   if (!first) {
     run.failure = "no observation at the first step";
     return run;
   }
+  const Posterior& first_posterior = first->full();  // computed here, outside the tracker's time
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    tracker.initialise(*first, odometry[static_cast<std::size_t>(first_step)]);
+    tracker.initialise(first_posterior, odometry[static_cast<std::size_t>(first_step)]);
   } catch (const InputError& e) {
     run.failure = e.what();
     return run;
@@ -40,7 +41,7 @@ TrackRun run_tracker(Tracker& tracker, const std::vector<OdometryStep>& odometry
   s0.time_s = run.init_s;
   run.steps.push_back(s0);
   for (std::size_t k = static_cast<std::size_t>(first_step) + 1; k < odometry.size(); ++k) {
-    const std::optional<Posterior> post = posterior_at(static_cast<int>(k));
+    const std::optional<PosteriorQuery> post = posterior_at(static_cast<int>(k));
     const auto t = std::chrono::steady_clock::now();
     tracker.predict(odometry[k]);
     if (post) tracker.update(*post);

@@ -69,8 +69,14 @@ struct HistogramFilterParams {
   BeliefInit init = BeliefInit::kPosterior;
   double measurement_floor = 0.05;
   /// Belief below this fraction of the maximum is set to 0 after every step (0 = never): keeps
-  /// the sums clean of round-off and lets converged beliefs skip empty slices.
+  /// the sums clean of round-off and lets converged beliefs skip empty slices and cells.
   double prune_below = 1e-7;
+  /// Steps visit only the cells that hold belief (per slice and block of rows, the columns
+  /// between the first and last non-zero cell; the full grid while the belief is flat), and
+  /// updates ask the matcher for those cells only (point queries) when they are fewer than an
+  /// eighth of the posterior's. The same arithmetic as visiting every cell (false: the dense
+  /// filter, the reference of tests and benches), bit for bit.
+  bool sparse = true;
   BeliefEstimate estimate = BeliefEstimate::kArgmax;
   /// The support window: TrackEstimate::support is the belief mass within support_radius_m and
   /// support_yaw_deg of the estimate (the success criterion's 1 m, 30 deg).
@@ -106,12 +112,19 @@ class HistogramFilter final : public Tracker {
   nlohmann::ordered_json parameters() const override { return params_.to_json(); }
   void initialise(const Posterior& posterior, const OdometryStep& first) override;
   void predict(const OdometryStep& step) override;
-  void update(const Posterior& posterior) override;
+  using Tracker::update;
+  void update(const PosteriorQuery& posterior) override;
   TrackEstimate estimate() const override;
   std::size_t state_bytes() const override;
 
   /// The belief (a PDF: sums to 1) as a Posterior on the filter's grid.
   Posterior belief() const;
+  /// Cells (x slices) the filter's steps touch: those inside the live spans (every cell outside
+  /// them holds 0). The whole building's cells x directions when the belief is flat.
+  std::int64_t live_cells() const;
+  /// Measurement updates so far that asked the posterior for the live cells only (point queries)
+  /// instead of reading the full posterior.
+  int point_query_updates() const { return point_query_updates_; }
   const GridSpec& grid() const { return grid_; }
   const HistogramFilterParams& params() const { return params_; }
 
@@ -138,6 +151,24 @@ class HistogramFilter final : public Tracker {
   cv::Mat interior_;               ///< CV_32F 1 inside the building, 0 elsewhere
   std::vector<cv::Mat> belief_;    ///< one CV_32F slice per orientation
   std::vector<cv::Mat> scratch_;   ///< rotation buffers
+  /// Sparse bookkeeping: per slice and block of kBlockRows rows, the column interval [lo, hi]
+  /// outside which the buffer holds 0 (lo > hi: the block is empty), for the belief and for the
+  /// scratch buffers (index o * blocks_ + block). Motion, normalisation and updates visit these
+  /// intervals only, so a concentrated belief costs what it covers and a flat one the full grid;
+  /// the arithmetic inside them is the dense filter's (the zeros outside add nothing).
+  struct Span {
+    int lo = 0;
+    int hi = -1;
+    bool empty() const { return lo > hi; }
+  };
+  static constexpr int kBlockRows = 16;
+  int blocks_ = 0;
+  std::vector<Span> span_, scratch_span_;
+  /// The spans of the belief by a scan of every interior cell (after initialisation).
+  void scan_spans();
+  /// sparse false: every span is the whole row (the dense filter).
+  void dense_spans();
+  int point_query_updates_ = 0;
   /// Per slice after the last normalisation: mass, maximum and where it is.
   std::vector<double> mass_, peak_;
   /// Per slice: the unnormalised maximum of the belief as it is now (0: the slice is empty).

@@ -98,7 +98,8 @@ class ParticleFilter final : public Tracker {
   nlohmann::ordered_json parameters() const override { return params_.to_json(); }
   void initialise(const Posterior& posterior, const OdometryStep& first) override;
   void predict(const OdometryStep& step) override;
-  void update(const Posterior& posterior) override;
+  using Tracker::update;
+  void update(const PosteriorQuery& posterior) override;
   TrackEstimate estimate() const override;
   std::size_t state_bytes() const override;
 

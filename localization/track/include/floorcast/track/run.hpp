@@ -27,10 +27,11 @@ struct TrackRun {
   std::vector<TrackRunStep> steps;  ///< from first_step (the initialisation) to the end
 };
 
-/// Initialises `tracker` with the posterior of `first_step` (which must exist), then predicts
-/// through odometry[first_step + 1 ..] and updates wherever `posterior_at(step)` returns one.
+/// Initialises `tracker` with the (full) posterior of `first_step` (which must exist), then
+/// predicts through odometry[first_step + 1 ..] and updates wherever `posterior_at(step)` returns
+/// one (a point-query posterior: Matcher::query; the tracker asks it for what it needs).
 /// `posterior_at` is called once per step, in order (callers compute posteriors lazily).
 TrackRun run_tracker(Tracker& tracker, const std::vector<OdometryStep>& odometry, int first_step,
-                     const std::function<std::optional<Posterior>(int step)>& posterior_at);
+                     const std::function<std::optional<PosteriorQuery>(int step)>& posterior_at);
 
 }  // namespace floorcast

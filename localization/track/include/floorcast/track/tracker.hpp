@@ -24,6 +24,7 @@
 #include "floorcast/core/odometry.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 #include "floorcast/match/posterior.hpp"
+#include "floorcast/match/posterior_query.hpp"
 
 namespace floorcast {
 
@@ -71,8 +72,13 @@ class Tracker {
   virtual void initialise(const Posterior& posterior, const OdometryStep& first) = 0;
   /// Moves the belief by one odometry increment.
   virtual void predict(const OdometryStep& step) = 0;
-  /// Weighs the belief with a posterior of an observation made at the current step.
-  virtual void update(const Posterior& posterior) = 0;
+  /// Weighs the belief with the posterior of an observation made at the current step, asking it
+  /// only for the cells the belief needs (point queries) or for the full posterior
+  /// (PosteriorQuery::full), as the tracker sees fit: same results either way where the matcher's
+  /// point queries are exact.
+  virtual void update(const PosteriorQuery& posterior) = 0;
+  /// update() with a full posterior at hand.
+  void update(const Posterior& posterior) { update(PosteriorQuery(posterior)); }
   virtual TrackEstimate estimate() const = 0;
   /// Memory held by the tracker's state and precomputation, bytes.
   virtual std::size_t state_bytes() const = 0;
