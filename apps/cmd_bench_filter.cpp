@@ -1,5 +1,6 @@
 // `floorcast bench filter`: tracker throughput (bench/filter_bench.hpp) on the shipped office and
 // campus buildings, or given plans.
+#include <algorithm>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -24,6 +25,11 @@ void register_bench_filter(CLI::App& root) {
   cmd->add_option("--steps", o->params.steps, "Steps per repeat")->capture_default_str()->check(in_range(1, 100000));
   cmd->add_option("--repeats", o->params.repeats, "Repeats (the median is reported)")->capture_default_str()->check(in_range(1, 1000));
   cmd->add_option("--particles", o->params.particles, "Particles")->capture_default_str()->check(in_range(1, 10000000));
+  cmd->add_option("--sequential-steps", o->params.sequential_steps, "Steps of the sequential histogram-filter walk")
+      ->capture_default_str()
+      ->check(in_range(10, 100000));
+  cmd->add_flag("!--no-sequential", o->params.sequential,
+                "Skip the sequential comparisons (measurement update: full posterior vs point queries; dense vs sparse histogram filter)");
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
     std::vector<std::string> plans = o->plans;
@@ -41,6 +47,15 @@ void register_bench_filter(CLI::App& root) {
                   << " CPU-ms/step); histogram filter " << r.hf_ms_per_step << " ms/step (" << r.hf_cpu_ms_per_step
                   << " CPU-ms), " << std::setprecision(0) << r.hf_state_mb << " MB for " << r.grid_cells
                   << " cells x 36 directions\n";
+        if (o->params.sequential) {
+          std::cout << std::setprecision(3) << "  particle-filter update (kernel, matching included): full posterior "
+                    << r.pf_update_full_cpu_s << " CPU-s, point queries " << r.pf_update_points_cpu_s << " CPU-s ("
+                    << std::setprecision(1) << r.pf_update_full_cpu_s / std::max(r.pf_update_points_cpu_s, 1e-9) << "x)\n"
+                    << "  histogram filter, sequential (ray, observation every 10 steps): dense " << r.hf_seq_dense_ms
+                    << " ms/step (" << r.hf_seq_dense_cpu_ms << " CPU-ms), sparse " << r.hf_seq_sparse_ms << " ms/step ("
+                    << r.hf_seq_sparse_cpu_ms << " CPU-ms; " << std::setprecision(2) << 100.0 * r.hf_seq_live_share
+                    << "% of the cells live at the end), tracks " << (r.hf_seq_identical ? "identical" : "DIFFERENT") << "\n";
+        }
       }
     }
     if (o->json) std::cout << all.dump(2) << "\n";

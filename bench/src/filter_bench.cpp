@@ -8,7 +8,9 @@
 #include "floorcast/core/math.hpp"
 #include "floorcast/core/timing.hpp"
 #include "floorcast/floorplans/raster.hpp"
+#include "floorcast/match/matcher.hpp"
 #include "floorcast/sim/odometry.hpp"
+#include "floorcast/sim/perfect_observation.hpp"
 #include "floorcast/sim/walk.hpp"
 #include "floorcast/track/histogram_filter.hpp"
 #include "floorcast/track/particle_filter.hpp"
@@ -29,6 +31,83 @@ Posterior empty_posterior(const FloorPlan& plan, int slices) {
     p.scores.push_back(cv::Mat::zeros(p.grid.height_px, p.grid.width_px, CV_32F));
   }
   return p;
+}
+
+/// The sequential comparisons (FilterBenchResult's pf_update_* and hf_seq_*).
+void bench_sequential(const FloorPlan& plan, const FilterBenchParams& bp, const Walk& exact_walk, FilterBenchResult& out) {
+  const PerfectObserver observer(plan);
+  {
+    // Particle filter: PALMS start at a perfect observation, then each way of updating two
+    // filters in the same state (an observation at the same spot).
+    const std::unique_ptr<Matcher> kernel = make_matcher("kernel", plan);
+    const Pose2 at = exact_walk.steps.front().T_world_body;
+    const Observation2D obs = observer.observe(at);
+    ParticleFilterParams p;
+    p.num_particles = bp.particles;
+    const Posterior start = kernel->match(obs).posterior;
+    std::vector<double> full_cpu, points_cpu;
+    for (int r = 0; r < bp.repeats; ++r) {
+      ParticleFilter a(plan, p), b(plan, p);
+      a.initialise(start, OdometryStep{});
+      b.initialise(start, OdometryStep{});
+      double c0 = process_cpu_s();
+      a.update(kernel->match(obs).posterior);
+      full_cpu.push_back(process_cpu_s() - c0);
+      c0 = process_cpu_s();
+      b.update(kernel->query(obs));
+      points_cpu.push_back(process_cpu_s() - c0);
+    }
+    out.pf_update_full_cpu_s = median(full_cpu);
+    out.pf_update_points_cpu_s = median(points_cpu);
+  }
+  {
+    // Histogram filter: F3Loc's start and an observation every 10 steps on a VIO walk.
+    WalkParams wp;
+    wp.steps = bp.sequential_steps + 1;
+    wp.seed = 9;
+    const Walk walk = simulate_walk(plan, random_start_pose(plan, wp), wp);
+    OdometryParams op;
+    op.model = OdometryModel::kVio;
+    op.seed = 10;
+    const OdometryTrack odo = simulate_odometry(walk, op);
+    const std::unique_ptr<Matcher> ray = make_matcher("ray", plan);
+    const Posterior start = ray->match(observer.observe(walk.steps.front().T_world_body)).posterior;
+    std::vector<Observation2D> observations(walk.steps.size());
+    for (std::size_t k = 10; k < walk.steps.size(); k += 10) observations[k] = observer.observe(walk.steps[k].T_world_body);
+    std::vector<double> wall[2], cpu[2];
+    std::vector<Pose2> track[2];
+    for (int r = 0; r < bp.repeats; ++r) {
+      for (int sparse = 0; sparse < 2; ++sparse) {
+        HistogramFilterParams p;
+        p.odometry = odometry_uncertainty(op);
+        p.sparse = sparse == 1;
+        HistogramFilter f(plan, p);
+        f.initialise(start, odo.steps[0]);
+        track[sparse].clear();
+        const double w0 = now_s(), c0 = process_cpu_s();
+        for (std::size_t k = 1; k < odo.steps.size(); ++k) {
+          f.predict(odo.steps[k]);
+          if (k % 10 == 0) f.update(ray->query(observations[k]));
+          track[sparse].push_back(f.estimate().pose);
+        }
+        wall[sparse].push_back((now_s() - w0) / bp.sequential_steps);
+        cpu[sparse].push_back((process_cpu_s() - c0) / bp.sequential_steps);
+        if (sparse) {
+          out.hf_seq_live_share = static_cast<double>(f.live_cells()) /
+                                  (static_cast<double>(f.grid().width_px) * f.grid().height_px * p.num_orientations);
+        }
+      }
+    }
+    out.hf_seq_dense_ms = 1e3 * median(wall[0]);
+    out.hf_seq_dense_cpu_ms = 1e3 * median(cpu[0]);
+    out.hf_seq_sparse_ms = 1e3 * median(wall[1]);
+    out.hf_seq_sparse_cpu_ms = 1e3 * median(cpu[1]);
+    out.hf_seq_identical = track[0].size() == track[1].size();
+    for (std::size_t k = 0; out.hf_seq_identical && k < track[0].size(); ++k) {
+      out.hf_seq_identical = track[0][k].x_m == track[1][k].x_m && track[0][k].y_m == track[1][k].y_m &&
+                             track[0][k].yaw_rad == track[1][k].yaw_rad;
+    }
+  }
 }
 
 }  // namespace
@@ -83,6 +162,7 @@ FilterBenchResult bench_filter(const FloorPlan& plan, const FilterBenchParams& b
     out.hf_ms_per_step = 1e3 * median(wall);
     out.hf_cpu_ms_per_step = 1e3 * median(cpu);
   }
+  if (bp.sequential) bench_sequential(plan, bp, walk, out);
   return out;
 }
 
@@ -97,7 +177,17 @@ nlohmann::ordered_json to_json(const FilterBenchResult& r) {
           .number("hf_ms_per_step", &R::hf_ms_per_step, 0.0, kAny, "histogram filter ms per step (median, wall)")
           .number("hf_cpu_ms_per_step", &R::hf_cpu_ms_per_step, 0.0, kAny, "histogram filter CPU ms per step")
           .number("hf_state_mb", &R::hf_state_mb, 0.0, kAny, "histogram filter state, MB")
-          .integer("hf_grid_cells", &R::grid_cells, 0, 1 << 30, "histogram filter (x, y) cells");
+          .integer("hf_grid_cells", &R::grid_cells, 0, 1 << 30, "histogram filter (x, y) cells")
+          .number("pf_update_full_cpu_s", &R::pf_update_full_cpu_s, 0.0, kAny,
+                  "particle filter: CPU s per measurement update from the kernel's full posterior (matching included)")
+          .number("pf_update_points_cpu_s", &R::pf_update_points_cpu_s, 0.0, kAny,
+                  "particle filter: CPU s per measurement update from the kernel's point queries (matching included)")
+          .number("hf_seq_dense_ms", &R::hf_seq_dense_ms, 0.0, kAny, "histogram filter, sequential setting, dense: ms per step (wall)")
+          .number("hf_seq_dense_cpu_ms", &R::hf_seq_dense_cpu_ms, 0.0, kAny, "the same, CPU ms per step")
+          .number("hf_seq_sparse_ms", &R::hf_seq_sparse_ms, 0.0, kAny, "histogram filter, sequential setting, sparse: ms per step (wall)")
+          .number("hf_seq_sparse_cpu_ms", &R::hf_seq_sparse_cpu_ms, 0.0, kAny, "the same, CPU ms per step")
+          .number("hf_seq_live_share", &R::hf_seq_live_share, 0.0, 1.0, "sparse filter's live cells at the end, share of cells x directions")
+          .flag("hf_seq_identical", &R::hf_seq_identical, "dense and sparse tracks equal to the last bit");
   return f.write(r);
 }
 

@@ -1,7 +1,12 @@
 // `floorcast bench filter`: tracker throughput on a shipped building. A walk of the building
 // (sim), exact odometry; the particle filter started uniformly over the building (every particle
 // live, walls checked on every move), the histogram filter from a uniform belief (the densest
-// case). Medians over repeats; wall and process-CPU time.
+// case). Then the sequential setting, each way measured in the same run: the particle filter's
+// measurement update from the kernel matcher's full posterior against its point queries, and the
+// histogram filter on a VIO walk from the ray posterior of a perfect first observation with an
+// observation every 10 steps (F3Loc's sequential setting), dense (every cell, full posteriors)
+// against sparse (the cells holding belief, point queries). Medians over repeats; wall and
+// process-CPU time.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -17,6 +22,8 @@ struct FilterBenchParams {
   int particles = 2000;       ///< PALMS
   bool particle_filter = true;
   bool histogram_filter = true;
+  bool sequential = true;     ///< the measurement-update and sparse-filter comparisons
+  int sequential_steps = 60;  ///< steps of the sequential histogram-filter walk
 };
 
 struct FilterBenchResult {
@@ -27,6 +34,20 @@ struct FilterBenchResult {
   double hf_state_mb = 0.0;
   double pf_state_mb = 0.0;
   int grid_cells = 0;               ///< histogram-filter grid (x, y) cells
+  /// Particle-filter measurement update (kernel matcher, PALMS start at a perfect observation),
+  /// CPU s per update including the matcher's work: from the full posterior, and from point
+  /// queries.
+  double pf_update_full_cpu_s = 0.0;
+  double pf_update_points_cpu_s = 0.0;
+  /// Histogram filter in the sequential setting: ms per step (wall and CPU, matching included),
+  /// dense and sparse, the sparse filter's live cells at the end (share of the grid x
+  /// directions), and whether both tracks were the same to the last bit.
+  double hf_seq_dense_ms = 0.0;
+  double hf_seq_dense_cpu_ms = 0.0;
+  double hf_seq_sparse_ms = 0.0;
+  double hf_seq_sparse_cpu_ms = 0.0;
+  double hf_seq_live_share = 0.0;
+  bool hf_seq_identical = false;
 };
 
 FilterBenchResult bench_filter(const FloorPlan& plan, const FilterBenchParams& params);
