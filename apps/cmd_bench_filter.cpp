@@ -30,6 +30,8 @@ void register_bench_filter(CLI::App& root) {
       ->check(in_range(10, 100000));
   cmd->add_flag("!--no-sequential", o->params.sequential,
                 "Skip the sequential comparisons (measurement update: full posterior vs point queries; dense vs sparse histogram filter)");
+  cmd->add_flag("!--no-particle-filter", o->params.particle_filter, "Skip the particle-filter throughput");
+  cmd->add_flag("!--no-histogram-filter", o->params.histogram_filter, "Skip the histogram-filter throughput (uniform belief)");
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o] {
     std::vector<std::string> plans = o->plans;
