@@ -1,5 +1,6 @@
 #include "wall_raster.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -25,18 +26,27 @@ WallRaster make_wall_raster(const FloorPlan& plan, double resolution_m) {
   cv::bitwise_and(interior, w.blocked == 0, w.interior);
   w.clearance_m = distance_to_blocked_m(w.blocked, w.grid);
   w.inv_res = 1.0 / w.grid.resolution_m_per_px;
+  w.cell_info = cv::Mat::zeros(w.blocked.size(), CV_8U);
+  for (int r = 0; r < w.cell_info.rows; ++r) {
+    const float* clear = w.clearance_m.ptr<float>(r);
+    const std::uint8_t* in = w.interior.ptr<std::uint8_t>(r);
+    std::uint8_t* info = w.cell_info.ptr<std::uint8_t>(r);
+    for (int c = 0; c < w.cell_info.cols; ++c) {
+      const double cells = std::floor(static_cast<double>(clear[c]) * w.inv_res * (1.0 - 1e-9));
+      info[c] = static_cast<std::uint8_t>((in[c] ? 0x80 : 0) | static_cast<int>(std::clamp(cells, 0.0, 127.0)));
+    }
+  }
   return w;
 }
 
 bool WallRaster::crosses(const Vec2& a, const Vec2& b, Vec2* stop) const {
-  // Far from every wall: the segment stays within the clear disc around a.
+  // Far from every wall: the segment stays within the clear disc around a (the byte map's
+  // clearance, at most clearance_m's).
   {
-    int r = 0, c = 0;
-    if (cell_of(a, r, c) && cell_of(b, r, c)) {
-      int ra = 0, ca = 0;
-      cell_of(a, ra, ca);
+    int ra = 0, ca = 0, rb = 0, cb = 0;
+    if (cell_of(a, ra, ca) && cell_of(b, rb, cb)) {
       const double reach = (b - a).norm() + 1.5 * grid.resolution_m_per_px;
-      if (clearance_m.at<float>(ra, ca) > reach) return false;
+      if ((cell_info.at<std::uint8_t>(ra, ca) & 0x7f) * grid.resolution_m_per_px > reach) return false;
     }
   }
   const Vec2 ga = grid.world_to_grid(a), gb = grid.world_to_grid(b);  // (col, row) continuous
