@@ -33,6 +33,14 @@ Posterior empty_posterior(const FloorPlan& plan, int slices) {
   return p;
 }
 
+/// A walk of `steps` steps (plus the start) from a random start of the plan.
+Walk bench_walk(const FloorPlan& plan, int steps, std::uint64_t seed) {
+  WalkParams wp;
+  wp.steps = steps + 1;
+  wp.seed = seed;
+  return simulate_walk(plan, random_start_pose(plan, wp), wp);
+}
+
 /// The sequential comparisons (FilterBenchResult's pf_update_* and hf_seq_*).
 void bench_sequential(const FloorPlan& plan, const FilterBenchParams& bp, const Walk& exact_walk, FilterBenchResult& out) {
   const PerfectObserver observer(plan);
@@ -62,13 +70,10 @@ void bench_sequential(const FloorPlan& plan, const FilterBenchParams& bp, const 
   }
   {
     // Histogram filter: F3Loc's start and an observation every 10 steps on a VIO walk.
-    WalkParams wp;
-    wp.steps = bp.sequential_steps + 1;
-    wp.seed = 9;
-    const Walk walk = simulate_walk(plan, random_start_pose(plan, wp), wp);
     OdometryParams op;
     op.model = OdometryModel::kVio;
     op.seed = 10;
+    const Walk walk = bench_walk(plan, bp.sequential_steps, 9);
     const OdometryTrack odo = simulate_odometry(walk, op);
     const std::unique_ptr<Matcher> ray = make_matcher("ray", plan);
     const Posterior start = ray->match(observer.observe(walk.steps.front().T_world_body)).posterior;
@@ -113,10 +118,7 @@ void bench_sequential(const FloorPlan& plan, const FilterBenchParams& bp, const 
 }  // namespace
 
 FilterBenchResult bench_filter(const FloorPlan& plan, const FilterBenchParams& bp) {
-  WalkParams wp;
-  wp.steps = bp.steps + 1;
-  wp.seed = 7;
-  const Walk walk = simulate_walk(plan, random_start_pose(plan, wp), wp);
+  const Walk walk = bench_walk(plan, bp.steps, 7);
   OdometryParams op;
   op.model = OdometryModel::kExact;
   const OdometryTrack odo = simulate_odometry(walk, op);

@@ -29,6 +29,18 @@ void axpy(float* dst, const float* src, float w, int n) {
   for (int i = 0; i < n; ++i) dst[i] += w * src[i];
 }
 
+/// Widens [lo, hi] (lo > hi: empty) by the first and last non-zero cells of row[c0 .. c1]
+/// (scanned from both ends: dense rows cost two reads).
+template <class Span>
+void extend_by_nonzero(const float* row, int c0, int c1, Span& span) {
+  int a = c0, z = c1;
+  while (a <= z && row[a] == 0.0f) ++a;
+  while (z >= a && row[z] == 0.0f) --z;
+  if (a > z) return;
+  span.lo = std::min(span.lo, a);
+  span.hi = std::max(span.hi, z);
+}
+
 struct ShiftKernel {
   std::vector<float> w;
   int first_offset = 0;
@@ -276,14 +288,7 @@ void HistogramFilter::finish_normalise() {
           }
           row[c] = v < floor ? 0.0f : v;
         }
-        // First and last non-zero cells of the row (scans from both ends).
-        int a = c0, z = c1;
-        while (a <= z && row[a] == 0.0f) ++a;
-        while (z >= a && row[z] == 0.0f) --z;
-        if (a <= z) {
-          kept.lo = std::min(kept.lo, a);
-          kept.hi = std::max(kept.hi, z);
-        }
+        extend_by_nonzero(row, c0, c1, kept);
       }
       sp = kept;
     }
@@ -510,13 +515,7 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
           mx = std::max(mx, dst[c]);
         }
         sum += rs;
-        int a = c0, z = c1;
-        while (a <= z && dst[a] == 0.0f) ++a;
-        while (z >= a && dst[z] == 0.0f) --z;
-        if (a <= z) {
-          nz.lo = std::min(nz.lo, a);
-          nz.hi = std::max(nz.hi, z);
-        }
+        extend_by_nonzero(dst, c0, c1, nz);
       }
       block_sum[static_cast<std::size_t>(blk) * D + o] = sum;
       block_max[static_cast<std::size_t>(blk) * D + o] = mx;
