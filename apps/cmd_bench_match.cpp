@@ -19,77 +19,62 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-double num(const Json& j, const char* a, const char* b = nullptr) {
-  const Json& x = b ? j.at(a).at(b) : j.at(a);
-  return x.get<double>();
-}
-
-void print_kernel(const Json& k) {
+void print_kernel(const KernelMatchBench& k) {
   std::cout << std::fixed << std::setprecision(4);
-  std::cout << "  kernel, O = " << std::setprecision(0) << num(k, "orientations") << " x " << num(k, "scales")
+  std::cout << "  kernel, O = " << std::setprecision(0) << k.orientations << " x " << k.scales
             << " scales (CPU s per observation, medians; wall in brackets):\n"
             << std::setprecision(4);
-  std::cout << "    exact estimate + top-K (branch and bound) " << num(k, "modes", "cpu_s") << " ["
-            << num(k, "modes", "wall_s") << "]\n";
-  std::cout << "    exact estimate alone                      " << num(k, "argmax", "cpu_s") << " ["
-            << num(k, "argmax", "wall_s") << "]\n";
-  if (k.contains("posterior")) {
-    std::cout << "    full FFT posterior                        " << num(k, "posterior", "cpu_s") << " ["
-              << num(k, "posterior", "wall_s") << "]  (" << std::setprecision(1) << num(k, "posterior_over_modes")
-              << "x the search)\n"
+  std::cout << "    exact estimate + top-K (branch and bound) " << k.modes.cpu_s << " [" << k.modes.wall_s << "]\n";
+  std::cout << "    exact estimate alone                      " << k.argmax.cpu_s << " [" << k.argmax.wall_s << "]\n";
+  if (k.posteriors) {
+    std::cout << "    full FFT posterior                        " << k.posterior.cpu_s << " [" << k.posterior.wall_s << "]  ("
+              << std::setprecision(1) << k.posterior_over_modes << "x the search)\n"
               << std::setprecision(4);
   }
-  std::cout << "    FFT floor (O x S full-size r2c + c2r)     " << num(k, "fft_floor_cpu_s") << "  ("
-            << num(k, "fft_pair_cpu_s") << " per pair, " << k["fft_size"][0] << " x " << k["fft_size"][1] << ")";
-  if (k.contains("posterior")) std::cout << std::setprecision(2) << "; posterior / floor " << num(k, "posterior_over_floor");
+  std::cout << "    FFT floor (O x S full-size r2c + c2r)     " << k.fft_floor_cpu_s << "  (" << k.fft_pair_cpu_s
+            << " per pair, " << k.fft_cols << " x " << k.fft_rows << ")";
+  if (k.posteriors) std::cout << std::setprecision(2) << "; posterior / floor " << k.posterior_over_floor;
   std::cout << "\n" << std::setprecision(4);
-  std::cout << "    own palms+ candidates (median " << std::setprecision(0) << num(k, "own_candidates")
-            << "): estimate + top-K " << std::setprecision(4) << num(k, "modes_own_candidates", "cpu_s") << " CPU s\n";
-  std::cout << std::setprecision(1) << "    plan precompute " << std::setprecision(3) << num(k, "precompute_wall_s")
-            << " s, " << std::setprecision(1) << num(k, "precompute_mb") << " MB (search maps "
-            << num(k, "search_maps_mb") << " MB)\n";
-  if (k.contains("equivalence")) {
-    const Json& e = k["equivalence"];
-    std::cout << "    search vs posterior on these observations: " << e["estimates_identical"] << " identical estimates, "
-              << e["estimates_tied"] << " tied, " << e["estimates_fft_order"] << " ordered by FFT round-off, "
-              << e["mismatches"] << " mismatches; top-K identical " << e["top_k_identical"] << ", up to a tie "
-              << e["top_k_tied"] << "\n";
-    std::cout << std::scientific << std::setprecision(1) << "    FFT max abs error " << num(k, "fft_max_abs_error")
-              << std::fixed << "\n";
+  std::cout << "    own palms+ candidates (median " << std::setprecision(0) << k.own_candidates << "): estimate + top-K "
+            << std::setprecision(4) << k.modes_own_candidates.cpu_s << " CPU s\n";
+  std::cout << std::setprecision(1) << "    plan precompute " << std::setprecision(3) << k.precompute_wall_s << " s, "
+            << std::setprecision(1) << k.precompute_mb << " MB (search maps " << k.search_maps_mb << " MB)\n";
+  if (k.posteriors) {
+    const ModesEquivalenceResult& e = k.equivalence;
+    std::cout << "    search vs posterior on these observations: " << e.estimates_identical << " identical estimates, "
+              << e.estimates_tied << " tied, " << e.estimates_fft_order << " ordered by FFT round-off, " << e.mismatches
+              << " mismatches; top-K identical " << e.top_k_identical << ", up to a tie " << e.top_k_tied << "\n";
+    std::cout << std::scientific << std::setprecision(1) << "    FFT max abs error " << k.fft_max_abs_error << std::fixed << "\n";
   }
 }
 
-void print_ray(const std::string& D, const Json& r) {
-  std::cout << std::fixed << std::setprecision(3) << "  ray, " << D << " directions: precompute "
-            << num(r, "precompute_s") << " s, " << std::setprecision(1) << num(r, "volume_mb") << " MB\n"
+void print_ray(const RayMatchBench& r) {
+  std::cout << std::fixed << std::setprecision(3) << "  ray, " << r.directions << " directions: precompute " << r.precompute_s
+            << " s, " << std::setprecision(1) << r.volume_mb << " MB\n"
             << std::setprecision(4);
-  std::cout << "    estimate + top-K, bounded " << num(r, "modes", "cpu_s") << " [" << num(r, "modes", "wall_s")
-            << "] (cells scored " << std::setprecision(1) << 100.0 * num(r, "search_counters", "cells_scored_share")
-            << "%), exhaustive " << std::setprecision(4) << num(r, "modes_exhaustive", "cpu_s") << " ["
-            << num(r, "modes_exhaustive", "wall_s") << "], identical " << r.value("bounded_modes_identical", 0)
-            << "; max-over-yaw map " << num(r, "max_over_yaw", "cpu_s") << " [" << num(r, "max_over_yaw", "wall_s") << "]";
-  if (r.contains("posterior")) {
-    std::cout << "; full posterior " << num(r, "posterior", "cpu_s") << " [" << num(r, "posterior", "wall_s") << "], "
-              << std::setprecision(1) << num(r, "posterior_mb") << " MB";
+  std::cout << "    estimate + top-K, bounded " << r.modes.cpu_s << " [" << r.modes.wall_s << "] (cells scored "
+            << std::setprecision(1) << 100.0 * r.cells_scored_share << "%), exhaustive " << std::setprecision(4)
+            << r.modes_exhaustive.cpu_s << " [" << r.modes_exhaustive.wall_s << "], identical " << r.bounded_modes_identical
+            << "; max-over-yaw map " << r.max_over_yaw.cpu_s << " [" << r.max_over_yaw.wall_s << "]";
+  if (r.posteriors) {
+    std::cout << "; full posterior " << r.posterior.cpu_s << " [" << r.posterior.wall_s << "], " << std::setprecision(1)
+              << r.posterior_mb << " MB";
   }
   std::cout << "\n";
 }
 
-void print_bev(const std::string& variant, const Json& b) {
-  std::cout << std::fixed << std::setprecision(3) << "  bev (" << variant << "), " << b["directions"] << " directions, "
-            << b["orientations"] << " orientations: precompute " << num(b, "precompute_wall_s") << " s, "
-            << std::setprecision(1) << num(b, "precompute_mb") << " MB\n";
-  for (auto it = b.begin(); it != b.end(); ++it) {
-    if (it.key().rfind("fov_", 0) != 0) continue;
-    const Json& f = it.value();
-    std::cout << std::setprecision(4) << "    " << it.key().substr(4) << " deg (" << f["columns"]
-              << " columns): estimate + top-K, bounded " << num(f, "modes", "cpu_s") << " [" << num(f, "modes", "wall_s")
-              << "] (cells scored " << std::setprecision(1) << 100.0 * num(f, "search_counters", "cells_scored_share")
-              << "%), exhaustive " << std::setprecision(4) << num(f, "modes_exhaustive", "cpu_s") << " ["
-              << num(f, "modes_exhaustive", "wall_s") << "], identical " << f.value("bounded_modes_identical", 0);
-    if (f.contains("posterior")) {
-      std::cout << "; full posterior " << num(f, "posterior", "cpu_s") << " [" << num(f, "posterior", "wall_s") << "], "
-                << std::setprecision(1) << num(f, "posterior_mb") << " MB";
+void print_bev(const BevMatchBench& b) {
+  std::cout << std::fixed << std::setprecision(3) << "  bev (" << (b.semantics ? "semantic" : "occupancy") << "), "
+            << b.directions << " directions, " << b.orientations << " orientations: precompute " << b.precompute_wall_s
+            << " s, " << std::setprecision(1) << b.precompute_mb << " MB\n";
+  for (const BevViewBench& f : b.views) {
+    std::cout << std::setprecision(0) << "    " << f.fov_deg << std::setprecision(4) << " deg (" << f.columns
+              << " columns): estimate + top-K, bounded " << f.modes.cpu_s << " [" << f.modes.wall_s << "] (cells scored "
+              << std::setprecision(1) << 100.0 * f.cells_scored_share << "%), exhaustive " << std::setprecision(4)
+              << f.modes_exhaustive.cpu_s << " [" << f.modes_exhaustive.wall_s << "], identical " << f.bounded_modes_identical;
+    if (f.posteriors) {
+      std::cout << "; full posterior " << f.posterior.cpu_s << " [" << f.posterior.wall_s << "], " << std::setprecision(1)
+                << f.posterior_mb << " MB";
     }
     std::cout << "\n";
   }
@@ -178,19 +163,16 @@ void register_bench_match(CLI::App& root) {
         }
         continue;
       }
-      const Json j = bench_match(plan, o->params);
-      all[name] = j;
+      const MatchBenchResult r = bench_match(plan, o->params);
+      all[name] = to_json(r);
       if (o->json) continue;
       std::cout << "bench match on " << name << " (";
-      if (j.contains("grid_px"))
-        std::cout << j["grid_px"][0] << " x " << j["grid_px"][1] << " cells at 0.1 m, " << j["valid_cells"] << " valid; ";
-      std::cout << j["threads"] << " threads; " << o->params.observations << " perfect observations; top-"
-                << o->params.top_k << ")\n";
-      if (j.contains("kernel")) print_kernel(j["kernel"]);
-      for (const auto& [d, r] : j["ray"].items()) print_ray(d, r);
-      if (j.contains("bev")) {
-        for (const auto& [variant, b] : j["bev"].items()) print_bev(variant, b);
-      }
+      if (r.kernel_measured)
+        std::cout << r.grid_width_px << " x " << r.grid_height_px << " cells at 0.1 m, " << r.valid_cells << " valid; ";
+      std::cout << r.threads << " threads; " << r.observations << " perfect observations; top-" << r.top_k << ")\n";
+      if (r.kernel_measured) print_kernel(r.kernel);
+      for (const RayMatchBench& x : r.ray) print_ray(x);
+      for (const BevMatchBench& b : r.bev) print_bev(b);
     }
     if (o->json) std::cout << (plans.size() == 1 ? all.begin().value() : all).dump(2) << "\n";
   });

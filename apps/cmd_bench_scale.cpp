@@ -15,6 +15,7 @@
 #include <memory>
 
 #include "cli_common.hpp"
+#include "floorcast/bench/match_bench.hpp"
 #include "floorcast/bench/scale_bench.hpp"
 #include "floorcast/core/file_io.hpp"
 #include "floorcast/core/json_text.hpp"
@@ -27,15 +28,6 @@ using Json = nlohmann::ordered_json;
 
 /// A child's JSON output, through the one input layer and JSON reader.
 Json read_child_json(const std::string& path) { return parse_ordered_json_text(read_text_file(path), path); }
-
-double at(const Json& j, std::initializer_list<const char*> keys) {
-  const Json* x = &j;
-  for (const char* k : keys) {
-    if (!x->contains(k)) return std::nan("");
-    x = &(*x)[k];
-  }
-  return x->is_number() ? x->get<double>() : std::nan("");
-}
 
 void register_bench_scale(CLI::App& root) {
   struct Options {
@@ -54,7 +46,10 @@ void register_bench_scale(CLI::App& root) {
   auto o = std::make_shared<Options>();
   CLI::App& bench = group(root, "bench", "Benchmarks (medians over repeats, same-run ratios)");
   auto* cmd = bench.add_subcommand("scale", "Matcher time and peak memory vs floor area (child `bench match` per matcher and area)");
-  cmd->add_option("--areas", o->areas, "Floor areas, m^2")->capture_default_str()->delimiter(',')->check(in_range(100.0, 1e6));
+  cmd->add_option("--areas", o->areas, "Floor areas, m^2 (the smallest building the office generator makes: 500 m^2)")
+      ->capture_default_str()
+      ->delimiter(',')
+      ->check(in_range(kMinScalePlanAreaM2, 1e6));
   CLI::Option* walls_opt =
       cmd->add_option("--walls", o->walls,
                       "Wall counts: plans of this many walls on --walls-area, timed through plan info/stats/validate/render "
@@ -117,29 +112,32 @@ void register_bench_scale(CLI::App& root) {
                                       "--no-kernel", "--rays", std::to_string(o->rays), "--ray-bits", std::to_string(o->ray_bits),
                                       "--bev-fov", "0", "--no-posteriors", "--json"},
                                      ray_out, "bench scale (ray, " + plan.name + ")");
-      const Json kj = read_child_json(kernel_out), rj = read_child_json(ray_out);
-      const Json& k = kj.contains("kernel") ? kj["kernel"] : Json::object();
-      const std::string D = std::to_string(o->rays);
-      const Json& r = rj.contains("ray") && rj["ray"].contains(D) ? rj["ray"][D] : Json::object();
+      const MatchBenchResult kb = read_match_bench(read_child_json(kernel_out), kernel_out);
+      const MatchBenchResult rb = read_match_bench(read_child_json(ray_out), ray_out);
+      if (!kb.kernel_measured || rb.ray.size() != 1 || rb.ray.front().directions != o->rays)
+        throw InputError(kernel_out + ", " + ray_out + ": the children's bench match records lack the kernel or the " +
+                         std::to_string(o->rays) + "-direction ray measurement");
+      const KernelMatchBench& k = kb.kernel;
+      const RayMatchBench& r = rb.ray.front();
       Json row;
       row["area_m2"] = area;
       row["plan"] = plan.name;
       row["walls"] = plan.walls.size();
-      row["grid_px"] = kj.value("grid_px", Json::array());
-      row["valid_cells"] = at(kj, {"valid_cells"});
-      row["kernel_precompute_wall_s"] = at(k, {"precompute_wall_s"});
-      row["kernel_precompute_mb"] = at(k, {"precompute_mb"});
-      row["kernel_modes_cpu_s"] = at(k, {"modes", "cpu_s"});
-      row["kernel_argmax_cpu_s"] = at(k, {"argmax", "cpu_s"});
+      row["grid_px"] = {kb.grid_width_px, kb.grid_height_px};
+      row["valid_cells"] = kb.valid_cells;
+      row["kernel_precompute_wall_s"] = k.precompute_wall_s;
+      row["kernel_precompute_mb"] = k.precompute_mb;
+      row["kernel_modes_cpu_s"] = k.modes.cpu_s;
+      row["kernel_argmax_cpu_s"] = k.argmax.cpu_s;
       row["kernel_process_cpu_s"] = kc.cpu_s;
       row["kernel_peak_mb"] = kc.max_rss_mb;
       row["ray_directions"] = o->rays;
       row["ray_volume_bits"] = o->ray_bits;
-      row["ray_precompute_s"] = at(r, {"precompute_s"});
-      row["ray_volume_mb"] = at(r, {"volume_mb"});
-      row["ray_modes_cpu_s"] = at(r, {"modes", "cpu_s"});
-      row["ray_exhaustive_cpu_s"] = at(r, {"modes_exhaustive", "cpu_s"});
-      row["ray_cells_scored_share"] = at(r, {"search_counters", "cells_scored_share"});
+      row["ray_precompute_s"] = r.precompute_s;
+      row["ray_volume_mb"] = r.volume_mb;
+      row["ray_modes_cpu_s"] = r.modes.cpu_s;
+      row["ray_exhaustive_cpu_s"] = r.modes_exhaustive.cpu_s;
+      row["ray_cells_scored_share"] = r.cells_scored_share;
       row["ray_process_cpu_s"] = rc.cpu_s;
       row["ray_peak_mb"] = rc.max_rss_mb;
       rows.push_back(row);
@@ -185,8 +183,8 @@ void register_bench_scale(CLI::App& root) {
             {"bench", "match", "--plan", plan_path, "--observations", "1", "--seed", std::to_string(o->seed), "--orientations",
              std::to_string(o->orientations), "--rays", "0", "--bev-fov", "0", "--no-posteriors", "--json"},
             kernel_out);
-      const Json kj = read_child_json(kernel_out);
-      row["kernel"]["precompute_wall_s"] = kj.contains("kernel") ? at(kj["kernel"], {"precompute_wall_s"}) : std::nan("");
+      const MatchBenchResult kb = read_match_bench(read_child_json(kernel_out), kernel_out);
+      row["kernel"]["precompute_wall_s"] = kb.kernel_measured ? kb.kernel.precompute_wall_s : std::nan("");
       wall_rows.push_back(row);
       if (!o->json) {
         double peak = 0.0;

@@ -225,18 +225,39 @@ def bench(path, title):
         if k:
             print(f"| {name} | kernel (O = {k['orientations']:.0f}) | 360 deg | {k['modes']['cpu_s']:.3f} | - | "
                   f"{k.get('posterior', {}).get('cpu_s', float('nan')):.3f} | - | {k['precompute_wall_s']:.2f} | {k['precompute_mb']:.0f} |")
-        for rays, r in sorted(p.get("ray", {}).items()):
-            print(f"| {name} | ray ({rays} rays) | 360 deg | {r['modes']['cpu_s']:.3f} | {r['modes_exhaustive']['cpu_s']:.3f} | "
-                  f"{r['posterior']['cpu_s']:.3f} | {100 * r['search_counters']['cells_scored_share']:.0f}% | "
+        for r in ray_records(p):
+            print(f"| {name} | ray ({r['directions']} rays) | 360 deg | {r['modes']['cpu_s']:.3f} | {r['modes_exhaustive']['cpu_s']:.3f} | "
+                  f"{r['posterior']['cpu_s']:.3f} | {100 * r['cells_scored_share']:.0f}% | "
                   f"{r['precompute_s']:.2f} | {r['volume_mb']:.0f} |")
-        for cls, b in p.get("bev", {}).items():
-            for fov, x in b.items():
-                if not fov.startswith("fov_"):
-                    continue
-                print(f"| {name} | bev {cls} ({x['columns']} columns) | {fov[4:]} deg | {x['modes']['cpu_s']:.3f} | "
+        for b in bev_records(p):
+            cls = "semantic" if b["semantics"] else "occupancy"
+            for x in b["views"]:
+                print(f"| {name} | bev {cls} ({x['columns']} columns) | {x['fov_deg']:g} deg | {x['modes']['cpu_s']:.3f} | "
                       f"{x['modes_exhaustive']['cpu_s']:.3f} | {x['posterior']['cpu_s']:.3f} | "
-                      f"{100 * x['search_counters']['cells_scored_share']:.0f}% | {b['precompute_wall_s']:.2f} | {b['precompute_mb']:.0f} |")
+                      f"{100 * x['cells_scored_share']:.0f}% | {b['precompute_wall_s']:.2f} | {b['precompute_mb']:.0f} |")
 
+
+def ray_records(p):
+    """The ray measurements of one plan's `bench match` record: a list (this version) or, in files
+    written before the record had a field list, an object keyed by the direction count."""
+    r = p.get("ray", [])
+    if isinstance(r, list):
+        return r
+    return [dict(v, directions=int(d), cells_scored_share=v["search_counters"]["cells_scored_share"])
+            for d, v in sorted(r.items(), key=lambda x: int(x[0]))]
+
+
+def bev_records(p):
+    """The bev measurements, in the same two shapes (older: {"semantic": {"fov_60": ...}})."""
+    b = p.get("bev", [])
+    if isinstance(b, list):
+        return b
+    out = []
+    for cls, v in b.items():
+        views = [dict(x, fov_deg=float(k[4:]), cells_scored_share=x["search_counters"]["cells_scored_share"])
+                 for k, x in v.items() if k.startswith("fov_")]
+        out.append(dict(v, semantics=(cls == "semantic"), views=views))
+    return out
 
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "out/bev"

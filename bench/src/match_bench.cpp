@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "floorcast/bench/modes_equivalence.hpp"
+#include "floorcast/core/fields.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/core/timing.hpp"
 #include "floorcast/match/kernel_matcher.hpp"
@@ -25,6 +26,8 @@ namespace floorcast {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+constexpr double kAnyValue = 1e300;
+constexpr int kManyItems = 1 << 30;
 
 /// CPU (process, all threads) and wall seconds of one call.
 struct Cost {
@@ -46,9 +49,7 @@ struct Series {
     cpu.push_back(c.cpu_s);
     wall.push_back(c.wall_s);
   }
-  nlohmann::ordered_json json() const {
-    return {{"cpu_s", cpu.empty() ? 0.0 : median(cpu)}, {"wall_s", wall.empty() ? 0.0 : median(wall)}};
-  }
+  MatchBenchCost cost() const { return {cpu.empty() ? 0.0 : median(cpu), wall.empty() ? 0.0 : median(wall)}; }
 };
 
 /// Median of the per-observation ratios a / b.
@@ -134,20 +135,22 @@ std::vector<double> pad_yaws(std::vector<double> yaws, std::size_t n) {
   return yaws;
 }
 
-nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams& params) {
-  nlohmann::ordered_json j;
-  j["plan"] = plan.name;
-  j["threads"] = tbb::info::default_concurrency();
-  j["observations"] = params.observations;
-  j["top_k"] = params.top_k;
+MatchBenchResult bench_match(const FloorPlan& plan, const MatchBenchParams& params) {
+  MatchBenchResult out;
+  out.plan = plan.name;
+  out.threads = tbb::info::default_concurrency();
+  out.observations = params.observations;
+  out.top_k = params.top_k;
 
   if (params.kernel) {
     const auto t0 = Clock::now();
     const KernelMatcher kernel(plan);
     const double precompute_wall = std::chrono::duration<double>(Clock::now() - t0).count();
     const GridSpec& g = kernel.grid();
-    j["grid_px"] = {g.width_px, g.height_px};
-    j["valid_cells"] = cv::countNonZero(kernel.valid_mask());
+    out.kernel_measured = true;
+    out.grid_width_px = g.width_px;
+    out.grid_height_px = g.height_px;
+    out.valid_cells = cv::countNonZero(kernel.valid_mask());
     PerfectObservationParams pp;
     pp.num_rays = 0;
     pp.max_range_m = kernel.params().max_range_m;
@@ -187,35 +190,35 @@ nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams
     }
     const double pair = fft_pair_cpu_s(kernel.fft_rows(), kernel.fft_cols(), 5);
     const double O = median(slices);
-    nlohmann::ordered_json k;
-    k["orientations"] = O;
-    k["scales"] = S;
-    k["modes"] = modes.json();
-    k["argmax"] = argmax.json();
-    k["own_candidates"] = median(own_slices);
-    k["modes_own_candidates"] = own_modes.json();
-    k["precompute_wall_s"] = precompute_wall;
-    k["precompute_mb"] = kernel.precompute_bytes() / 1e6;
-    k["search_maps_mb"] = kernel.search_bytes() / 1e6;
-    k["fft_size"] = {kernel.fft_cols(), kernel.fft_rows()};
-    k["fft_pair_cpu_s"] = pair;
-    k["fft_floor_cpu_s"] = pair * O * S;
-    k["search_counters"] = to_json(median_of(counters));
-    k["modes_stages_cpu_s"] = to_json(median_of(modes_stages));
+    KernelMatchBench& k = out.kernel;
+    k.orientations = O;
+    k.scales = S;
+    k.modes = modes.cost();
+    k.argmax = argmax.cost();
+    k.own_candidates = median(own_slices);
+    k.modes_own_candidates = own_modes.cost();
+    k.precompute_wall_s = precompute_wall;
+    k.precompute_mb = kernel.precompute_bytes() / 1e6;
+    k.search_maps_mb = kernel.search_bytes() / 1e6;
+    k.fft_cols = kernel.fft_cols();
+    k.fft_rows = kernel.fft_rows();
+    k.fft_pair_cpu_s = pair;
+    k.fft_floor_cpu_s = pair * O * S;
+    k.search_counters = to_json(median_of(counters));
+    k.modes_stages_cpu_s = to_json(median_of(modes_stages));
     if (params.posteriors) {
-      k["posterior"] = posterior.json();
-      k["posterior_over_modes"] = median_ratio(posterior.cpu, modes.cpu);
-      k["posterior_over_floor"] = median(posterior.cpu) / (pair * O * S);
-      k["posterior_stages_cpu_s"] = to_json(median_of(posterior_stages));
-      k["posterior_mb"] = O * g.width_px * g.height_px * 4.0 / 1e6;
-      k["equivalence"] = to_json(eq);
-      k["fft_max_abs_error"] =
+      k.posteriors = true;
+      k.posterior = posterior.cost();
+      k.posterior_over_modes = median_ratio(posterior.cpu, modes.cpu);
+      k.posterior_over_floor = median(posterior.cpu) / (pair * O * S);
+      k.posterior_stages_cpu_s = to_json(median_of(posterior_stages));
+      k.posterior_mb = O * g.width_px * g.height_px * 4.0 / 1e6;
+      k.equivalence = eq;
+      k.fft_max_abs_error =
           fft_error_probe(plan, observations.front(), kernel.yaw_candidates(observations.front()).front(), 300, params.seed);
     }
-    j["kernel"] = k;
   }
 
-  nlohmann::ordered_json rays = nlohmann::ordered_json::object();
   for (int D : params.ray_directions) {
     RayMatcherParams rp;
     rp.num_directions = D;
@@ -269,28 +272,30 @@ nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams
                                               a.modes[0].col == b.modes[0].col));
       }
     }
-    nlohmann::ordered_json r;
-    r["precompute_s"] = median(pre);
-    r["volume_mb"] = ray->precompute_bytes() / 1e6;
-    r["valid_cells"] = ray->volume().num_cells();
-    r["modes"] = modes.json();
-    r["modes_exhaustive"] = modes_exhaustive.json();
-    r["exhaustive_over_bounded"] = median_ratio(modes_exhaustive.cpu, modes.cpu);
-    r["bounded_modes_identical"] = same_modes;
-    r["max_over_yaw"] = yaw_map.json();
-    r["stages_cpu_s"] = to_json(median_of(stages));
-    r["search_counters"] = to_json(median_of(counters));
+    RayMatchBench r;
+    r.directions = D;
+    r.precompute_s = median(pre);
+    r.volume_mb = ray->precompute_bytes() / 1e6;
+    r.valid_cells = static_cast<int>(ray->volume().num_cells());
+    r.modes = modes.cost();
+    r.modes_exhaustive = modes_exhaustive.cost();
+    r.exhaustive_over_bounded = median_ratio(modes_exhaustive.cpu, modes.cpu);
+    r.bounded_modes_identical = same_modes;
+    r.max_over_yaw = yaw_map.cost();
+    const std::map<std::string, double> c = median_of(counters);
+    r.cells_scored_share = c.count("cells_scored_share") ? c.at("cells_scored_share") : 1.0;
+    r.stages_cpu_s = to_json(median_of(stages));
+    r.search_counters = to_json(c);
     if (params.posteriors) {
-      r["posterior"] = posterior.json();
-      r["posterior_mb"] = static_cast<double>(D) * ray->grid().width_px * ray->grid().height_px * 4.0 / 1e6;
-      r["same_estimate_as_posterior"] = same_estimate;
+      r.posteriors = true;
+      r.posterior = posterior.cost();
+      r.posterior_mb = static_cast<double>(D) * ray->grid().width_px * ray->grid().height_px * 4.0 / 1e6;
+      r.same_estimate_as_posterior = same_estimate;
     }
-    rays[std::to_string(D)] = r;
+    out.ray.push_back(std::move(r));
   }
-  j["ray"] = rays;
 
   // The BEV matcher, with and without semantics.
-  nlohmann::ordered_json bevs = nlohmann::ordered_json::object();
   for (const bool semantics : {true, false}) {
     if (params.bev_fov_deg.empty()) break;
     BevMatcherParams bp;
@@ -308,12 +313,13 @@ nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams
     const std::vector<Pose2> poses = sample_valid_poses(valid, bounded.grid(), params.observations, params.seed);
     // The truth along every 5 deg column, shaped by the predictor's structured3d_good spreads.
     BevErrorModel shape = bev_error_preset("structured3d_good");
-    nlohmann::ordered_json b;
-    b["precompute_wall_s"] = precompute_wall;
-    b["precompute_mb"] = bounded.precompute_bytes() / 1e6;
-    b["valid_cells"] = bounded.volume().num_cells();
-    b["directions"] = bp.num_directions;
-    b["orientations"] = bp.num_orientations;
+    BevMatchBench b;
+    b.semantics = semantics;
+    b.precompute_wall_s = precompute_wall;
+    b.precompute_mb = bounded.precompute_bytes() / 1e6;
+    b.valid_cells = static_cast<int>(bounded.volume().num_cells());
+    b.directions = bp.num_directions;
+    b.orientations = bp.num_orientations;
     for (const double fov : params.bev_fov_deg) {
       std::vector<Observation2D> observations;
       for (const Pose2& pose : poses) {
@@ -360,26 +366,173 @@ nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams
           posterior.add(measure([&] { (void)bounded.match(obs, full); }));
         }
       }
-      nlohmann::ordered_json f;
-      f["columns"] = observations.front().bev.front().num_columns();
-      f["modes"] = modes.json();
-      f["modes_exhaustive"] = modes_exhaustive.json();
-      f["exhaustive_over_bounded"] = median_ratio(modes_exhaustive.cpu, modes.cpu);
-      f["bounded_modes_identical"] = same;
-      f["stages_cpu_s"] = to_json(median_of(stages));
-      f["search_counters"] = to_json(median_of(counters));
+      BevViewBench f;
+      f.fov_deg = fov;
+      f.columns = observations.front().bev.front().num_columns();
+      f.modes = modes.cost();
+      f.modes_exhaustive = modes_exhaustive.cost();
+      f.exhaustive_over_bounded = median_ratio(modes_exhaustive.cpu, modes.cpu);
+      f.bounded_modes_identical = same;
+      const std::map<std::string, double> c = median_of(counters);
+      f.cells_scored_share = c.count("cells_scored_share") ? c.at("cells_scored_share") : 1.0;
+      f.stages_cpu_s = to_json(median_of(stages));
+      f.search_counters = to_json(c);
       if (params.posteriors) {
-        f["posterior"] = posterior.json();
-        f["posterior_mb"] = static_cast<double>(bp.num_orientations) * bounded.grid().width_px * bounded.grid().height_px * 4.0 / 1e6;
+        f.posteriors = true;
+        f.posterior = posterior.cost();
+        f.posterior_mb = static_cast<double>(bp.num_orientations) * bounded.grid().width_px * bounded.grid().height_px * 4.0 / 1e6;
       }
-      std::ostringstream key;
-      key << fov;
-      b["fov_" + key.str()] = f;
+      b.views.push_back(std::move(f));
     }
-    bevs[semantics ? "semantic" : "occupancy"] = b;
+    out.bev.push_back(std::move(b));
   }
-  if (!bevs.empty()) j["bev"] = bevs;
-  return j;
+  return out;
+}
+
+namespace {
+
+const FieldList<MatchBenchCost>& cost_fields() {
+  using C = MatchBenchCost;
+  static const FieldList<C> f = FieldList<C>("cost")
+                                    .number("cpu_s", &C::cpu_s, 0.0, kAnyValue, "CPU s (process, all threads), median")
+                                    .number("wall_s", &C::wall_s, 0.0, kAnyValue, "wall s, median");
+  return f;
+}
+
+const FieldList<KernelMatchBench>& kernel_fields() {
+  using K = KernelMatchBench;
+  auto posteriors = [](const K& k) { return k.posteriors; };
+  static const FieldList<K> f =
+      FieldList<K>("kernel")
+          .number("orientations", &K::orientations, 0.0, kAnyValue, "median orientation candidates after padding (O)")
+          .integer("scales", &K::scales, 0, kManyItems, "scales (S)")
+          .section("modes", &K::modes, cost_fields())
+          .section("argmax", &K::argmax, cost_fields())
+          .number("own_candidates", &K::own_candidates, 0.0, kAnyValue, "median of the matcher's own PALMS+ candidates")
+          .section("modes_own_candidates", &K::modes_own_candidates, cost_fields())
+          .number("precompute_wall_s", &K::precompute_wall_s, 0.0, kAnyValue, "plan precompute, wall s")
+          .number("precompute_mb", &K::precompute_mb, 0.0, kAnyValue, "plan precompute, MB")
+          .number("search_maps_mb", &K::search_maps_mb, 0.0, kAnyValue, "branch-and-bound search maps, MB")
+          .integer("fft_cols", &K::fft_cols, 0, kManyItems, "correlator transform width")
+          .integer("fft_rows", &K::fft_rows, 0, kManyItems, "correlator transform height")
+          .number("fft_pair_cpu_s", &K::fft_pair_cpu_s, 0.0, kAnyValue, "one full-size r2c + c2r pair, CPU s")
+          .number("fft_floor_cpu_s", &K::fft_floor_cpu_s, 0.0, kAnyValue, "O x S pairs, CPU s")
+          .json("search_counters", &K::search_counters, "search counters, medians")
+          .json("modes_stages_cpu_s", &K::modes_stages_cpu_s, "search stages, CPU s, medians")
+          .flag("posteriors", &K::posteriors, "the full posterior was measured (the fields below)")
+          .section("posterior", &K::posterior, cost_fields())
+          .optional(posteriors)
+          .number("posterior_over_modes", &K::posterior_over_modes, 0.0, kAnyValue, "median ratio posterior / search")
+          .optional(posteriors)
+          .number("posterior_over_floor", &K::posterior_over_floor, 0.0, kAnyValue, "posterior / FFT floor")
+          .optional(posteriors)
+          .json("posterior_stages_cpu_s", &K::posterior_stages_cpu_s, "posterior stages, CPU s, medians")
+          .optional(posteriors)
+          .number("posterior_mb", &K::posterior_mb, 0.0, kAnyValue, "posterior, MB")
+          .optional(posteriors)
+          .section("equivalence", &K::equivalence, modes_equivalence_fields())
+          .optional(posteriors)
+          .number("fft_max_abs_error", &K::fft_max_abs_error, 0.0, kAnyValue, "largest |FFT - direct correlation| probed")
+          .optional(posteriors);
+  return f;
+}
+
+const FieldList<RayMatchBench>& ray_fields() {
+  using R = RayMatchBench;
+  auto posteriors = [](const R& r) { return r.posteriors; };
+  static const FieldList<R> f =
+      FieldList<R>("ray")
+          .integer("directions", &R::directions, 0, kManyItems, "rays per observation")
+          .number("precompute_s", &R::precompute_s, 0.0, kAnyValue, "distance volume precompute, s (median)")
+          .number("volume_mb", &R::volume_mb, 0.0, kAnyValue, "distance volume, MB")
+          .integer("valid_cells", &R::valid_cells, 0, kManyItems, "cells of the volume")
+          .section("modes", &R::modes, cost_fields())
+          .section("modes_exhaustive", &R::modes_exhaustive, cost_fields())
+          .number("exhaustive_over_bounded", &R::exhaustive_over_bounded, 0.0, kAnyValue, "median ratio exhaustive / bounded")
+          .integer("bounded_modes_identical", &R::bounded_modes_identical, 0, kManyItems, "observations with identical top-K lists")
+          .number("cells_scored_share", &R::cells_scored_share, 0.0, 1.0, "median share of cells the bounded search scored")
+          .section("max_over_yaw", &R::max_over_yaw, cost_fields())
+          .json("stages_cpu_s", &R::stages_cpu_s, "search stages, CPU s, medians")
+          .json("search_counters", &R::search_counters, "search counters, medians")
+          .flag("posteriors", &R::posteriors, "the full posterior was measured (the fields below)")
+          .section("posterior", &R::posterior, cost_fields())
+          .optional(posteriors)
+          .number("posterior_mb", &R::posterior_mb, 0.0, kAnyValue, "posterior, MB")
+          .optional(posteriors)
+          .integer("same_estimate_as_posterior", &R::same_estimate_as_posterior, 0, kManyItems,
+                   "observations whose search estimate is the posterior's")
+          .optional(posteriors);
+  return f;
+}
+
+const FieldList<BevViewBench>& bev_view_fields() {
+  using V = BevViewBench;
+  auto posteriors = [](const V& v) { return v.posteriors; };
+  static const FieldList<V> f =
+      FieldList<V>("view")
+          .number("fov_deg", &V::fov_deg, 0.0, 360.0, "field of view, deg (360: the full circle)")
+          .integer("columns", &V::columns, 0, kManyItems, "BEV columns of a view")
+          .section("modes", &V::modes, cost_fields())
+          .section("modes_exhaustive", &V::modes_exhaustive, cost_fields())
+          .number("exhaustive_over_bounded", &V::exhaustive_over_bounded, 0.0, kAnyValue, "median ratio exhaustive / bounded")
+          .integer("bounded_modes_identical", &V::bounded_modes_identical, 0, kManyItems, "observations with identical top-K lists")
+          .number("cells_scored_share", &V::cells_scored_share, 0.0, 1.0,
+                  "median share of cell-orientation pairs the bounded search scored")
+          .json("stages_cpu_s", &V::stages_cpu_s, "search stages, CPU s, medians")
+          .json("search_counters", &V::search_counters, "search counters, medians")
+          .flag("posteriors", &V::posteriors, "the full posterior was measured (the fields below)")
+          .section("posterior", &V::posterior, cost_fields())
+          .optional(posteriors)
+          .number("posterior_mb", &V::posterior_mb, 0.0, kAnyValue, "posterior, MB")
+          .optional(posteriors);
+  return f;
+}
+
+const FieldList<BevMatchBench>& bev_fields() {
+  using B = BevMatchBench;
+  static const FieldList<B> f =
+      FieldList<B>("bev")
+          .flag("semantics", &B::semantics, "walls, windows and doors (false: occupancy only)")
+          .number("precompute_wall_s", &B::precompute_wall_s, 0.0, kAnyValue, "semantic ray volume precompute, wall s")
+          .number("precompute_mb", &B::precompute_mb, 0.0, kAnyValue, "precompute, MB")
+          .integer("valid_cells", &B::valid_cells, 0, kManyItems, "cells of the volume")
+          .integer("directions", &B::directions, 0, kManyItems, "ray directions of the volume")
+          .integer("orientations", &B::orientations, 0, kManyItems, "orientations searched")
+          .list("views", &B::views, bev_view_fields());
+  return f;
+}
+
+const FieldList<MatchBenchResult>& match_bench_fields() {
+  using M = MatchBenchResult;
+  auto kernel = [](const M& m) { return m.kernel_measured; };
+  static const FieldList<M> f =
+      FieldList<M>("bench match")
+          .text("plan", &M::plan, "the plan's name")
+          .integer("threads", &M::threads, 0, kManyItems, "TBB threads")
+          .integer("observations", &M::observations, 0, kManyItems, "perfect observations (medians over them)")
+          .integer("top_k", &M::top_k, 0, kManyItems, "modes asked for")
+          .flag("kernel_measured", &M::kernel_measured, "the kernel matcher was measured (grid, kernel)")
+          .integer("grid_width_px", &M::grid_width_px, 0, kManyItems, "kernel grid width, cells")
+          .optional(kernel)
+          .integer("grid_height_px", &M::grid_height_px, 0, kManyItems, "kernel grid height, cells")
+          .optional(kernel)
+          .integer("valid_cells", &M::valid_cells, 0, kManyItems, "kernel grid cells in the valid area")
+          .optional(kernel)
+          .section("kernel", &M::kernel, kernel_fields())
+          .optional(kernel)
+          .list("ray", &M::ray, ray_fields())
+          .list("bev", &M::bev, bev_fields());
+  return f;
+}
+
+}  // namespace
+
+nlohmann::ordered_json to_json(const MatchBenchResult& result) { return match_bench_fields().write(result); }
+
+MatchBenchResult read_match_bench(const nlohmann::json& j, const std::string& source) {
+  MatchBenchResult r;
+  match_bench_fields().read_record(r, j, source);
+  return r;
 }
 
 }  // namespace floorcast

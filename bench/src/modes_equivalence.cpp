@@ -167,14 +167,21 @@ ModesEquivalenceResult compare_modes_with_posterior(const FloorPlan& plan, const
   return out;
 }
 
-nlohmann::ordered_json to_json(const ModesEquivalenceResult& r) {
+const FieldList<ModesEquivalenceResult>& modes_equivalence_fields() {
   using R = ModesEquivalenceResult;
   constexpr double kAny = 1e300;
   constexpr int kMany = 1 << 30;
+  // The wall-time series are written as their medians and read back as one-value series.
   auto median_of = [](const char* key, std::vector<double> R::*m) {
     return [key, m](nlohmann::ordered_json& j, const R& r) { j[key] = (r.*m).empty() ? 0.0 : median(r.*m); };
   };
-  auto derived = [](ParamReader&, R&) {};  // medians are written, not read back
+  auto one_value = [](const char* key, std::vector<double> R::*m) {
+    return [key, m](ParamReader& in, R& r) {
+      double v = 0.0;
+      in.read(key, v, 0.0, kAny);
+      r.*m = {v};
+    };
+  };
   static const FieldList<R> f =
       FieldList<R>("modes equivalence")
           .integer("observations", &R::observations, 0, kMany, "observations compared")
@@ -190,12 +197,15 @@ nlohmann::ordered_json to_json(const ModesEquivalenceResult& r) {
           .number("max_fft_order_gap", &R::max_fft_order_gap, 0.0, kAny, "largest gap the FFT's round-off reordered")
           .number("max_search_error", &R::max_search_error, 0.0, kAny, "largest |search score - direct sum|")
           .number("max_fft_error", &R::max_fft_error, 0.0, kAny, "largest |posterior value - direct sum|")
-          .custom("search_s_median", median_of("search_s_median", &R::search_s), derived, "number",
-                  "median wall s per observation, estimate + top-K by the search")
-          .custom("posterior_s_median", median_of("posterior_s_median", &R::posterior_s), derived, "number",
+          .custom("search_s_median", median_of("search_s_median", &R::search_s), one_value("search_s_median", &R::search_s),
+                  "number", "median wall s per observation, estimate + top-K by the search")
+          .custom("posterior_s_median", median_of("posterior_s_median", &R::posterior_s),
+                  one_value("posterior_s_median", &R::posterior_s), "number",
                   "median wall s per observation, FFT posterior + top_k")
           .texts("failures", &R::failures, "one line per mismatch");
-  return f.write(r);
+  return f;
 }
+
+nlohmann::ordered_json to_json(const ModesEquivalenceResult& r) { return modes_equivalence_fields().write(r); }
 
 }  // namespace floorcast

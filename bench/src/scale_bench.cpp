@@ -49,7 +49,11 @@ void append_shifted(FloorPlan& plan, const FloorPlan& part, const Vec2& offset_m
 }  // namespace
 
 FloorPlan scale_plan(const ScalePlanParams& params) {
-  if (!(params.area_m2 > 0.0) || !(params.campus_area_m2 > 0.0)) throw InputError("scale plan: areas must be positive");
+  if (!(params.area_m2 >= kMinScalePlanAreaM2) || !(params.campus_area_m2 >= kMinScalePlanAreaM2)) {
+    throw InputError("scale plan: areas must be at least " + std::to_string(static_cast<int>(kMinScalePlanAreaM2)) +
+                     " m^2 (the smallest office the generator makes), got " + std::to_string(params.area_m2) + " and campus " +
+                     std::to_string(params.campus_area_m2));
+  }
   const std::string name = "scale_" + std::to_string(static_cast<long long>(std::llround(params.area_m2))) + "m2";
   if (params.area_m2 < 5000.0) {
     OfficeParams op = OfficeParams::repetitive();  // the buildings results/bench_scale.md was measured on

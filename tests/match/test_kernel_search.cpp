@@ -9,7 +9,9 @@
 #include <cmath>
 #include <string>
 
+#include "floorcast/bench/match_bench.hpp"
 #include "floorcast/bench/modes_equivalence.hpp"
+#include "floorcast/core/params.hpp"
 #include "floorcast/core/math.hpp"
 #include "floorcast/floorplans/generate.hpp"
 #include "floorcast/floorplans/io.hpp"
@@ -192,6 +194,49 @@ TEST(KernelSearch, PosteriorModeSearchOption) {
   EXPECT_LE(std::hypot(r.estimate().x_m - 3.23, r.estimate().y_m - 1.61), 0.15);
   EXPECT_EQ(make_matcher_config("kernel", {{"modes_search", "posterior"}})->parameters()["modes_search"], "posterior");
   EXPECT_THROW((void)make_matcher_config("kernel", {{"modes_search", "fast"}}), ParameterError);
+}
+
+// `bench match`'s record (what `bench scale` reads back from its children): every measured
+// field survives to_json -> read_match_bench, the optional blocks are absent when not measured,
+// and a misspelt key is refused naming it.
+TEST(MatchBenchRecord, RoundTripsAndRefusesUnknownKeys) {
+  MatchBenchParams p;
+  p.observations = 1;
+  p.ray_directions = {36};
+  p.bev_fov_deg = {60.0};
+  const MatchBenchResult r = bench_match(shipped("apartment"), p);
+  ASSERT_TRUE(r.kernel_measured);
+  ASSERT_EQ(r.ray.size(), 1u);
+  ASSERT_EQ(r.bev.size(), 2u);
+  ASSERT_EQ(r.bev.front().views.size(), 1u);
+  EXPECT_TRUE(r.bev.front().semantics);
+  EXPECT_FALSE(r.bev.back().semantics);
+  EXPECT_GT(r.ray.front().cells_scored_share, 0.0);
+  const nlohmann::ordered_json j = to_json(r);
+  const MatchBenchResult back = read_match_bench(nlohmann::json(j), "record");
+  EXPECT_EQ(to_json(back).dump(), j.dump());
+  EXPECT_EQ(back.ray.front().directions, 36);
+  EXPECT_EQ(back.bev.front().views.front().fov_deg, 60.0);
+
+  MatchBenchParams q = p;
+  q.kernel = false;
+  q.posteriors = false;
+  q.bev_fov_deg.clear();
+  const MatchBenchResult lean = bench_match(shipped("apartment"), q);
+  const nlohmann::ordered_json lj = to_json(lean);
+  EXPECT_FALSE(lj.contains("kernel"));
+  EXPECT_FALSE(lj.at("ray").at(0).contains("posterior"));
+  EXPECT_EQ(to_json(read_match_bench(nlohmann::json(lj), "lean")).dump(), lj.dump());
+
+  nlohmann::json bad = nlohmann::json(lj);
+  bad["ray"][0]["precompute_sec"] = 1.0;
+  try {
+    (void)read_match_bench(bad, "bad.json");
+    FAIL() << "a misspelt key was accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("precompute_sec"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -16,8 +16,10 @@
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
+#include "floorcast/bench/modes_equivalence.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 
 namespace floorcast {
@@ -38,8 +40,107 @@ struct MatchBenchParams {
   double bev_resolution_m = 0.1;  ///< BevMatcherParams::resolution_m
 };
 
-/// Medians and same-run ratios as JSON (keys documented in results/bench_match.md).
-nlohmann::ordered_json bench_match(const FloorPlan& plan, const MatchBenchParams& params);
+/// CPU (process, all threads) and wall seconds of one call: medians over the observations.
+struct MatchBenchCost {
+  double cpu_s = 0.0;
+  double wall_s = 0.0;
+};
+
+/// The kernel matcher's measurements (keys documented in results/bench_match.md).
+struct KernelMatchBench {
+  double orientations = 0.0;  ///< median candidates per observation after padding (O)
+  int scales = 0;
+  MatchBenchCost modes;   ///< exact estimate + top-K (branch and bound)
+  MatchBenchCost argmax;  ///< exact estimate alone
+  double own_candidates = 0.0;          ///< median of the matcher's own PALMS+ candidates
+  MatchBenchCost modes_own_candidates;  ///< estimate + top-K with its own candidates
+  double precompute_wall_s = 0.0;
+  double precompute_mb = 0.0;
+  double search_maps_mb = 0.0;
+  int fft_cols = 0;
+  int fft_rows = 0;
+  double fft_pair_cpu_s = 0.0;   ///< one full-size r2c + c2r pair
+  double fft_floor_cpu_s = 0.0;  ///< O x S pairs: the least an exhaustive FFT posterior costs
+  nlohmann::ordered_json search_counters = nlohmann::ordered_json::object();     ///< medians
+  nlohmann::ordered_json modes_stages_cpu_s = nlohmann::ordered_json::object();  ///< medians
+  bool posteriors = false;  ///< the fields below were measured
+  MatchBenchCost posterior;
+  double posterior_over_modes = 0.0;  ///< median per-observation ratio
+  double posterior_over_floor = 0.0;
+  nlohmann::ordered_json posterior_stages_cpu_s = nlohmann::ordered_json::object();
+  double posterior_mb = 0.0;
+  ModesEquivalenceResult equivalence;  ///< the search's modes against the posterior's
+  double fft_max_abs_error = 0.0;
+};
+
+/// The ray matcher's measurements at one direction count.
+struct RayMatchBench {
+  int directions = 0;
+  double precompute_s = 0.0;  ///< median over --precompute-repeats
+  double volume_mb = 0.0;
+  int valid_cells = 0;
+  MatchBenchCost modes;             ///< bounded estimate + top-K
+  MatchBenchCost modes_exhaustive;  ///< exhaustive estimate + top-K on the same volume
+  double exhaustive_over_bounded = 0.0;
+  int bounded_modes_identical = 0;  ///< observations whose top-K lists are identical
+  double cells_scored_share = 0.0;  ///< median share of cells the bounded search scored
+  MatchBenchCost max_over_yaw;
+  nlohmann::ordered_json stages_cpu_s = nlohmann::ordered_json::object();
+  nlohmann::ordered_json search_counters = nlohmann::ordered_json::object();
+  bool posteriors = false;
+  MatchBenchCost posterior;
+  double posterior_mb = 0.0;
+  int same_estimate_as_posterior = 0;
+};
+
+/// The BEV matcher at one field of view.
+struct BevViewBench {
+  double fov_deg = 0.0;
+  int columns = 0;
+  MatchBenchCost modes;
+  MatchBenchCost modes_exhaustive;
+  double exhaustive_over_bounded = 0.0;
+  int bounded_modes_identical = 0;
+  double cells_scored_share = 0.0;  ///< cell-orientation pairs scored by the bounded search
+  nlohmann::ordered_json stages_cpu_s = nlohmann::ordered_json::object();
+  nlohmann::ordered_json search_counters = nlohmann::ordered_json::object();
+  bool posteriors = false;
+  MatchBenchCost posterior;
+  double posterior_mb = 0.0;
+};
+
+/// The BEV matcher with or without semantics.
+struct BevMatchBench {
+  bool semantics = true;
+  double precompute_wall_s = 0.0;
+  double precompute_mb = 0.0;
+  int valid_cells = 0;
+  int directions = 0;
+  int orientations = 0;
+  std::vector<BevViewBench> views;
+};
+
+/// One plan's `bench match` (written by to_json, read back by read_match_bench).
+struct MatchBenchResult {
+  std::string plan;
+  int threads = 0;
+  int observations = 0;
+  int top_k = 0;
+  bool kernel_measured = false;
+  int grid_width_px = 0;   ///< the kernel matcher's grid (0.1 m)
+  int grid_height_px = 0;
+  int valid_cells = 0;
+  KernelMatchBench kernel;
+  std::vector<RayMatchBench> ray;
+  std::vector<BevMatchBench> bev;
+};
+
+/// Medians and same-run ratios, measured on seeded perfect observations.
+MatchBenchResult bench_match(const FloorPlan& plan, const MatchBenchParams& params);
+
+nlohmann::ordered_json to_json(const MatchBenchResult& result);
+/// Reads what to_json wrote (`bench match --json` of one plan); errors name `source` and the key.
+MatchBenchResult read_match_bench(const nlohmann::json& j, const std::string& source);
 
 /// The candidates padded to exactly n yaws (PALMS+ O = 10): clean observations of a Manhattan
 /// plan give only 4 candidates with a positive histogram correlation; benches time the paper's

@@ -25,6 +25,9 @@
 
 namespace floorcast {
 
+template <class T>
+class FieldList;
+
 struct ModesEquivalenceParams {
   int observations = 100;
   std::uint64_t seed = 1;
@@ -71,5 +74,8 @@ ModesEquivalenceResult compare_modes_with_posterior(const FloorPlan& plan, const
                                                     const ModesEquivalenceParams& params);
 
 nlohmann::ordered_json to_json(const ModesEquivalenceResult& result);
+/// Its field list (written by to_json; a record of it reads back with the wall-time series as
+/// their medians).
+const FieldList<ModesEquivalenceResult>& modes_equivalence_fields();
 
 }  // namespace floorcast

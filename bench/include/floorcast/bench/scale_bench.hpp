@@ -20,9 +20,14 @@ struct ScalePlanParams {
   double gap_m = 6.0;
 };
 
+/// The smallest area scale_plan makes: the office generator cannot fit its corridor, stair and
+/// rooms with their doors below it for every seed (seeds 1-5 fail at 200-400 m^2).
+constexpr double kMinScalePlanAreaM2 = 500.0;
+
 /// Below 5,000 m^2: one office sized for the area; otherwise round(area / campus_area) campus
 /// buildings (seeds seed, seed + 1, ...) sized area / count each, stacked along y with gap_m
 /// between them, ids prefixed "b<k>_". Deterministic.
+/// Refuses an area below kMinScalePlanAreaM2.
 FloorPlan scale_plan(const ScalePlanParams& params);
 
 /// A plan of about `walls` walls (issue 28: commands that pair or search walls must stay
