@@ -21,13 +21,18 @@ void register_bench_filter(CLI::App& root) {
   auto o = std::make_shared<Options>();
   CLI::App& bench = group(root, "bench", "Benchmarks (medians over repeats, same-run ratios)");
   auto* cmd = bench.add_subcommand("filter", "Particle-filter steps/s (2000 particles, wall checks) and histogram-filter ms/step");
-  cmd->add_option("--plan", o->plans, "Plans (default: the shipped office and campus)");
+  cmd->add_option("--plan", o->plans,
+                  "Plans (default: the shipped office and campus; a large real level: out/realplans/spbstu_main_L0.json "
+                  "after scripts/import_realplans.sh)");
   cmd->add_option("--steps", o->params.steps, "Steps per repeat")->capture_default_str()->check(in_range(1, 100000));
   cmd->add_option("--repeats", o->params.repeats, "Repeats (the median is reported)")->capture_default_str()->check(in_range(1, 1000));
   cmd->add_option("--particles", o->params.particles, "Particles")->capture_default_str()->check(in_range(1, 10000000));
   cmd->add_option("--sequential-steps", o->params.sequential_steps, "Steps of the sequential histogram-filter walk")
       ->capture_default_str()
       ->check(in_range(10, 100000));
+  cmd->add_option("--drop-mass", o->params.drop_mass,
+                  "The sparse histogram filter's drop_mass in the sequential comparison (default: the tracker's default)")
+      ->check(in_range(0.0, 0.1));
   cmd->add_flag("!--no-sequential", o->params.sequential,
                 "Skip the sequential comparisons (measurement update: full posterior vs point queries; dense vs sparse histogram filter)");
   cmd->add_flag("!--no-particle-filter", o->params.particle_filter, "Skip the particle-filter throughput");
@@ -55,8 +60,13 @@ void register_bench_filter(CLI::App& root) {
                     << std::setprecision(1) << r.pf_update_full_cpu_s / std::max(r.pf_update_points_cpu_s, 1e-9) << "x)\n"
                     << "  histogram filter, sequential (ray, observation every 10 steps): dense " << r.hf_seq_dense_ms
                     << " ms/step (" << r.hf_seq_dense_cpu_ms << " CPU-ms), sparse " << r.hf_seq_sparse_ms << " ms/step ("
-                    << r.hf_seq_sparse_cpu_ms << " CPU-ms; " << std::setprecision(2) << 100.0 * r.hf_seq_live_share
-                    << "% of the cells live at the end), tracks " << (r.hf_seq_identical ? "identical" : "DIFFERENT") << "\n";
+                    << r.hf_seq_sparse_cpu_ms << " CPU-ms, second half " << r.hf_seq_sparse_late_cpu_ms << "; "
+                    << std::setprecision(2) << 100.0 * r.hf_seq_live_share << "% of the cells live at the end, " << 100.0 * r.hf_seq_nonzero_share << "% non-zero)\n"
+                    << "    sparse vs dense: estimates at most " << r.hf_seq_position_diff_m << " m and " << r.hf_seq_yaw_diff_deg
+                    << " deg apart; dropped mass " << std::setprecision(6) << r.hf_seq_dropped_mass
+                    << ", total variation at the end " << r.hf_seq_total_variation << "\n"
+                    << std::setprecision(1) << "  particle filter, sequential (kernel point queries every 10 steps): "
+                    << r.pf_seq_steps_per_s << " steps/s (" << std::setprecision(3) << r.pf_seq_cpu_ms << " CPU-ms/step)\n";
         }
       }
     }

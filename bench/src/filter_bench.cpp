@@ -68,38 +68,78 @@ void bench_sequential(const FloorPlan& plan, const FilterBenchParams& bp, const 
     out.pf_update_full_cpu_s = median(full_cpu);
     out.pf_update_points_cpu_s = median(points_cpu);
   }
+  // The sequential walk: a VIO walk with a perfect observation every 10 steps.
+  OdometryParams op;
+  op.model = OdometryModel::kVio;
+  op.seed = 10;
+  const Walk walk = bench_walk(plan, bp.sequential_steps, 9);
+  const OdometryTrack odo = simulate_odometry(walk, op);
+  std::vector<Observation2D> observations(walk.steps.size());
+  for (std::size_t k = 10; k < walk.steps.size(); k += 10) observations[k] = observer.observe(walk.steps[k].T_world_body);
+  const int half = bp.sequential_steps / 2;
   {
-    // Histogram filter: F3Loc's start and an observation every 10 steps on a VIO walk.
-    OdometryParams op;
-    op.model = OdometryModel::kVio;
-    op.seed = 10;
-    const Walk walk = bench_walk(plan, bp.sequential_steps, 9);
-    const OdometryTrack odo = simulate_odometry(walk, op);
+    // Particle filter end to end: PALMS start from the kernel posterior of a perfect first
+    // observation, point-query updates at the observations.
+    const std::unique_ptr<Matcher> kernel = make_matcher("kernel", plan);
+    const Posterior start = kernel->match(observer.observe(walk.steps.front().T_world_body)).posterior;
+    std::vector<double> wall, cpu;
+    for (int r = 0; r < bp.repeats; ++r) {
+      ParticleFilterParams p;
+      p.num_particles = bp.particles;
+      p.odometry = odometry_uncertainty(op);
+      ParticleFilter f(plan, p);
+      f.initialise(start, odo.steps[0]);
+      const double w0 = now_s(), c0 = process_cpu_s();
+      for (std::size_t k = 1; k < odo.steps.size(); ++k) {
+        f.predict(odo.steps[k]);
+        if (k % 10 == 0) f.update(kernel->query(observations[k]));
+        (void)f.estimate();
+      }
+      wall.push_back((now_s() - w0) / bp.sequential_steps);
+      cpu.push_back((process_cpu_s() - c0) / bp.sequential_steps);
+    }
+    out.pf_seq_steps_per_s = 1.0 / median(wall);
+    out.pf_seq_cpu_ms = 1e3 * median(cpu);
+  }
+  {
+    // Histogram filter: F3Loc's start and the observations, dense (every cell, full posteriors)
+    // against sparse (the parameters' defaults: live cells, point queries, drop_mass).
     const std::unique_ptr<Matcher> ray = make_matcher("ray", plan);
     const Posterior start = ray->match(observer.observe(walk.steps.front().T_world_body)).posterior;
-    std::vector<Observation2D> observations(walk.steps.size());
-    for (std::size_t k = 10; k < walk.steps.size(); k += 10) observations[k] = observer.observe(walk.steps[k].T_world_body);
-    std::vector<double> wall[2], cpu[2];
+    std::vector<double> wall[2], cpu[2], late_cpu;
     std::vector<Pose2> track[2];
+    Posterior end_belief[2];
     for (int r = 0; r < bp.repeats; ++r) {
       for (int sparse = 0; sparse < 2; ++sparse) {
         HistogramFilterParams p;
         p.odometry = odometry_uncertainty(op);
         p.sparse = sparse == 1;
+        if (bp.drop_mass >= 0.0) p.drop_mass = bp.drop_mass;
         HistogramFilter f(plan, p);
         f.initialise(start, odo.steps[0]);
         track[sparse].clear();
         const double w0 = now_s(), c0 = process_cpu_s();
+        double c_half = c0;
         for (std::size_t k = 1; k < odo.steps.size(); ++k) {
           f.predict(odo.steps[k]);
           if (k % 10 == 0) f.update(ray->query(observations[k]));
           track[sparse].push_back(f.estimate().pose);
+          if (static_cast<int>(k) == half) c_half = process_cpu_s();
         }
+        const double c1 = process_cpu_s();
         wall[sparse].push_back((now_s() - w0) / bp.sequential_steps);
-        cpu[sparse].push_back((process_cpu_s() - c0) / bp.sequential_steps);
+        cpu[sparse].push_back((c1 - c0) / bp.sequential_steps);
         if (sparse) {
+          late_cpu.push_back((c1 - c_half) / (bp.sequential_steps - half));
           out.hf_seq_live_share = static_cast<double>(f.live_cells()) /
                                   (static_cast<double>(f.grid().width_px) * f.grid().height_px * p.num_orientations);
+          out.hf_seq_dropped_mass = f.dropped_mass();
+        }
+        if (r == 0) end_belief[sparse] = f.belief();
+        if (sparse && r == 0) {
+          double nonzero = 0.0;
+          for (const cv::Mat& m : end_belief[1].scores) nonzero += cv::countNonZero(m);
+          out.hf_seq_nonzero_share = nonzero / (static_cast<double>(f.grid().width_px) * f.grid().height_px * p.num_orientations);
         }
       }
     }
@@ -107,11 +147,19 @@ void bench_sequential(const FloorPlan& plan, const FilterBenchParams& bp, const 
     out.hf_seq_dense_cpu_ms = 1e3 * median(cpu[0]);
     out.hf_seq_sparse_ms = 1e3 * median(wall[1]);
     out.hf_seq_sparse_cpu_ms = 1e3 * median(cpu[1]);
-    out.hf_seq_identical = track[0].size() == track[1].size();
-    for (std::size_t k = 0; out.hf_seq_identical && k < track[0].size(); ++k) {
-      out.hf_seq_identical = track[0][k].x_m == track[1][k].x_m && track[0][k].y_m == track[1][k].y_m &&
-                             track[0][k].yaw_rad == track[1][k].yaw_rad;
+    out.hf_seq_sparse_late_cpu_ms = 1e3 * median(late_cpu);
+    out.hf_seq_position_diff_m = 0.0;
+    out.hf_seq_yaw_diff_deg = 0.0;
+    for (std::size_t k = 0; k < track[0].size() && k < track[1].size(); ++k) {
+      out.hf_seq_position_diff_m = std::max(out.hf_seq_position_diff_m, (track[0][k].position_m() - track[1][k].position_m()).norm());
+      out.hf_seq_yaw_diff_deg =
+          std::max(out.hf_seq_yaw_diff_deg, rad_to_deg(angle_distance_rad(track[0][k].yaw_rad, track[1][k].yaw_rad)));
     }
+    double tv = 0.0;
+    for (int s = 0; s < end_belief[0].num_slices(); ++s) {
+      tv += cv::norm(end_belief[0].scores[static_cast<std::size_t>(s)], end_belief[1].scores[static_cast<std::size_t>(s)], cv::NORM_L1);
+    }
+    out.hf_seq_total_variation = 0.5 * tv;
   }
 }
 
@@ -188,8 +236,18 @@ nlohmann::ordered_json to_json(const FilterBenchResult& r) {
           .number("hf_seq_dense_cpu_ms", &R::hf_seq_dense_cpu_ms, 0.0, kAny, "the same, CPU ms per step")
           .number("hf_seq_sparse_ms", &R::hf_seq_sparse_ms, 0.0, kAny, "histogram filter, sequential setting, sparse: ms per step (wall)")
           .number("hf_seq_sparse_cpu_ms", &R::hf_seq_sparse_cpu_ms, 0.0, kAny, "the same, CPU ms per step")
+          .number("hf_seq_sparse_late_cpu_ms", &R::hf_seq_sparse_late_cpu_ms, 0.0, kAny,
+                  "the same over the walk's second half (after the first observations)")
           .number("hf_seq_live_share", &R::hf_seq_live_share, 0.0, 1.0, "sparse filter's live cells at the end, share of cells x directions")
-          .flag("hf_seq_identical", &R::hf_seq_identical, "dense and sparse tracks equal to the last bit");
+          .number("hf_seq_nonzero_share", &R::hf_seq_nonzero_share, 0.0, 1.0,
+                  "sparse filter's non-zero cells at the end, share of cells x directions (live cells: the spans around them)")
+          .number("hf_seq_dropped_mass", &R::hf_seq_dropped_mass, 0.0, kAny, "sparse filter's dropped mass over the walk (drop_mass, accounted)")
+          .number("hf_seq_position_diff_m", &R::hf_seq_position_diff_m, 0.0, kAny, "largest distance between the dense and sparse estimates, m")
+          .number("hf_seq_yaw_diff_deg", &R::hf_seq_yaw_diff_deg, 0.0, 180.0, "largest heading difference between them, deg")
+          .number("hf_seq_total_variation", &R::hf_seq_total_variation, 0.0, 1.0, "total variation between the dense and sparse beliefs at the end")
+          .number("pf_seq_steps_per_s", &R::pf_seq_steps_per_s, 0.0, kAny,
+                  "particle filter end to end on the sequential walk (kernel point-query updates every 10 steps): steps/s, wall")
+          .number("pf_seq_cpu_ms", &R::pf_seq_cpu_ms, 0.0, kAny, "the same, CPU ms per step");
   return f.write(r);
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "floorcast/core/math.hpp"
 #include "floorcast/core/params.hpp"
@@ -27,6 +28,42 @@ __attribute__((target_clones("avx2", "default")))
 #endif
 void axpy(float* dst, const float* src, float w, int n) {
   for (int i = 0; i < n; ++i) dst[i] += w * src[i];
+}
+
+/// The normalisation's pass over one row of n cells: a cell whose value is below `drop` or whose
+/// scaled value is below `floor` becomes 0 (dropped; its unscaled value is returned in the sum),
+/// the others are scaled by `scale`; row_max is the largest kept scaled value (0 if none). Eight
+/// independent lanes so the loop vectorises (float lanes, summed per row into a double).
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+double drop_and_scale(float* row, int n, float drop, float scale, float floor, float& row_max) {
+  float lane_dropped[8] = {0, 0, 0, 0, 0, 0, 0, 0}, lane_max[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  int c = 0;
+  for (; c + 8 <= n; c += 8) {
+    for (int j = 0; j < 8; ++j) {
+      const float raw = row[c + j], v = raw * scale;
+      const bool kill = raw < drop || v < floor;
+      lane_dropped[j] += kill ? raw : 0.0f;
+      lane_max[j] = std::max(lane_max[j], kill ? 0.0f : v);
+      row[c + j] = kill ? 0.0f : v;
+    }
+  }
+  double dropped = 0.0;
+  float mx = 0.0f;
+  for (; c < n; ++c) {
+    const float raw = row[c], v = raw * scale;
+    const bool kill = raw < drop || v < floor;
+    dropped += kill ? raw : 0.0f;
+    mx = std::max(mx, kill ? 0.0f : v);
+    row[c] = kill ? 0.0f : v;
+  }
+  for (int j = 0; j < 8; ++j) {
+    dropped += lane_dropped[j];
+    mx = std::max(mx, lane_max[j]);
+  }
+  row_max = mx;
+  return dropped;
 }
 
 /// Widens [lo, hi] (lo > hi: empty) by the first and last non-zero cells of row[c0 .. c1]
@@ -113,7 +150,9 @@ const FieldList<HistogramFilterParams>& HistogramFilterParams::fields() {
                   "measurement update: belief x (floor + (1 - floor) x posterior / max)")
           .number("prune_below", &P::prune_below, 0.0, 1.0, "belief below this fraction of the maximum set to 0 (0 = never)")
           .flag("sparse", &P::sparse,
-                "visit only the cells holding belief and ask the matcher for those only (false: every cell, the dense filter; same results)")
+                "visit only the cells holding belief and ask the matcher for those only (false: every cell, the dense filter)")
+          .number("drop_mass", &P::drop_mass, 0.0, 0.1,
+                  "sparse: per step, drop the least likely cells holding at most this share of the mass (accounted, renormalised; 0 = exact)")
           .choice("estimate", &P::estimate, belief_estimate_names(),
                   "the belief's largest cell (F3Loc) or the pose with the most mass within the support window")
           .number("support_radius_m", &P::support_radius_m, 0.0, 100.0, "support window radius, m (success: 1 m)")
@@ -259,13 +298,25 @@ void HistogramFilter::finish_normalise() {
   dense_spans();
   peak_.assign(static_cast<std::size_t>(D), 0.0);
   peak_at_.assign(static_cast<std::size_t>(D), cv::Point(0, 0));
-  const float scale = static_cast<float>(1.0 / total);
+  // drop_mass: cells below `drop` (unnormalised) hold `dropped` of the mass: they are set to 0
+  // and the rest scaled to sum to 1 (0: nothing dropped, the exact filter).
+  // Accounting (sparse filter with drop_mass): the step since the last normalisation (motion or
+  // update: linear, never adding mass) took the belief's mass from belief_mass_ to total; the
+  // mass the dropped cells would have carried did not grow, so its ratio to the kept belief's
+  // mass grows by at most belief_mass_ / total (drop_bound()).
+  const bool accounting = params_.sparse && params_.drop_mass > 0.0;
+  if (accounting && belief_mass_ > 0.0) drop_ratio_ *= belief_mass_ / total;
+  double dropped = 0.0;
+  const float drop = drop_threshold(total, dropped);
+  const float scale = static_cast<float>(1.0 / (total - dropped));
+  std::vector<double> slice_dropped(static_cast<std::size_t>(D), 0.0);
   const float top = *std::max_element(slice_max_.begin(), slice_max_.end()) * scale;
   const float floor = params_.prune_below > 0.0 ? static_cast<float>(params_.prune_below * top) : 0.0f;
   tbb::parallel_for(0, D, [&](int o) {
     cv::Mat& b = belief_[static_cast<std::size_t>(o)];
     float mx = 0.0f;
     cv::Point at(0, 0);
+    double& dropped_here = slice_dropped[static_cast<std::size_t>(o)];
     const bool live = slice_max_[static_cast<std::size_t>(o)] > 0.0f;
     for (int blk = 0; blk < blocks_; ++blk) {
       // The span shrinks to the cells that stay non-zero (pruned or empty cells drop out).
@@ -280,13 +331,17 @@ void HistogramFilter::finish_normalise() {
       for (int r = blk * kBlockRows; r < std::min(H, (blk + 1) * kBlockRows); ++r) {
         const int c0 = std::max(sp.lo, row_lo_[static_cast<std::size_t>(r)]), c1 = std::min(sp.hi, row_hi_[static_cast<std::size_t>(r)]);
         float* row = b.ptr<float>(r);
-        for (int c = c0; c <= c1; ++c) {
-          const float v = row[c] * scale;
-          if (v > mx) {
-            mx = v;
-            at = cv::Point(c, r);
-          }
-          row[c] = v < floor ? 0.0f : v;
+        if (c0 > c1) continue;
+        // Dropped and pruned cells: 0; with accounting (drop_mass) their mass is accounted
+        // (prune_below's too). The peak: the first cell of the row's maximum (row order).
+        float row_max = 0.0f;
+        const double gone = drop_and_scale(row + c0, c1 - c0 + 1, drop, scale, floor, row_max);
+        if (accounting) dropped_here += gone;
+        if (row_max > mx) {
+          mx = row_max;
+          int c = c0;
+          while (row[c] != row_max) ++c;
+          at = cv::Point(c, r);
         }
         extend_by_nonzero(row, c0, c1, kept);
       }
@@ -295,13 +350,79 @@ void HistogramFilter::finish_normalise() {
     peak_[static_cast<std::size_t>(o)] = mx;
     peak_at_[static_cast<std::size_t>(o)] = at;
     slice_max_[static_cast<std::size_t>(o)] = mx;
-    mass_[static_cast<std::size_t>(o)] *= scale;
+    mass_[static_cast<std::size_t>(o)] = std::max(0.0, (mass_[static_cast<std::size_t>(o)] - dropped_here) * scale);
   });
+  if (accounting) {
+    double removed = 0.0;
+    for (double v : slice_dropped) removed += v;  // slice order: the same sum at any thread count
+    dropped_mass_ += removed / total;
+    drop_ratio_ = (drop_ratio_ * total + removed) / std::max(total - removed, 1e-300);
+    belief_mass_ = 0.0;
+    for (double m : mass_) belief_mass_ += m;
+  }
   update_estimate();
+}
+
+float HistogramFilter::drop_threshold(double total, double& dropped) const {
+  dropped = 0.0;
+  if (!params_.sparse || !(params_.drop_mass > 0.0)) return 0.0f;
+  // Value classes: the bits of a non-negative float shifted right by 20 (8 exponent bits and the
+  // top 3 mantissa bits: 1/8 octave), monotonic in the value. Per slice (in parallel, each in row
+  // order), reduced in slice order: the same threshold at any thread count.
+  constexpr int kShift = 20;  // 8 exponent bits, 3 mantissa bits: 1/8 octave
+  constexpr int kClasses = 1 << 11;
+  const int D = params_.num_orientations;
+  const int H = grid_.height_px;
+  const double budget = params_.drop_mass * total;
+  std::vector<std::vector<double>> hist(static_cast<std::size_t>(D));
+  tbb::parallel_for(0, D, [&](int o) {
+    if (!(slice_max_[static_cast<std::size_t>(o)] > 0.0f)) return;
+    std::vector<double>& h = hist[static_cast<std::size_t>(o)];
+    // Four interleaved histograms (column mod 4), so neighbouring cells of one class do not wait
+    // on each other's additions; summed in a fixed order.
+    h.assign(4 * kClasses, 0.0);
+    const cv::Mat& b = belief_[static_cast<std::size_t>(o)];
+    const float cap = static_cast<float>(budget);
+    for (int r = 0; r < H; ++r) {
+      const Span& sp = span_[static_cast<std::size_t>(o) * blocks_ + r / kBlockRows];
+      const int c0 = std::max(sp.lo, row_lo_[static_cast<std::size_t>(r)]), c1 = std::min(sp.hi, row_hi_[static_cast<std::size_t>(r)]);
+      const float* row = b.ptr<float>(r);
+      for (int c = c0; c <= c1; ++c) {
+        // Cells above the budget can never be dropped: not counted (most of a concentrated
+        // belief's live cells are below it, all of a flat one's). Zero cells land in class 0.
+        const float v = row[c];
+        if (v > cap) continue;
+        std::uint32_t bits = 0;
+        std::memcpy(&bits, &v, sizeof bits);
+        h[static_cast<std::size_t>(c & 3) * kClasses + (bits >> kShift)] += v;
+      }
+    }
+    for (int k = 0; k < kClasses; ++k) {
+      h[static_cast<std::size_t>(k)] += h[static_cast<std::size_t>(kClasses + k)] + h[static_cast<std::size_t>(2 * kClasses + k)] +
+                                        h[static_cast<std::size_t>(3 * kClasses + k)];
+    }
+    h.resize(kClasses);
+  });
+  std::vector<double> all(kClasses, 0.0);
+  for (const std::vector<double>& h : hist)
+    for (std::size_t k = 0; k < h.size(); ++k) all[k] += h[k];
+  // The lowest classes whose mass together stays within the budget.
+  int k = 0;
+  double cum = 0.0;
+  while (k < kClasses && cum + all[static_cast<std::size_t>(k)] <= budget) cum += all[static_cast<std::size_t>(k++)];
+  if (!(cum > 0.0) || k >= kClasses) return 0.0f;
+  dropped = cum;
+  const std::uint32_t bits = static_cast<std::uint32_t>(k) << kShift;
+  float threshold = 0.0f;
+  std::memcpy(&threshold, &bits, sizeof threshold);
+  return threshold;
 }
 
 void HistogramFilter::initialise(const Posterior& post, const OdometryStep& first) {
   last_t_s_ = first.t_s;
+  dropped_mass_ = 0.0;
+  drop_ratio_ = 0.0;
+  belief_mass_ = 0.0;
   elapsed_ = {};
   offset_px_.assign(static_cast<std::size_t>(params_.num_orientations), Vec2(0.0, 0.0));
   // The heading grid starts aligned with the posterior's first slice (a matcher's slices at

@@ -24,6 +24,7 @@ struct FilterBenchParams {
   bool histogram_filter = true;
   bool sequential = true;     ///< the measurement-update and sparse-filter comparisons
   int sequential_steps = 60;  ///< steps of the sequential histogram-filter walk
+  double drop_mass = -1.0;    ///< the sparse histogram filter's drop_mass (< 0: its default)
 };
 
 struct FilterBenchResult {
@@ -46,8 +47,20 @@ struct FilterBenchResult {
   double hf_seq_dense_cpu_ms = 0.0;
   double hf_seq_sparse_ms = 0.0;
   double hf_seq_sparse_cpu_ms = 0.0;
+  double hf_seq_sparse_late_cpu_ms = 0.0;  ///< sparse, CPU ms per step over the walk's second half
   double hf_seq_live_share = 0.0;
-  bool hf_seq_identical = false;
+  double hf_seq_nonzero_share = 0.0;  ///< the sparse belief's non-zero cells at the end (the spans cover more)
+  /// Sparse against dense: the sparse filter's accounted dropped mass (drop_mass), the largest
+  /// position and heading differences between the two tracks, and the total variation between
+  /// the two beliefs at the end.
+  double hf_seq_dropped_mass = 0.0;
+  double hf_seq_position_diff_m = 0.0;
+  double hf_seq_yaw_diff_deg = 0.0;
+  double hf_seq_total_variation = 0.0;
+  /// Particle filter end to end on the same walk (PALMS start, kernel point-query updates every
+  /// 10 steps, observations included): steps per second (wall) and CPU ms per step.
+  double pf_seq_steps_per_s = 0.0;
+  double pf_seq_cpu_ms = 0.0;
 };
 
 FilterBenchResult bench_filter(const FloorPlan& plan, const FilterBenchParams& params);

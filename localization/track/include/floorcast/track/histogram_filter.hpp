@@ -77,6 +77,16 @@ struct HistogramFilterParams {
   /// eighth of the posterior's. The same arithmetic as visiting every cell (false: the dense
   /// filter, the reference of tests and benches), bit for bit.
   bool sparse = true;
+  /// Sparse filter's mass accounting: after every step (prediction or update) the least likely
+  /// cells holding together at most this share of the belief's mass are set to 0 and the rest
+  /// renormalised; the dropped shares are accounted (dropped_mass()). Without it the measurement
+  /// floor keeps every hypothesis above prune_below and most of the grid live (61% on the campus);
+  /// with it the filter's steps cost what the belief's mass covers. A flat belief drops nothing
+  /// (cells are dropped by value classes of 1/8 octave, whole classes only, never part of a tie),
+  /// so the full grid stays live until updates concentrate the mass. 0: exact (the dense filter's
+  /// arithmetic, bit for bit). The dense filter (sparse false) never drops. The tolerance against
+  /// the dense filter it gives is measured in results/bench_filter.md and tests/track.
+  double drop_mass = 1e-4;
   BeliefEstimate estimate = BeliefEstimate::kArgmax;
   /// The support window: TrackEstimate::support is the belief mass within support_radius_m and
   /// support_yaw_deg of the estimate (the success criterion's 1 m, 30 deg).
@@ -125,6 +135,21 @@ class HistogramFilter final : public Tracker {
   /// Measurement updates so far that asked the posterior for the live cells only (point queries)
   /// instead of reading the full posterior.
   int point_query_updates() const { return point_query_updates_; }
+  /// The belief mass dropped by drop_mass (and prune_below) so far: the sum over steps of the
+  /// share of the belief each step set to 0 before renormalising (0 for the dense filter and
+  /// drop_mass 0).
+  double dropped_mass() const { return dropped_mass_; }
+  /// A bound on the total variation between this belief and the dense filter's (the same steps
+  /// without dropping): every step is linear and positive and never adds mass (motion: a
+  /// normalised kernel times the building mask; update: a likelihood of at most 1), so the dense
+  /// filter's unnormalised belief is this one's plus what the dropped cells would have become,
+  /// whose mass is at most what was dropped; against the kept mass that ratio R grows by 1 / (the
+  /// share of its mass the kept belief keeps through a step) and by each drop, and the total
+  /// variation is at most R / (1 + R). Updates that weigh the kept belief down (a likelihood far
+  /// below 1 where it sits) grow it: a worst case (it assumes the dropped cells were weighed 1),
+  /// so it is often far above the measured total variation (results/bench_filter.md). The dense
+  /// filter's own pruning (prune_below, 1e-7 of the maximum per cell) is not in it.
+  double drop_bound() const { return drop_ratio_ / (1.0 + drop_ratio_); }
   const GridSpec& grid() const { return grid_; }
   const HistogramFilterParams& params() const { return params_; }
 
@@ -169,6 +194,15 @@ class HistogramFilter final : public Tracker {
   /// sparse false: every span is the whole row (the dense filter).
   void dense_spans();
   int point_query_updates_ = 0;
+  double dropped_mass_ = 0.0;
+  /// drop_bound(): what the dropped cells would have carried, against the kept belief's mass.
+  double drop_ratio_ = 0.0;
+  /// Mass of the belief after the last normalisation (accounting; 0: not normalised yet).
+  double belief_mass_ = 0.0;
+  /// drop_mass: the value (unnormalised, as the belief holds it now) below which cells are dropped
+  /// and the mass they hold (0, 0: nothing to drop). From a histogram of the live cells' values
+  /// by float exponent and 3 mantissa bits.
+  float drop_threshold(double total, double& dropped) const;
   /// Per slice after the last normalisation: mass, maximum and where it is.
   std::vector<double> mass_, peak_;
   /// Per slice: the unnormalised maximum of the belief as it is now (0: the slice is empty).
