@@ -96,6 +96,11 @@ void register_bench_match(CLI::App& root) {
       ->capture_default_str()
       ->check(in_range(1, 10000));
   cmd->add_option("--seed", o->params.seed, "Seed of the observation points")->capture_default_str();
+  cmd->add_option("--region", o->params.region,
+                  "Where the kernel and ray observers stand: uniform, or transitional (corridors, lobbies: the "
+                  "scenarios' protocol)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"uniform", "transitional"}));
   cmd->add_option("--orientations", o->params.kernel_orientations,
                   "Kernel orientations: candidates padded to this many (PALMS+ O = 10; 0 = its own)")
       ->capture_default_str()

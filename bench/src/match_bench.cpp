@@ -20,6 +20,7 @@
 #include "floorcast/match/bev_matcher.hpp"
 #include "floorcast/match/ray_matcher.hpp"
 #include "floorcast/observe/bev_predictor.hpp"
+#include "floorcast/scenarios/sampling.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
 
 namespace floorcast {
@@ -123,6 +124,18 @@ double fft_error_probe(const FloorPlan& plan, const Observation2D& obs, double y
   return worst;
 }
 
+/// The observers' poses of params.region: uniform over `valid`, or transitional (the scenarios'
+/// sampling: rooms of the transitional kinds, 0.5 m clearance, on `grid`'s resolution).
+std::vector<Pose2> bench_poses(const FloorPlan& plan, const cv::Mat& valid, const GridSpec& grid,
+                               const MatchBenchParams& params) {
+  if (params.region == "transitional") {
+    return sample_observation_poses(plan, params.observations, params.seed, 0, 0.5, grid.resolution_m_per_px, plan.rooms,
+                                    {"transitional"});
+  }
+  if (params.region != "uniform") throw InputError("bench match: region must be uniform or transitional");
+  return sample_valid_poses(valid, grid, params.observations, params.seed);
+}
+
 }  // namespace
 
 std::vector<double> pad_yaws(std::vector<double> yaws, std::size_t n) {
@@ -140,6 +153,7 @@ MatchBenchResult bench_match(const FloorPlan& plan, const MatchBenchParams& para
   out.plan = plan.name;
   out.threads = tbb::info::default_concurrency();
   out.observations = params.observations;
+  out.region = params.region;
   out.top_k = params.top_k;
 
   if (params.kernel) {
@@ -157,7 +171,7 @@ MatchBenchResult bench_match(const FloorPlan& plan, const MatchBenchParams& para
     pp.blocking = kernel.blocking();
     const PerfectObserver observer(plan, pp);
     std::vector<Observation2D> observations;
-    for (const Pose2& p : sample_valid_poses(kernel, params.observations, params.seed)) observations.push_back(observer.observe(p));
+    for (const Pose2& p : bench_poses(plan, kernel.valid_mask(), kernel.grid(), params)) observations.push_back(observer.observe(p));
 
     const int S = static_cast<int>(kernel.params().scales.size());
     MatchRequest full;
@@ -238,7 +252,7 @@ MatchBenchResult bench_match(const FloorPlan& plan, const MatchBenchParams& para
     // The same poses as the kernel's (same grid, same blocking, same valid area).
     std::vector<Observation2D> observations;
     const cv::Mat valid = matcher_valid_mask(plan, ray->grid(), ray->blocking());
-    for (const Pose2& p : sample_valid_poses(valid, ray->grid(), params.observations, params.seed))
+    for (const Pose2& p : bench_poses(plan, valid, ray->grid(), params))
       observations.push_back(observer.observe(p));
     (void)ray->match(observations.front(), MatchRequest::modes(params.top_k));
     // The exhaustive search on the same volume, side by side with the bounded one.
@@ -510,6 +524,7 @@ const FieldList<MatchBenchResult>& match_bench_fields() {
           .text("plan", &M::plan, "the plan's name")
           .integer("threads", &M::threads, 0, kManyItems, "TBB threads")
           .integer("observations", &M::observations, 0, kManyItems, "perfect observations (medians over them)")
+          .text("region", &M::region, "where the kernel and ray observers stand: uniform or transitional")
           .integer("top_k", &M::top_k, 0, kManyItems, "modes asked for")
           .flag("kernel_measured", &M::kernel_measured, "the kernel matcher was measured (grid, kernel)")
           .integer("grid_width_px", &M::grid_width_px, 0, kManyItems, "kernel grid width, cells")

@@ -38,6 +38,10 @@ struct MatchBenchParams {
   /// BEV matcher: fields of view of its observations, degrees (360: the full circle; empty: skip).
   std::vector<double> bev_fov_deg = {60.0, 360.0};
   double bev_resolution_m = 0.1;  ///< BevMatcherParams::resolution_m
+  /// Where the kernel and ray matchers' observers stand: "uniform" (any valid cell) or
+  /// "transitional" (cells in rooms of the transitional kinds with 0.5 m clearance, the scenarios'
+  /// default protocol: corridors, where the ray matcher's bounds prune least).
+  std::string region = "uniform";
 };
 
 /// CPU (process, all threads) and wall seconds of one call: medians over the observations.
@@ -125,6 +129,7 @@ struct MatchBenchResult {
   std::string plan;
   int threads = 0;
   int observations = 0;
+  std::string region;  ///< MatchBenchParams::region
   int top_k = 0;
   bool kernel_measured = false;
   int grid_width_px = 0;   ///< the kernel matcher's grid (0.1 m)
