@@ -11,7 +11,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+#include <limits>
 #include <map>
+#include <memory>
 
 #include "floorcast/match/plan_raster.hpp"
 #include "floorcast/core/math.hpp"
@@ -89,17 +92,17 @@ int tile_cells(int D) { return D <= 64 ? 512 : 128; }
 
 /// acc[o * stride + t] = sum_j |min(V[(o + off_j) mod D][first + t], clip) - rays[j]| over the
 /// R compared rays (offsets off_j, RayMatcher::ComparedRays) for the T <= stride cells of one
-/// tile, in the volume's units (mm for 16 bits). The hot loop of the matcher: 16-bit lanes
+/// tile and the orientations o0 <= o < o1 (other rows of acc untouched), in the volume's units (mm for 16 bits). The hot loop of the matcher: 16-bit lanes
 /// (|a - b| = max - min), partial sums over `block` rays (block * range < 2^16 units: 6 rays at
 /// 10 m in mm) widened into 32-bit sums; vectorised over cells, with an AVX2 clone where the CPU
 /// has it.
 template <class V>
 inline __attribute__((always_inline)) void l1_tile_body(const V* volume, std::size_t N, std::size_t first, int T,
-                                                        int stride, int D, const int* offsets, int R,
-                                                        const std::uint16_t* rays_u, std::uint16_t clip_u, bool clip,
-                                                        int block, std::int32_t* acc, std::uint16_t* part) {
+                                                        int stride, int D, int o0, int o1, const int* offsets,
+                                                        int R, const std::uint16_t* rays_u, std::uint16_t clip_u,
+                                                        bool clip, int block, std::int32_t* acc, std::uint16_t* part) {
   const int kBlock = block;
-  for (int o = 0; o < D; ++o) {
+  for (int o = o0; o < o1; ++o) {
     std::int32_t* a = acc + static_cast<std::size_t>(o) * stride;
     for (int t = 0; t < T; ++t) a[t] = 0;
     for (int i0 = 0; i0 < R; i0 += kBlock) {
@@ -132,19 +135,19 @@ inline __attribute__((always_inline)) void l1_tile_body(const V* volume, std::si
 #if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
 __attribute__((target_clones("avx2", "default")))
 #endif
-void l1_tile16(const std::uint16_t* volume, std::size_t N, std::size_t first, int T, int stride, int D,
+void l1_tile16(const std::uint16_t* volume, std::size_t N, std::size_t first, int T, int stride, int D, int o0, int o1,
                const int* offsets, int R, const std::uint16_t* rays_u, std::uint16_t clip_u, bool clip, int block,
                std::int32_t* acc, std::uint16_t* part) {
-  l1_tile_body(volume, N, first, T, stride, D, offsets, R, rays_u, clip_u, clip, block, acc, part);
+  l1_tile_body(volume, N, first, T, stride, D, o0, o1, offsets, R, rays_u, clip_u, clip, block, acc, part);
 }
 
 #if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
 __attribute__((target_clones("avx2", "default")))
 #endif
-void l1_tile8(const std::uint8_t* volume, std::size_t N, std::size_t first, int T, int stride, int D,
+void l1_tile8(const std::uint8_t* volume, std::size_t N, std::size_t first, int T, int stride, int D, int o0, int o1,
               const int* offsets, int R, const std::uint16_t* rays_u, std::uint16_t clip_u, bool clip, int block,
               std::int32_t* acc, std::uint16_t* part) {
-  l1_tile_body(volume, N, first, T, stride, D, offsets, R, rays_u, clip_u, clip, block, acc, part);
+  l1_tile_body(volume, N, first, T, stride, D, o0, o1, offsets, R, rays_u, clip_u, clip, block, acc, part);
 }
 
 /// The observation's compared rays in the volume's units (RayMatcher::RayUnits, public here).
@@ -157,15 +160,16 @@ struct TileRays {
   int block;
 };
 
-/// l1_tile of the volume's storage (8 or 16 bits).
+/// l1_tile of the volume's storage (8 or 16 bits), orientations o0 <= o < o1 (default: all).
 void l1_tile(const DistanceVolume& v, std::size_t first, int T, int stride, const TileRays& r, std::int32_t* acc,
-             std::uint16_t* part) {
+             std::uint16_t* part, int o0 = 0, int o1 = -1) {
+  if (o1 < 0) o1 = v.num_directions;
   if (v.bits == 8) {
-    l1_tile8(v.q8.data(), v.num_cells(), first, T, stride, v.num_directions, r.offsets, r.count, r.rays, r.clip,
+    l1_tile8(v.q8.data(), v.num_cells(), first, T, stride, v.num_directions, o0, o1, r.offsets, r.count, r.rays, r.clip,
              r.clipped, r.block, acc, part);
   } else {
-    l1_tile16(v.mm.data(), v.num_cells(), first, T, stride, v.num_directions, r.offsets, r.count, r.rays, r.clip,
-              r.clipped, r.block, acc, part);
+    l1_tile16(v.mm.data(), v.num_cells(), first, T, stride, v.num_directions, o0, o1, r.offsets, r.count, r.rays,
+              r.clip, r.clipped, r.block, acc, part);
   }
 }
 
@@ -200,6 +204,92 @@ void exp_neg_scaled(const std::int32_t* acc, int T, float k, float* out) {
 }
 
 
+
+/// Orientation groups of the bounded search at D directions: group g holds orientations
+/// g w .. min(D, (g + 1) w) - 1 (w = group_width(D); 0: no groups). Bounding a group costs about
+/// 2 / w of scoring its cell exactly at every orientation and scoring one group w / D of it, so w
+/// ~ sqrt(D) balances the two; below 72 directions the groups do not pay.
+int group_width(int D) { return D < 72 ? 0 : std::max(4, static_cast<int>(std::lround(std::sqrt(2.0 * D / 3.0)))); }
+
+/// Batches of the bounded search grow by this fraction of the runs taken so far (refined, or
+/// scored): small enough not to overshoot the final threshold by much, large enough to keep both
+/// threads busy (measured on the real development levels: 1/8 scores ~30% fewer cells than 1/2).
+constexpr std::size_t kBatchGrowth = 8;
+
+/// Lower bounds of every orientation group's L1 over the n <= kRunCells cells of one run (the
+/// volume's cells first..first+n-1): at any orientation o of group g, ray j meets direction
+/// (o + off_j) mod D, which lies in the window of w directions starting at (g w + off_j) mod D, so
+/// its |v - r_j| is at least the distance of r_j from [min, max] of that window's clipped
+/// distances. out[g * kRunCells + t] = that sum for cell t (t < n). Windows by doubling (min of two
+/// overlapping power-of-two windows); lo, hi, tmp: D * kRunCells scratch each.
+template <class V>
+inline __attribute__((always_inline)) void group_bounds_body(const V* volume, std::size_t N, std::size_t first, int n,
+                                                             int D, int w, const TileRays& r, std::uint16_t* lo,
+                                                             std::uint16_t* hi, std::uint16_t* tmp, std::int32_t* out) {
+  constexpr int S = kRunCells;
+  for (int d = 0; d < D; ++d) {
+    const V* p = volume + static_cast<std::size_t>(d) * N + first;
+    std::uint16_t* l = lo + static_cast<std::size_t>(d) * S;
+    for (int t = 0; t < S; ++t) {
+      const std::uint16_t v = t < n ? static_cast<std::uint16_t>(p[t]) : 0;
+      l[t] = r.clipped && v > r.clip ? r.clip : v;
+    }
+  }
+  std::copy(lo, lo + static_cast<std::size_t>(D) * S, hi);
+  // Windows of len directions, len doubling while 2 len <= w.
+  int len = 1;
+  for (; 2 * len <= w; len *= 2) {
+    for (std::uint16_t* m : {lo, hi}) {
+      const bool is_lo = m == lo;
+      for (int d = 0; d < D; ++d) {
+        const std::uint16_t* a = m + static_cast<std::size_t>(d) * S;
+        const std::uint16_t* b = m + static_cast<std::size_t>((d + len) % D) * S;
+        std::uint16_t* c = tmp + static_cast<std::size_t>(d) * S;
+        for (int t = 0; t < S; ++t) c[t] = is_lo ? std::min(a[t], b[t]) : std::max(a[t], b[t]);
+      }
+      std::copy(tmp, tmp + static_cast<std::size_t>(D) * S, m);
+    }
+  }
+  if (len < w) {  // window w = [d, d + len) united with [d + w - len, d + w)
+    for (std::uint16_t* m : {lo, hi}) {
+      const bool is_lo = m == lo;
+      for (int d = 0; d < D; ++d) {
+        const std::uint16_t* a = m + static_cast<std::size_t>(d) * S;
+        const std::uint16_t* b = m + static_cast<std::size_t>((d + w - len) % D) * S;
+        std::uint16_t* c = tmp + static_cast<std::size_t>(d) * S;
+        for (int t = 0; t < S; ++t) c[t] = is_lo ? std::min(a[t], b[t]) : std::max(a[t], b[t]);
+      }
+      std::copy(tmp, tmp + static_cast<std::size_t>(D) * S, m);
+    }
+  }
+  const int G = (D + w - 1) / w;
+  for (int g = 0; g < G; ++g) {
+    std::int32_t* acc = out + static_cast<std::size_t>(g) * S;
+    for (int t = 0; t < S; ++t) acc[t] = 0;
+    for (int j = 0; j < r.count; ++j) {
+      const std::size_t d = static_cast<std::size_t>((g * w + r.offsets[j]) % D);
+      const std::uint16_t* a = lo + d * S;
+      const std::uint16_t* b = hi + d * S;
+      const std::int32_t ray = r.rays[j];
+      for (int t = 0; t < S; ++t) {
+        const std::int32_t below = a[t] - ray, above = ray - b[t];
+        acc[t] += (below > 0 ? below : 0) + (above > 0 ? above : 0);
+      }
+    }
+  }
+}
+
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void group_bounds(const DistanceVolume& v, std::size_t first, int n, int w, const TileRays& r, std::uint16_t* lo,
+                  std::uint16_t* hi, std::uint16_t* tmp, std::int32_t* out) {
+  if (v.bits == 8) {
+    group_bounds_body(v.q8.data(), v.num_cells(), first, n, v.num_directions, w, r, lo, hi, tmp, out);
+  } else {
+    group_bounds_body(v.mm.data(), v.num_cells(), first, n, v.num_directions, w, r, lo, hi, tmp, out);
+  }
+}
 
 /// The scoring loop of both outputs: every stored cell, one task per grid row (its cells are a
 /// contiguous index range), tiles of tile_cells(D) cells. on_row(row) runs first in each row's
@@ -665,6 +755,30 @@ std::vector<std::int32_t> RayMatcher::lower_bounds_mm(const Observation2D& obs) 
   return out;
 }
 
+RayMatcher::GroupBounds RayMatcher::group_bounds_mm(const Observation2D& obs) const {
+  const RayUnits ru = ray_units(obs);
+  const TileRays rays{ru.offsets.data(), static_cast<int>(ru.offsets.size()), ru.rays.data(), ru.clip, ru.clipped, ru.block};
+  const int D = pre_->volume.num_directions;
+  GroupBounds out;
+  out.group_width = group_width(D);
+  const int w = out.group_width > 0 ? out.group_width : D;
+  out.groups = (D + w - 1) / w;
+  const std::size_t cells = static_cast<std::size_t>(D) * kRunCells;
+  std::vector<std::uint16_t> lo(cells), hi(cells), tmp(cells);
+  std::vector<std::int32_t> acc(static_cast<std::size_t>(out.groups) * kRunCells);
+  out.mm.resize(pre_->volume.num_cells() * static_cast<std::size_t>(out.groups));
+  for (const auto& run : pre_->runs) {
+    group_bounds(pre_->volume, static_cast<std::size_t>(run.first), run.second, w, rays, lo.data(), hi.data(), tmp.data(),
+                 acc.data());
+    for (int t = 0; t < run.second; ++t)
+      for (int g = 0; g < out.groups; ++g)
+        out.mm[(static_cast<std::size_t>(run.first) + static_cast<std::size_t>(t)) * static_cast<std::size_t>(out.groups) +
+               static_cast<std::size_t>(g)] = acc[static_cast<std::size_t>(g) * kRunCells + static_cast<std::size_t>(t)] *
+                                              pre_->volume.step_mm;
+  }
+  return out;
+}
+
 void RayMatcher::match_modes(const RayUnits& ru, const MatchRequest& request, MatchResult& result) const {
   const TileRays rays{ru.offsets.data(), static_cast<int>(ru.offsets.size()), ru.rays.data(), ru.clip, ru.clipped, ru.block};
   // The estimate, top-K modes and max-over-yaw map without the D x H x W posterior (which costs
@@ -687,14 +801,24 @@ void RayMatcher::match_modes(const RayUnits& ru, const MatchRequest& request, Ma
                        static_cast<int>(ru.offsets.size()) == D;
   // Cells whose best is final: recomputed over the live orientations by a suppression.
   std::vector<std::uint8_t> touched(bounded ? N : 0, 0);
-  // Bounded search: runs ordered by the smallest lower bound of their cells' L1 (mm), scored in
-  // that order (order[0..next_run) are scored).
+  // Bounded search, coarse to fine: runs ordered by the smallest rank bound of their cells' L1
+  // (order, rotation-invariant, cheap); with orientation groups (group_width), runs are taken from
+  // that order in batches and bounded per group (group_bounds: orientation-aware, much tighter
+  // in corridors), and the refined runs are scored from a heap in ascending refined bound, each
+  // cell only at the groups that can still hold its best orientation. order[0..next_rank) have
+  // left the rank order (refined, or scored directly without groups); `scored` lists the runs
+  // scored.
   std::vector<std::int32_t> run_lb;
   std::vector<std::uint32_t> order;
-  std::size_t next_run = 0;
+  std::size_t next_rank = 0;
+  std::vector<std::uint32_t> scored;
+  const int gw = bounded ? group_width(D) : 0;
+  const int G = gw > 0 ? (D + gw - 1) / gw : 0;
+  std::vector<std::pair<std::int32_t, std::uint32_t>> heap;  // (refined bound, run), a min-heap
+  std::unique_ptr<std::int32_t[]> group_lb;                   // G per run (only refined runs written)
   std::int32_t margin_u = 0;
   double bound_s = 0.0;
-  std::size_t cells_scored = 0;
+  std::size_t cells_scored = 0, runs_refined = 0;
   auto update_best = [&](std::size_t first, int n, int o, const float* score) {
     for (int t = 0; t < n; ++t) {
       const std::size_t i = first + static_cast<std::size_t>(t);
@@ -706,39 +830,116 @@ void RayMatcher::match_modes(const RayUnits& ru, const MatchRequest& request, Ma
   };
   struct RunScratch {
     std::vector<std::int32_t> acc;
-    std::vector<std::uint16_t> part;
+    std::vector<std::uint16_t> part, lo, hi, tmp;
     std::vector<float> score;
-    double l1_s = 0.0, exp_s = 0.0;
+    double l1_s = 0.0, exp_s = 0.0, group_s = 0.0;
+    std::size_t orientations = 0;
   };
   tbb::enumerable_thread_specific<RunScratch> run_scratch;
-  // Scores order[a..b) exactly (every orientation), the same arithmetic as score_all_cells.
-  auto score_runs = [&](std::size_t a, std::size_t b) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(a, b, 4), [&](const tbb::blocked_range<std::size_t>& range) {
+  // Scores the runs batch[0..) exactly, the same arithmetic as score_all_cells: every
+  // orientation, or with groups the groups in ascending bound until no cell of the run can have
+  // its best orientation in the rest (a group's bound above every cell's best L1 so far plus the
+  // rounding margin); ties go to the lowest slice as in the exhaustive pass.
+  auto score_runs = [&](const std::vector<std::uint32_t>& batch) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch.size(), 4), [&](const tbb::blocked_range<std::size_t>& range) {
       RunScratch& s = run_scratch.local();
       s.acc.resize(static_cast<std::size_t>(D) * kRunCells);
       s.part.resize(kRunCells);
       s.score.resize(kRunCells);
       for (std::size_t u = range.begin(); u != range.end(); ++u) {
-        const std::size_t first = static_cast<std::size_t>(pre_->runs[order[u]].first);
-        const int n = pre_->runs[order[u]].second;
-        const double ta = thread_cpu_s();
-        l1_tile(pre_->volume, first, n, kRunCells, rays, s.acc.data(), s.part.data());
-        const double tb = thread_cpu_s();
-        for (int o = 0; o < D; ++o) {
-          exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * kRunCells, n, k, s.score.data());
-          for (int t = 0; t < n; ++t) {
-            const std::size_t i = first + static_cast<std::size_t>(t);
-            if (!touched[i] && s.score[t] > best[i]) {
-              best[i] = s.score[t];
-              best_o[i] = static_cast<std::uint16_t>(o);
+        const std::size_t first = static_cast<std::size_t>(pre_->runs[batch[u]].first);
+        const int n = pre_->runs[batch[u]].second;
+        if (G == 0) {
+          const double ta = thread_cpu_s();
+          l1_tile(pre_->volume, first, n, kRunCells, rays, s.acc.data(), s.part.data());
+          const double tb = thread_cpu_s();
+          for (int o = 0; o < D; ++o) {
+            exp_neg_scaled(s.acc.data() + static_cast<std::size_t>(o) * kRunCells, n, k, s.score.data());
+            for (int t = 0; t < n; ++t) {
+              const std::size_t i = first + static_cast<std::size_t>(t);
+              if (!touched[i] && s.score[t] > best[i]) {
+                best[i] = s.score[t];
+                best_o[i] = static_cast<std::uint16_t>(o);
+              }
             }
           }
+          s.l1_s += tb - ta;
+          s.exp_s += thread_cpu_s() - tb;
+          s.orientations += static_cast<std::size_t>(D) * static_cast<std::size_t>(n);
+          continue;
         }
-        s.l1_s += tb - ta;
-        s.exp_s += thread_cpu_s() - tb;
+        const std::int32_t* gl = group_lb.get() + static_cast<std::size_t>(batch[u]) * static_cast<std::size_t>(G);
+        std::vector<int> groups(static_cast<std::size_t>(G));
+        for (int g = 0; g < G; ++g) groups[static_cast<std::size_t>(g)] = g;
+        std::sort(groups.begin(), groups.end(), [&](int a, int b) { return gl[a] != gl[b] ? gl[a] < gl[b] : a < b; });
+        std::int32_t cell_min[kRunCells];
+        for (int t = 0; t < kRunCells; ++t) cell_min[t] = std::numeric_limits<std::int32_t>::max();
+        for (int idx = 0; idx < G; ++idx) {
+          const int g = groups[static_cast<std::size_t>(idx)];
+          if (idx > 0) {
+            const std::int64_t worst = *std::max_element(cell_min, cell_min + n);
+            if (static_cast<std::int64_t>(gl[g]) > worst + margin_u) break;
+          }
+          const int o0 = g * gw, o1 = std::min(D, o0 + gw);
+          const double ta = thread_cpu_s();
+          l1_tile(pre_->volume, first, n, kRunCells, rays, s.acc.data(), s.part.data(), o0, o1);
+          const double tb = thread_cpu_s();
+          for (int o = o0; o < o1; ++o) {
+            const std::int32_t* acc = s.acc.data() + static_cast<std::size_t>(o) * kRunCells;
+            exp_neg_scaled(acc, n, k, s.score.data());
+            for (int t = 0; t < n; ++t) {
+              cell_min[t] = std::min(cell_min[t], acc[t]);
+              const std::size_t i = first + static_cast<std::size_t>(t);
+              if (!touched[i] && (s.score[t] > best[i] || (s.score[t] == best[i] && o < best_o[i]))) {
+                best[i] = s.score[t];
+                best_o[i] = static_cast<std::uint16_t>(o);
+              }
+            }
+          }
+          s.l1_s += tb - ta;
+          s.exp_s += thread_cpu_s() - tb;
+          s.orientations += static_cast<std::size_t>(o1 - o0) * static_cast<std::size_t>(n);
+        }
       }
     });
-    for (std::size_t u = a; u < b; ++u) cells_scored += static_cast<std::size_t>(pre_->runs[order[u]].second);
+    for (const std::uint32_t u : batch) {
+      cells_scored += static_cast<std::size_t>(pre_->runs[u].second);
+      scored.push_back(u);
+    }
+  };
+  // Bounds the runs order[a..b) per orientation group and puts them on the heap.
+  auto refine_runs = [&](std::size_t a, std::size_t b) {
+    std::vector<std::int32_t> refined(b - a);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(a, b, 8), [&](const tbb::blocked_range<std::size_t>& range) {
+      RunScratch& s = run_scratch.local();
+      const std::size_t cells = static_cast<std::size_t>(D) * kRunCells;
+      s.lo.resize(cells);
+      s.hi.resize(cells);
+      s.tmp.resize(cells);
+      s.acc.resize(std::max(s.acc.size(), static_cast<std::size_t>(std::max(D, G)) * kRunCells));
+      const double ta = thread_cpu_s();
+      for (std::size_t v = range.begin(); v != range.end(); ++v) {
+        const std::uint32_t u = order[v];
+        const int n = pre_->runs[u].second;
+        group_bounds(pre_->volume, static_cast<std::size_t>(pre_->runs[u].first), n, gw, rays, s.lo.data(), s.hi.data(),
+                     s.tmp.data(), s.acc.data());
+        std::int32_t* gl = group_lb.get() + static_cast<std::size_t>(u) * static_cast<std::size_t>(G);
+        std::int32_t lowest = std::numeric_limits<std::int32_t>::max();
+        for (int g = 0; g < G; ++g) {
+          const std::int32_t* acc = s.acc.data() + static_cast<std::size_t>(g) * kRunCells;
+          gl[g] = *std::min_element(acc, acc + n);
+          lowest = std::min(lowest, gl[g]);
+        }
+        // The rank bound holds as well: keep the larger.
+        refined[v - a] = std::max(lowest, run_lb[u]);
+      }
+      s.group_s += thread_cpu_s() - ta;
+    });
+    for (std::size_t v = a; v < b; ++v) {
+      heap.emplace_back(refined[v - a], order[v]);
+      std::push_heap(heap.begin(), heap.end(), std::greater<>());
+    }
+    runs_refined += b - a;
   };
   if (!bounded) {
     score_all_cells(pre_->volume, pre_->row_start, rays, k, [](int) {}, update_best, l1_s, exp_s);
@@ -763,15 +964,46 @@ void RayMatcher::match_modes(const RayUnits& ru, const MatchRequest& request, Ma
     // exp_neg_scaled is monotone only up to float rounding (relative ~1e-5 at the largest sums):
     // bounds are lowered by a margin worth 1e-4 of the exponent before they are compared.
     margin_u = static_cast<std::int32_t>(std::min(1e9, std::ceil(0.1 * params_.lambda_m / pre_->volume.step_mm)));
+    if (G > 0) group_lb.reset(new std::int32_t[pre_->runs.size() * static_cast<std::size_t>(G)]);
     bound_s = seconds(tb0, Clock::now());
   }
+  // The lowest L1 bound of the runs still in the rank order.
+  constexpr std::int64_t kNone = std::numeric_limits<std::int64_t>::max();
+  auto frontier = [&]() -> std::int64_t { return next_rank < order.size() ? run_lb[order[next_rank]] : kNone; };
+  auto all_scored = [&]() { return next_rank >= order.size() && heap.empty(); };
   // Highest score an unscored cell can reach (0 when every run is scored).
   auto unscored_bound = [&]() -> float {
-    if (!bounded || next_run >= order.size()) return 0.0f;
-    const std::int32_t a = std::max<std::int32_t>(0, run_lb[order[next_run]] - margin_u);
+    if (!bounded || all_scored()) return 0.0f;
+    const std::int64_t lowest = std::min(frontier(), heap.empty() ? kNone : static_cast<std::int64_t>(heap.front().first));
+    const std::int32_t a = static_cast<std::int32_t>(std::max<std::int64_t>(0, lowest - margin_u));
     float u = 0.0f;
     exp_neg_scaled(&a, 1, k, &u);
     return u;
+  };
+  // One step of the search: score the refined runs no rank-ordered run can undercut (a batch),
+  // else refine the next batch of the rank order (without groups: score it).
+  auto advance = [&]() {
+    std::vector<std::uint32_t> batch;
+    const std::size_t size = std::max<std::size_t>(32, scored.size() / kBatchGrowth);
+    if (!heap.empty() && heap.front().first <= frontier()) {
+      while (!heap.empty() && heap.front().first <= frontier() && batch.size() < size) {
+        std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+        batch.push_back(heap.back().second);
+        heap.pop_back();
+      }
+      score_runs(batch);
+      return;
+    }
+    if (G > 0) {
+      const std::size_t end = std::min(order.size(), next_rank + std::max<std::size_t>(64, next_rank / kBatchGrowth));
+      refine_runs(next_rank, end);
+      next_rank = end;
+      return;
+    }
+    const std::size_t end = std::min(order.size(), next_rank + size);
+    batch.assign(order.begin() + static_cast<std::ptrdiff_t>(next_rank), order.begin() + static_cast<std::ptrdiff_t>(end));
+    next_rank = end;
+    score_runs(batch);
   };
   const auto t1 = Clock::now();
   result.grid = g;
@@ -836,9 +1068,9 @@ void RayMatcher::match_modes(const RayUnits& ru, const MatchRequest& request, Ma
       for (std::size_t i = 0; i < N; ++i) consider(i);
       return bi;
     }
-    for (std::size_t u = 0; u < next_run; ++u) {
-      const std::size_t first = static_cast<std::size_t>(pre_->runs[order[u]].first);
-      for (int t = 0; t < pre_->runs[order[u]].second; ++t) consider(first + static_cast<std::size_t>(t));
+    for (const std::uint32_t u : scored) {
+      const std::size_t first = static_cast<std::size_t>(pre_->runs[u].first);
+      for (int t = 0; t < pre_->runs[u].second; ++t) consider(first + static_cast<std::size_t>(t));
     }
     for (const std::size_t i : touched_list) consider(i);
     return bi;
@@ -847,10 +1079,8 @@ void RayMatcher::match_modes(const RayUnits& ru, const MatchRequest& request, Ma
     std::size_t bi = find_best();
     // Bounded: the candidate is the next mode once no unscored cell can reach (or tie) it; until
     // then score more runs, in bound order, in growing batches.
-    while (bounded && next_run < order.size() && !(bi != N && best[bi] > unscored_bound())) {
-      const std::size_t end = std::min(order.size(), next_run + std::max<std::size_t>(32, next_run / 2));
-      score_runs(next_run, end);
-      next_run = end;
+    while (bounded && !all_scored() && !(bi != N && best[bi] > unscored_bound())) {
+      advance();
       bi = find_best();
     }
     if (bi == N) break;
@@ -900,11 +1130,19 @@ void RayMatcher::match_modes(const RayUnits& ru, const MatchRequest& request, Ma
     }
   }
   if (bounded) {
+    std::size_t orientations = 0;
+    double group_s = 0.0;
     for (const RunScratch& sc : run_scratch) {
       l1_s += sc.l1_s;
       exp_s += sc.exp_s;
+      group_s += sc.group_s;
+      orientations += sc.orientations;
     }
     result.stage_s["bounds_wall"] = bound_s;
+    result.stage_s["group_bounds"] = group_s;
+    result.counters["runs_refined_share"] = pre_->runs.empty() ? 0.0 : static_cast<double>(runs_refined) / static_cast<double>(pre_->runs.size());
+    result.counters["orientations_scored_share"] =
+        cells_scored ? static_cast<double>(orientations) / (static_cast<double>(cells_scored) * D) : 0.0;
     result.counters["cells_scored"] = static_cast<double>(cells_scored);
     result.counters["cells_scored_share"] = N ? static_cast<double>(cells_scored) / static_cast<double>(N) : 0.0;
   }

@@ -27,10 +27,13 @@ enum class RaySource { kAuto, kRanges, kSegments };
 /// How the estimate and top-K modes are found (MatchOutput::kModes; the max-over-yaw map and the
 /// posterior always score every cell).
 enum class RaySearch {
-  /// Exact best-first search: a lower bound of every cell's L1 over all orientations (the sorted
-  /// observation rays against the cell's sorted distances, which no rotation can beat) orders
-  /// runs of cells, which are scored exactly in that order until no unscored cell can reach the
-  /// next mode. Same modes, scores and tie order as kExhaustive, bit for bit.
+  /// Exact best-first search, coarse to fine: a lower bound of every cell's L1 over all
+  /// orientations (the sorted observation rays against the cell's sorted distances, which no
+  /// rotation can beat) orders runs of cells; from 72 directions on, the runs it cannot rule out
+  /// get a bound per group of orientations (each ray against the min-max interval of the
+  /// directions it can meet within the group), and are scored exactly in that order, each only at
+  /// the groups that can still hold a cell's best, until no unscored cell can reach the next mode.
+  /// Same modes, scores and tie order as kExhaustive, bit for bit.
   kBounded,
   /// Score every stored cell at every orientation (the reference).
   kExhaustive,
@@ -163,6 +166,15 @@ class RayMatcher final : public Matcher {
   /// Per stored cell, a lower bound (mm) of its L1 at every orientation, as the bounded search
   /// uses it (exposed for tests and analyses).
   std::vector<std::int32_t> lower_bounds_mm(const Observation2D& observation) const;
+  /// Per stored cell and orientation group, a lower bound (mm) of its L1 at every orientation of
+  /// the group, as the bounded search refines its order with it (72 or more directions; exposed
+  /// for tests and analyses). Group g holds orientations g w .. min(D, (g + 1) w) - 1.
+  struct GroupBounds {
+    int group_width = 0;  ///< w; 0: the search uses no groups at this direction count
+    int groups = 0;
+    std::vector<std::int32_t> mm;  ///< [cell * groups + g]
+  };
+  GroupBounds group_bounds_mm(const Observation2D& observation) const;
 
   const DistanceVolume& volume() const { return pre_->volume; }
   const GridSpec& grid() const { return pre_->volume.grid; }
