@@ -325,13 +325,30 @@ void BevMatcher::score_orientation(const Tables& t, std::size_t first, int n, in
   const bool semantic = !v.crossings.empty();
   const float base = static_cast<float>(t.base);
   for (int j = 0; j < n; ++j) out[j] = base;
+  int a0 = k * t.step;
+  if (n <= 64) {
+    // A block of the bounded search: its W direction rows are scattered over the volume, so their
+    // cache lines are requested before they are read.
+    for (int w = 0; w < t.W; ++w) {
+      const int a = (a0 + t.offset[static_cast<std::size_t>(w)]) % t.A;
+      __builtin_prefetch(v.stop.data() + static_cast<std::size_t>(a) * N + first);
+      if (semantic) {
+        const std::uint16_t* cr = v.crossings.data() + static_cast<std::size_t>(a) * N + first;
+        __builtin_prefetch(cr);
+        __builtin_prefetch(cr + n - 1);
+      }
+    }
+  }
   for (int w = 0; w < t.W; ++w) {
-    const int a = (k * t.step + t.offset[static_cast<std::size_t>(w)]) % t.A;
+    const int a = (a0 + t.offset[static_cast<std::size_t>(w)]) % t.A;
     const std::uint8_t* st = v.stop.data() + static_cast<std::size_t>(a) * N + first;
     const float* ts = t.tstop.data() + static_cast<std::size_t>(w) * 256;
     for (int j = 0; j < n; ++j) out[j] += ts[st[j]];
     if (semantic) {
       const std::uint16_t* cr = v.crossings.data() + static_cast<std::size_t>(a) * N + first;
+      std::uint16_t any = 0;
+      for (int j = 0; j < n; ++j) any |= cr[j];
+      if (!any) continue;  // x + (0 + 0) == x: nothing to add
       const float* tx = t.tx.data() + static_cast<std::size_t>(w) * 256;
       // Branch-free: tx[0] = 0, and x + (0 + 0) == x.
       for (int j = 0; j < n; ++j) out[j] += tx[cr[j] & 0xff] + tx[cr[j] >> 8];
@@ -462,22 +479,35 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   // rounding before they are compared with exact scores.
   const double margin = 1e-3 + 1e-5 * t.base;
   std::vector<double> bound(NU);  // pair u = b * K + k
+  // Column w at orientation k reads direction (k step + offset_w) mod A: the orientations of a
+  // block are summed column by column (independent sums, no division).
+  std::vector<int> dir0(static_cast<std::size_t>(W));
+  for (int w = 0; w < W; ++w) dir0[static_cast<std::size_t>(w)] = t.offset[static_cast<std::size_t>(w)] % A;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, NB, 64), [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<double> ub(static_cast<std::size_t>(K));
     for (std::size_t b = range.begin(); b != range.end(); ++b) {
-      for (int k = 0; k < K; ++k) {
-        double ub = t.base;
-        for (int w = 0; w < W; ++w) {
-          const std::size_t idx = b * static_cast<std::size_t>(A) + static_cast<std::size_t>((k * t.step + t.offset[static_cast<std::size_t>(w)]) % A);
-          ub += t.rm[static_cast<std::size_t>(w) * D1 * D1 + static_cast<std::size_t>(pre_->block_stop_lo[idx]) * D1 +
-                     pre_->block_stop_hi[idx]];
-          if (semantic) {
-            const float* pos = t.pos.data() + static_cast<std::size_t>(w) * 128;
-            for (std::uint64_t m = pre_->block_doors[idx]; m; m &= m - 1) ub += pos[__builtin_ctzll(m)];
-            for (std::uint64_t m = pre_->block_windows[idx]; m; m &= m - 1) ub += pos[64 + __builtin_ctzll(m)];
-          }
+      std::fill(ub.begin(), ub.end(), t.base);
+      const std::uint8_t* lo = pre_->block_stop_lo.data() + b * static_cast<std::size_t>(A);
+      const std::uint8_t* hi = pre_->block_stop_hi.data() + b * static_cast<std::size_t>(A);
+      for (int w = 0; w < W; ++w) {
+        const float* rm = t.rm.data() + static_cast<std::size_t>(w) * D1 * D1;
+        int a = dir0[static_cast<std::size_t>(w)];
+        for (int k = 0; k < K; ++k, a = a + t.step >= A ? a + t.step - A : a + t.step) {
+          ub[static_cast<std::size_t>(k)] += rm[static_cast<std::size_t>(lo[a]) * D1 + hi[a]];
         }
-        bound[b * static_cast<std::size_t>(K) + static_cast<std::size_t>(k)] = transform(ub + margin);
+        if (!semantic) continue;
+        const std::uint64_t* doors = pre_->block_doors.data() + b * static_cast<std::size_t>(A);
+        const std::uint64_t* windows = pre_->block_windows.data() + b * static_cast<std::size_t>(A);
+        const float* pos = t.pos.data() + static_cast<std::size_t>(w) * 128;
+        a = dir0[static_cast<std::size_t>(w)];
+        for (int k = 0; k < K; ++k, a = a + t.step >= A ? a + t.step - A : a + t.step) {
+          double x = 0.0;
+          for (std::uint64_t m = doors[a]; m; m &= m - 1) x += pos[__builtin_ctzll(m)];
+          for (std::uint64_t m = windows[a]; m; m &= m - 1) x += pos[64 + __builtin_ctzll(m)];
+          ub[static_cast<std::size_t>(k)] += x;
+        }
       }
+      for (int k = 0; k < K; ++k) bound[b * static_cast<std::size_t>(K) + static_cast<std::size_t>(k)] = transform(ub[static_cast<std::size_t>(k)] + margin);
     }
   });
   // Unscored pairs with a positive bound (only positive scores are modes).
@@ -577,8 +607,10 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
       if (request.top_k > 0 && scored.size() >= static_cast<std::size_t>(request.top_k)) {
         std::vector<Candidate> sorted_best;
         sorted_best.reserve(pair_best.size());
+        // Only candidates above the current lower bound can raise it: the greedy pass over them
+        // picks what it picks over all of them (they come first in the order).
         for (const Candidate& c : pair_best) {
-          if (c.score >= 0.0f) sorted_best.push_back(c);
+          if (c.score >= 0.0f && static_cast<double>(c.score) > lower) sorted_best.push_back(c);
         }
         std::sort(sorted_best.begin(), sorted_best.end());
         std::vector<Candidate> far;
