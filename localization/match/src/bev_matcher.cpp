@@ -510,13 +510,34 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
       for (int k = 0; k < K; ++k) bound[b * static_cast<std::size_t>(K) + static_cast<std::size_t>(k)] = transform(ub[static_cast<std::size_t>(k)] + margin);
     }
   });
-  // Unscored pairs with a positive bound (only positive scores are modes).
-  std::vector<std::uint32_t> open;
-  open.reserve(NU);
+  // Open pairs: unscored, with a positive bound (only positive scores are modes), bound kept
+  // beside the index (the batch selection compares them). First the best kSeedPairs by bound
+  // (one pass); the others enter once the seeds' candidates give a lower bound of the last mode,
+  // and only those whose bound reaches it.
+  struct OpenPair {
+    double bound;
+    std::uint32_t u;
+  };
+  auto before = [](const OpenPair& a, const OpenPair& b) { return a.bound != b.bound ? a.bound > b.bound : a.u < b.u; };
+  constexpr std::size_t kSeedPairs = 64;
+  std::vector<OpenPair> open;
+  std::size_t positive = 0;
   for (std::size_t u = 0; u < NU; ++u) {
-    if (bound[u] > 0.0) open.push_back(static_cast<std::uint32_t>(u));
+    if (!(bound[u] > 0.0)) continue;
+    ++positive;
+    const OpenPair p{bound[u], static_cast<std::uint32_t>(u)};
+    if (open.size() < kSeedPairs) {
+      open.push_back(p);
+      std::push_heap(open.begin(), open.end(), before);  // front: the worst seed
+    } else if (before(p, open.front())) {
+      std::pop_heap(open.begin(), open.end(), before);
+      open.back() = p;
+      std::push_heap(open.begin(), open.end(), before);
+    }
   }
-  auto before = [&](std::uint32_t a, std::uint32_t b) { return bound[a] != bound[b] ? bound[a] > bound[b] : a < b; };
+  std::sort(open.begin(), open.end(), before);
+  const bool rest_exists = positive > open.size();
+  const OpenPair last_seed = open.empty() ? OpenPair{0.0, 0} : open.back();
   const auto t1 = Clock::now();
 
   struct Candidate {
@@ -562,6 +583,7 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   std::vector<std::uint32_t> scored;
   std::vector<Candidate> pair_best;
   std::size_t head = 0, cells_scored = 0, rounds = 0, rescored = 0, dropped = 0;
+  bool rest_pending = rest_exists;
   double lower = 0.0;
   double open_max = open.empty() ? -1.0 : std::numeric_limits<double>::infinity();
   double score_s = 0.0, modes_s = 0.0;
@@ -575,25 +597,25 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
     while (head < open.size() && (best.score < 0.0f || open_max >= static_cast<double>(best.score))) {
       const auto ts = Clock::now();
       ++rounds;
-      std::size_t take = std::min(open.size() - head, std::max<std::size_t>(64, scored.size() / 2));
+      std::size_t take = std::min(open.size() - head, std::max<std::size_t>(kSeedPairs, scored.size() / 2));
       const auto first = open.begin() + static_cast<std::ptrdiff_t>(head);
       const auto nth = first + static_cast<std::ptrdiff_t>(take);
       if (nth != open.end()) std::nth_element(first, nth, open.end(), before);
-      open_max = nth != open.end() ? bound[*nth] : -1.0;  // the best of the rest
+      open_max = nth != open.end() ? nth->bound : -1.0;  // the best of the rest
       if (best.score >= 0.0f) {
         // Of the batch, only the pairs that can reach the best live candidate now; the others
         // stay open for later modes.
         const double need = static_cast<double>(best.score);
-        const auto mid = std::partition(first, nth, [&](std::uint32_t u) { return bound[u] >= need; });
+        const auto mid = std::partition(first, nth, [&](const OpenPair& p) { return p.bound >= need; });
         take = static_cast<std::size_t>(mid - first);
-        for (auto it = mid; it != nth; ++it) open_max = std::max(open_max, bound[*it]);
+        for (auto it = mid; it != nth; ++it) open_max = std::max(open_max, it->bound);
       }
       std::vector<Candidate> found(take);
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, take, 16), [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t q = range.begin(); q != range.end(); ++q) found[q] = best_live(open[head + q]);
+        for (std::size_t q = range.begin(); q != range.end(); ++q) found[q] = best_live(open[head + q].u);
       });
       for (std::size_t q = 0; q < take; ++q) {
-        const std::uint32_t u = open[head + q];
+        const std::uint32_t u = open[head + q].u;
         cells_scored += static_cast<std::size_t>(pre_->block_range[u / static_cast<std::uint32_t>(K)].second);
         scored.push_back(u);
         pair_best.push_back(found[q]);
@@ -628,10 +650,23 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
           lower = far.back().score;
           const std::size_t before_drop = open.size();
           open.erase(std::remove_if(open.begin() + static_cast<std::ptrdiff_t>(head), open.end(),
-                                    [&](std::uint32_t u) { return bound[u] < lower; }),
+                                    [&](const OpenPair& p) { return p.bound < lower; }),
                      open.end());
           dropped += before_drop - open.size();
         }
+      }
+      if (rest_pending) {
+        // The pairs after the seeds (pairs ordered as `before`), those that reach the lower bound.
+        rest_pending = false;
+        std::size_t added = 0;
+        for (std::size_t u = 0; u < NU; ++u) {
+          const double bu = bound[u];
+          if (!(bu > 0.0) || bu < lower || !before(last_seed, OpenPair{bu, static_cast<std::uint32_t>(u)})) continue;
+          open.push_back({bu, static_cast<std::uint32_t>(u)});
+          open_max = std::max(open_max, bu);
+          ++added;
+        }
+        dropped += positive - kSeedPairs - added;
       }
       score_s += seconds(ts, Clock::now());
     }
