@@ -279,13 +279,19 @@ TEST(BevMatcher, RemovingADoorChangesThePosteriorOnlyWhereItIsVisible) {
 // and without semantics.
 TEST(BevMatcher, BoundedSearchEqualsTheFullPosterior) {
   const FloorPlan plan = windowed_floor();
-  int checked = 0;
+  int checked = 0, switched = 0;
   for (const bool semantics : {true, false}) {
    for (const BevLikelihood lk : {BevLikelihood::kMean, BevLikelihood::kExp}) {
     BevMatcherParams params;
     params.likelihood = lk;
     params.semantics = semantics;
+    params.search = BevSearch::kBounded;
     const BevMatcher bounded(plan, params);
+    // search auto made to switch at its check: the exhaustive modes through the auto path.
+    BevMatcherParams switching = params;
+    switching.search = BevSearch::kAuto;
+    switching.auto_exhaustive_share = 0.0;
+    const BevMatcher auto_switching(bounded, switching);
     for (const Pose2& pose : {Pose2{3.23, 1.61, 0.31}, Pose2{10.31, 3.07, 4.4}, Pose2{6.72, 6.83, 5.9}}) {
       const Observation2D perfect = perfect_observation(plan, pose);
       for (const float mix : {0.0f, 0.3f, 0.9f}) {
@@ -317,10 +323,24 @@ TEST(BevMatcher, BoundedSearchEqualsTheFullPosterior) {
               EXPECT_EQ(r.modes[i].col, expect[i].col) << i;
               EXPECT_EQ(r.modes[i].score, expect[i].score) << i;
             }
+            EXPECT_EQ(r.counters.at("search_exhaustive"), 0.0);
             ++checked;
             if (mix == 0.0f && fov_deg == 360.0 && k == 1) {
               EXPECT_LT(r.counters.at("cells_scored_share"), 0.5);
             }
+            if (k != 3) continue;
+            const MatchResult sw = auto_switching.match(o, MatchRequest::modes(k));
+            ASSERT_EQ(sw.modes.size(), expect.size());
+            for (std::size_t i = 0; i < expect.size(); ++i) {
+              EXPECT_EQ(sw.modes[i].slice, expect[i].slice) << i;
+              EXPECT_EQ(sw.modes[i].row, expect[i].row) << i;
+              EXPECT_EQ(sw.modes[i].col, expect[i].col) << i;
+              EXPECT_EQ(sw.modes[i].score, expect[i].score) << i;
+            }
+            // It decides once 2% of the pairs are scored; a search that ends sooner is kept.
+            const bool sw_exhaustive = sw.counters.at("search_exhaustive") == 1.0;
+            EXPECT_EQ(sw_exhaustive, sw.stage_s.count("bounded_until_switch") == 1);
+            switched += sw_exhaustive;
           }
         }
       }
@@ -328,6 +348,62 @@ TEST(BevMatcher, BoundedSearchEqualsTheFullPosterior) {
    }
   }
   EXPECT_EQ(checked, 216);
+  EXPECT_GT(switched, 0);
+}
+
+// search auto (the default): bounded unless the share of pairs it predicts to score exceeds
+// auto_exhaustive_share; the choice and the prediction are reported, the best pose and the modes are
+// those of both searches whichever runs (auto_exhaustive_share = 1: never switches).
+TEST(BevMatcher, AutoSearchChoosesByPredictedShareAndReportsIt) {
+  const FloorPlan plan = windowed_floor();
+  BevMatcherParams params;
+  ASSERT_EQ(params.search, BevSearch::kAuto);
+  const BevMatcher automatic(plan, params);
+  BevMatcherParams bp = params, ep = params, never = params;
+  bp.search = BevSearch::kBounded;
+  ep.search = BevSearch::kExhaustive;
+  never.auto_exhaustive_share = 1.0;
+  const BevMatcher bounded(automatic, bp), exhaustive(automatic, ep), auto_never(automatic, never);
+  int switched = 0, kept = 0;
+  for (const Pose2& pose : {Pose2{3.23, 1.61, 0.31}, Pose2{10.31, 3.07, 4.4}, Pose2{6.72, 6.83, 5.9}}) {
+    const Observation2D perfect = perfect_observation(plan, pose);
+    for (const float mix : {0.0f, 0.5f, 0.95f}) {
+      Observation2D o;
+      BevPrediction b = perfect.bev[0];
+      const float C = static_cast<float>(b.num_classes());
+      for (float& p : b.probabilities) p = (1.0f - mix) * p + mix / C;
+      o.bev = {b};
+      const MatchResult a = automatic.match(o, MatchRequest::modes(5));
+      const MatchResult x = exhaustive.match(o, MatchRequest::modes(5));
+      const MatchResult y = bounded.match(o, MatchRequest::modes(5));
+      const MatchResult n = auto_never.match(o, MatchRequest::modes(5));
+      ASSERT_FALSE(a.modes.empty());
+      ASSERT_EQ(a.modes.size(), x.modes.size());
+      ASSERT_EQ(a.modes.size(), y.modes.size());
+      for (std::size_t i = 0; i < a.modes.size(); ++i) {
+        for (const MatchResult* r : {&x, &y, &n}) {
+          EXPECT_EQ(a.modes[i].slice, r->modes[i].slice) << i;
+          EXPECT_EQ(a.modes[i].row, r->modes[i].row) << i;
+          EXPECT_EQ(a.modes[i].col, r->modes[i].col) << i;
+          EXPECT_EQ(a.modes[i].score, r->modes[i].score) << i;
+        }
+      }
+      // The reported choice follows the documented rule.
+      const double share = a.counters.at("search_predicted_share");
+      EXPECT_GT(share, 0.0);
+      EXPECT_LE(share, 1.0);
+      EXPECT_EQ(a.counters.at("search_exhaustive"), share > params.auto_exhaustive_share ? 1.0 : 0.0) << share;
+      EXPECT_EQ(n.counters.at("search_exhaustive"), 0.0);
+      EXPECT_EQ(x.counters.at("search_exhaustive"), 1.0);
+      EXPECT_EQ(y.counters.at("search_exhaustive"), 0.0);
+      EXPECT_EQ(a.stage_s.count("bounded_until_switch"), a.counters.at("search_exhaustive") == 1.0 ? 1u : 0u);
+      (a.counters.at("search_exhaustive") == 1.0 ? switched : kept)++;
+    }
+  }
+  // On this small floor the bounded search scores most pairs of a full circle (a uniform mix
+  // changes no ranking, so no pruning): auto runs the exhaustive search.
+  EXPECT_EQ(kept, 0);
+  EXPECT_EQ(switched, 9);
 }
 
 // The thesis' 5 x 5 x 3 maximum filter: local maxima within +-2 cells and +-1 slice (circular).

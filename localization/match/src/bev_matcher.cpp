@@ -23,8 +23,8 @@ double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::d
 
 const std::vector<std::pair<const char*, BevLikelihood>> kLikelihoodNames = {{"mean", BevLikelihood::kMean},
                                                                              {"exp", BevLikelihood::kExp}};
-const std::vector<std::pair<const char*, BevSearch>> kSearchNames = {{"bounded", BevSearch::kBounded},
-                                                                     {"exhaustive", BevSearch::kExhaustive}};
+const std::vector<std::pair<const char*, BevSearch>> kSearchNames = {
+    {"auto", BevSearch::kAuto}, {"bounded", BevSearch::kBounded}, {"exhaustive", BevSearch::kExhaustive}};
 const std::vector<std::pair<const char*, BevPeaks>> kPeakNames = {{"suppression", BevPeaks::kSuppression},
                                                                   {"max_filter", BevPeaks::kMaxFilter}};
 
@@ -61,7 +61,11 @@ const FieldList<BevMatcherParams>& BevMatcherParams::fields() {
                 "doors removed (Table 4.3 without semantics)")
           .choice("likelihood", &P::likelihood, kLikelihoodNames, "mean: Eq. 3.3 as is; exp: exp(-(1 - L) / temperature)")
           .number("temperature", &P::temperature, 1e-6, 1e6, "temperature of the exp likelihood")
-          .choice("search", &P::search, kSearchNames, "modes by the exact bounded block search or exhaustively")
+          .choice("search", &P::search, kSearchNames,
+                  "modes by the exact bounded block search, exhaustively, or auto: bounded unless its first round predicts "
+                  "more than auto_exhaustive_share of the pairs to score")
+          .number("auto_exhaustive_share", &P::auto_exhaustive_share, 0.0, 1.0,
+                  "search auto: the predicted share of (block, orientation) pairs above which the exhaustive search runs")
           .choice("peaks", &P::peaks, kPeakNames,
                   "top-K by greedy suppression at the request's separation, or the thesis' maximum filter (sec. 5.3)")
           .number("peak_window_m", &P::peak_window_m, 0.0, 100.0, "max_filter extent, m (the thesis: 5 cells of 0.2 m = 1)")
@@ -204,7 +208,7 @@ void BevMatcher::index_blocks(Precomputed& pre) const {
 
 BevMatcher::BevMatcher(const BevMatcher& other, const BevMatcherParams& params) : params_(params), pre_(other.pre_) {
   nlohmann::ordered_json a = params.to_json(), b = other.params_.to_json();
-  for (const char* k : {"likelihood", "temperature", "search", "peaks", "peak_window_m", "peak_window_deg"}) {
+  for (const char* k : {"likelihood", "temperature", "search", "auto_exhaustive_share", "peaks", "peak_window_m", "peak_window_deg"}) {
     a.erase(k);
     b.erase(k);
   }
@@ -288,7 +292,7 @@ BevMatcher::Tables BevMatcher::tables(const BevPrediction& bev) const {
   }
   t.base = base;
   t.scale = static_cast<float>(1.0 / (static_cast<double>(D) * t.W));
-  if (params_.search == BevSearch::kBounded) {
+  if (params_.search != BevSearch::kExhaustive) {
     t.D = D;
     const std::size_t D1 = static_cast<std::size_t>(D) + 1;
     t.rm.assign(static_cast<std::size_t>(t.W) * D1 * D1, 0.0f);
@@ -392,7 +396,7 @@ MatchResult BevMatcher::match(const Observation2D& obs, const MatchRequest& requ
   result.grid = g;
   // The full posterior is made only when it is needed (campus: 5 MB per orientation).
   const bool max_filter = params_.peaks == BevPeaks::kMaxFilter;
-  const bool bounded = request.output == MatchOutput::kModes && params_.search == BevSearch::kBounded && !max_filter;
+  const bool bounded = request.output == MatchOutput::kModes && params_.search != BevSearch::kExhaustive && !max_filter;
   auto allocate = [&] {
     post.yaw_rad.resize(static_cast<std::size_t>(K));
     post.scores.resize(static_cast<std::size_t>(K));
@@ -409,13 +413,16 @@ MatchResult BevMatcher::match(const Observation2D& obs, const MatchRequest& requ
     return result;
   }
   const Tables t = tables(*bev);
-  if (!bounded) allocate();
   if (bounded) {
     result.stage_s["tables"] = seconds(t0, Clock::now());
-    match_modes(t, request, result);
-    result.match_s = seconds(t0, Clock::now());
-    return result;
+    if (match_modes(t, request, result, params_.search == BevSearch::kAuto)) {
+      result.counters["search_exhaustive"] = 0.0;
+      result.match_s = seconds(t0, Clock::now());
+      return result;
+    }
   }
+  if (request.output == MatchOutput::kModes && !max_filter) result.counters["search_exhaustive"] = 1.0;
+  allocate();
   const auto t1 = Clock::now();
   std::vector<float*> slices(static_cast<std::size_t>(K));
   for (int k = 0; k < K; ++k) slices[static_cast<std::size_t>(k)] = post.scores[static_cast<std::size_t>(k)].ptr<float>();
@@ -445,14 +452,14 @@ MatchResult BevMatcher::match(const Observation2D& obs, const MatchRequest& requ
   }
   finish_from_posterior(result, request);
   if (max_filter) result.modes = std::move(peaks);
-  result.stage_s["tables"] = seconds(t0, t1);
+  result.stage_s["tables"] = seconds(t0, t1) - (bounded ? result.stage_s["bounded_until_switch"] : 0.0);
   result.stage_s["scores"] = seconds(t1, t2);
   result.stage_s["modes"] = seconds(t2, Clock::now());
   result.match_s = seconds(t0, Clock::now());
   return result;
 }
 
-void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, MatchResult& result) const {
+bool BevMatcher::match_modes(const Tables& t, const MatchRequest& request, MatchResult& result, bool may_switch) const {
   // Exact best-first search over (block, orientation) pairs. A pair's bound adds, per column, the
   // largest table entry over its block's stop codes (the range [lo, hi] holds every cell's code)
   // and the positive entries of every bin where one of its cells has a crossing: each cell's sum
@@ -520,6 +527,7 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   };
   auto before = [](const OpenPair& a, const OpenPair& b) { return a.bound != b.bound ? a.bound > b.bound : a.u < b.u; };
   constexpr std::size_t kSeedPairs = 64;
+  constexpr double kAutoCheckShare = 0.02;
   std::vector<OpenPair> open;
   std::size_t positive = 0;
   for (std::size_t u = 0; u < NU; ++u) {
@@ -582,8 +590,12 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   // the best of the pairs near it: those are scored again.
   std::vector<std::uint32_t> scored;
   std::vector<Candidate> pair_best;
-  std::size_t head = 0, cells_scored = 0, rounds = 0, rescored = 0, dropped = 0;
+  std::size_t head = 0, cells_scored = 0, rounds = 0, rescored = 0, dropped = 0, opened = open.size();
   bool rest_pending = rest_exists;
+  // search auto decides once kAutoCheckShare of the pairs are scored (the lower bound has risen
+  // by then; the first rounds' is weak).
+  bool checked = false;
+  const std::size_t check_at = std::max(kSeedPairs, static_cast<std::size_t>(std::ceil(kAutoCheckShare * static_cast<double>(NU))));
   double lower = 0.0;
   double open_max = open.empty() ? -1.0 : std::numeric_limits<double>::infinity();
   double score_s = 0.0, modes_s = 0.0;
@@ -667,6 +679,20 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
           ++added;
         }
         dropped += positive - kSeedPairs - added;
+        opened = kSeedPairs + added;
+      }
+      if (!checked && scored.size() >= check_at) {
+        // search auto: the pairs scored and those still open (bound above the lower bound of the
+        // last mode) are all the search can score: their share predicts its cost.
+        checked = true;
+        const double share = static_cast<double>(scored.size() + (open.size() - head)) / static_cast<double>(NU);
+        result.counters["search_predicted_share"] = share;
+        if (may_switch && share > params_.auto_exhaustive_share) {
+          result.counters["pairs_scored"] = static_cast<double>(scored.size());
+          result.counters["pairs_opened"] = static_cast<double>(opened);
+          result.stage_s["bounded_until_switch"] = seconds(t0, Clock::now());
+          return false;
+        }
       }
       score_s += seconds(ts, Clock::now());
     }
@@ -707,10 +733,15 @@ void BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
   result.counters["pairs_scored"] = static_cast<double>(scored.size());
   result.counters["pairs_rescored"] = static_cast<double>(rescored);
   result.counters["pairs_dropped"] = static_cast<double>(dropped);
+  result.counters["pairs_opened"] = static_cast<double>(opened);
   result.counters["rounds"] = static_cast<double>(rounds);
   result.counters["cells_scored"] = static_cast<double>(cells_scored);
   result.counters["cells_scored_share"] =
       v.num_cells() ? static_cast<double>(cells_scored) / (static_cast<double>(v.num_cells()) * K) : 0.0;
+  if (!checked) {  // the search ended first: what it scored
+    result.counters["search_predicted_share"] = NU ? static_cast<double>(scored.size()) / static_cast<double>(NU) : 0.0;
+  }
+  return true;
 }
 
 std::vector<double> bev_scores_reference(const SemanticVolume& v, std::size_t cell, const BevPrediction& bev,

@@ -37,6 +37,14 @@ enum class BevLikelihood {
 /// How the estimate and top-K modes are found (MatchOutput::kModes; the posterior and the
 /// max-over-yaw map always score every cell).
 enum class BevSearch {
+  /// kBounded, deciding once 2% of the (block, orientation) pairs are scored: the pairs scored
+  /// and those still open (bound above the lower bound of the last mode) are all it can score;
+  /// when their share of all pairs exceeds auto_exhaustive_share the modes come from kExhaustive
+  /// instead (a pair scored by the bounded search costs about twice its cells in the exhaustive
+  /// one). Same modes either way; counters["search_exhaustive"] (0, 1) says which ran,
+  /// counters["search_predicted_share"] the share compared, stage_s["bounded_until_switch"] the
+  /// time spent before a switch.
+  kAuto,
   /// Exact best-first search over (block of cells, orientation) pairs: an upper bound of each
   /// pair's scores from the range of the block's stop bins and the union of its crossings orders
   /// the pairs, which are scored exactly in that order until no unscored pair can reach the next
@@ -78,7 +86,10 @@ struct BevMatcherParams {
   BevLikelihood likelihood = BevLikelihood::kMean;
   /// kExp only: score = exp(-(1 - L) / temperature).
   double temperature = 0.02;
-  BevSearch search = BevSearch::kBounded;
+  BevSearch search = BevSearch::kAuto;
+  /// kAuto: largest predicted share of the (block, orientation) pairs the bounded search may score
+  /// (checked once 2% are scored) before the exhaustive search runs instead.
+  double auto_exhaustive_share = 0.6;
   BevPeaks peaks = BevPeaks::kSuppression;
   /// kMaxFilter: the filter's extent, metres (square) and degrees (1 m, 30 deg: the thesis').
   double peak_window_m = 1.0;
@@ -148,7 +159,9 @@ class BevMatcher final : public Matcher {
   Tables tables(const BevPrediction& bev) const;
   void score_tile(const Tables& t, std::size_t first, int n, float* out) const;
   void score_orientation(const Tables& t, std::size_t first, int n, int k, float* out) const;
-  void match_modes(const Tables& t, const MatchRequest& request, MatchResult& result) const;
+  /// The bounded search; false when `may_switch` and it predicts more than auto_exhaustive_share
+  /// of the pairs to score (result then holds only the prediction and the time spent).
+  bool match_modes(const Tables& t, const MatchRequest& request, MatchResult& result, bool may_switch) const;
   void index_blocks(Precomputed& pre) const;
   BevMatcherParams params_;
   std::shared_ptr<const Precomputed> pre_;
