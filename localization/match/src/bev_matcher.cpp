@@ -62,8 +62,8 @@ const FieldList<BevMatcherParams>& BevMatcherParams::fields() {
           .choice("likelihood", &P::likelihood, kLikelihoodNames, "mean: Eq. 3.3 as is; exp: exp(-(1 - L) / temperature)")
           .number("temperature", &P::temperature, 1e-6, 1e6, "temperature of the exp likelihood")
           .choice("search", &P::search, kSearchNames,
-                  "modes by the exact bounded block search, exhaustively, or auto: bounded unless its first round predicts "
-                  "more than auto_exhaustive_share of the pairs to score")
+                  "modes by the exact bounded block search, exhaustively, or auto: bounded unless, once 2% of the pairs are "
+                  "scored, it predicts more than auto_exhaustive_share of them to score")
           .number("auto_exhaustive_share", &P::auto_exhaustive_share, 0.0, 1.0,
                   "search auto: the predicted share of (block, orientation) pairs above which the exhaustive search runs")
           .choice("peaks", &P::peaks, kPeakNames,
