@@ -688,8 +688,12 @@ bool BevMatcher::match_modes(const Tables& t, const MatchRequest& request, Match
         const double share = static_cast<double>(scored.size() + (open.size() - head)) / static_cast<double>(NU);
         result.counters["search_predicted_share"] = share;
         if (may_switch && share > params_.auto_exhaustive_share) {
+          // The bounded part's work (scored before the switch).
           result.counters["pairs_scored"] = static_cast<double>(scored.size());
           result.counters["pairs_opened"] = static_cast<double>(opened);
+          result.counters["cells_scored"] = static_cast<double>(cells_scored);
+          result.counters["cells_scored_share"] =
+              v.num_cells() ? static_cast<double>(cells_scored) / (static_cast<double>(v.num_cells()) * K) : 0.0;
           result.stage_s["bounded_until_switch"] = seconds(t0, Clock::now());
           return false;
         }
