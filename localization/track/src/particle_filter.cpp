@@ -373,33 +373,54 @@ std::vector<int> mean_shift(const std::vector<Vec2>& pts, double bandwidth, std:
   };
   std::unordered_map<std::int64_t, std::vector<int>> grid;
   for (std::size_t i = 0; i < pts.size(); ++i) grid[key(pts[i])].push_back(static_cast<int>(i));
+  // The points of every bin stored contiguously (x and y apart, in the bins' index order), so the
+  // neighbour sums of the mean-shift iterations (the particle filter's largest cost, profiled)
+  // stream through memory without branches; the sums run in the same order as over the indices.
+  struct Bin {
+    std::vector<double> x, y;
+  };
+  std::unordered_map<std::int64_t, Bin> bins;
+  for (const auto& kv : grid) {
+    Bin& b = bins[kv.first];
+    for (int i : kv.second) {
+      b.x.push_back(pts[static_cast<std::size_t>(i)].x());
+      b.y.push_back(pts[static_cast<std::size_t>(i)].y());
+    }
+  }
+  const double bw2 = bandwidth * bandwidth;
   auto mean_near = [&](const Vec2& c, int& count) {
-    Vec2 sum = Vec2::Zero();
+    double sx = 0.0, sy = 0.0;
     count = 0;
     const std::int64_t cx = static_cast<std::int64_t>(std::floor(c.x() / cell));
     const std::int64_t cy = static_cast<std::int64_t>(std::floor(c.y() / cell));
     for (std::int64_t dx = -1; dx <= 1; ++dx)
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
-        auto it = grid.find(((cx + dx) << 32) ^ ((cy + dy) & 0xffffffff));
-        if (it == grid.end()) continue;
-        for (int i : it->second) {
-          if ((pts[static_cast<std::size_t>(i)] - c).squaredNorm() <= bandwidth * bandwidth) {
-            sum += pts[static_cast<std::size_t>(i)];
-            ++count;
-          }
+        auto it = bins.find(((cx + dx) << 32) ^ ((cy + dy) & 0xffffffff));
+        if (it == bins.end()) continue;
+        const Bin& b = it->second;
+        const std::size_t m = b.x.size();
+        for (std::size_t k = 0; k < m; ++k) {
+          const double ex = b.x[k] - c.x(), ey = b.y[k] - c.y();
+          const bool in = ex * ex + ey * ey <= bw2;
+          sx += in ? b.x[k] : 0.0;
+          sy += in ? b.y[k] : 0.0;
+          count += in ? 1 : 0;
         }
       }
-    return count > 0 ? Vec2(sum / count) : c;
+    return count > 0 ? Vec2(Vec2(sx, sy) / count) : c;
   };
   // Seeds: bin centroids, in a fixed order (sorted keys) for determinism.
   std::vector<std::int64_t> keys;
   for (const auto& kv : grid) keys.push_back(kv.first);
   std::sort(keys.begin(), keys.end());
-  modes.clear();
-  for (std::int64_t k : keys) {
+  // Each seed climbs on its own (in parallel); the modes are merged in seed order: the same
+  // modes at any thread count.
+  std::vector<Vec2> climbed(keys.size());
+  tbb::parallel_for(std::size_t{0}, keys.size(), [&](std::size_t s) {
+    const std::vector<int>& members = grid.at(keys[s]);
     Vec2 c = Vec2::Zero();
-    for (int i : grid[k]) c += pts[static_cast<std::size_t>(i)];
-    c /= static_cast<double>(grid[k].size());
+    for (int i : members) c += pts[static_cast<std::size_t>(i)];
+    c /= static_cast<double>(members.size());
     for (int it = 0; it < 30; ++it) {
       int count = 0;
       const Vec2 next = mean_near(c, count);
@@ -407,6 +428,10 @@ std::vector<int> mean_shift(const std::vector<Vec2>& pts, double bandwidth, std:
       c = next;
       if (done) break;
     }
+    climbed[s] = c;
+  });
+  modes.clear();
+  for (const Vec2& c : climbed) {
     bool merged = false;
     for (const Vec2& m : modes) merged = merged || (m - c).norm() < 0.5 * bandwidth;
     if (!merged) modes.push_back(c);
