@@ -121,15 +121,7 @@ std::vector<PlanePatch> PerfectObserver::visible_planes(const Pose2& T_world_obs
     const Eigen::Matrix3d B = plane_cell_basis(pl.normal);
     for (int fi : pl.faces) {
       const ExtrudedFace& f = P.faces[static_cast<std::size_t>(fi)];
-      std::vector<Vec2> poly;
-      for (const Eigen::Vector3f& v : f.polygon_m) poly.emplace_back(B.col(0).dot(v.cast<double>()), B.col(1).dot(v.cast<double>()));
-      double area2 = 0.0;
-      for (std::size_t i = 0; i < poly.size(); ++i) {
-        const Vec2& a = poly[i];
-        const Vec2& b = poly[(i + 1) % poly.size()];
-        area2 += a.x() * b.y() - a.y() * b.x();
-      }
-      if (area2 < 0.0) std::reverse(poly.begin(), poly.end());
+      const std::vector<Vec2> poly = face_in_plane_axes(f, B);
       double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
       for (const Vec2& q : poly) {
         u0 = std::min(u0, q.x());

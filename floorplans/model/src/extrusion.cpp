@@ -160,6 +160,20 @@ void validate_extrusion(const ExtrusionParams& params) {
   }
 }
 
+std::vector<Vec2> face_in_plane_axes(const ExtrudedFace& face, const Eigen::Matrix3d& basis) {
+  std::vector<Vec2> poly;
+  poly.reserve(face.polygon_m.size());
+  for (const Eigen::Vector3f& p : face.polygon_m) poly.emplace_back(basis.col(0).dot(p.cast<double>()), basis.col(1).dot(p.cast<double>()));
+  double area2 = 0.0;
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    const Vec2& a = poly[k];
+    const Vec2& b = poly[(k + 1) % poly.size()];
+    area2 += a.x() * b.y() - a.y() * b.x();
+  }
+  if (area2 < 0.0) std::reverse(poly.begin(), poly.end());
+  return poly;
+}
+
 std::vector<ExtrudedFace> extrude_faces(const FloorPlan& plan, const ExtrusionParams& params) {
   validate_extrusion(params);
   const double H = params.wall_height_m;

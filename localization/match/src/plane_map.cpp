@@ -146,17 +146,7 @@ PlaneMap build_plane_map(const FloorPlan& plan, const PlaneMatcherParams& params
     int i_lo = std::numeric_limits<int>::max(), i_hi = std::numeric_limits<int>::min();
     int j_lo = i_lo, j_hi = i_hi;
     for (int fi : group.faces) {
-      std::vector<Vec2> poly;
-      for (const Eigen::Vector3f& v : faces[static_cast<std::size_t>(fi)].polygon_m) {
-        poly.emplace_back(mp.basis.col(0).dot(v.cast<double>()), mp.basis.col(1).dot(v.cast<double>()));
-      }
-      double area2 = 0.0;
-      for (std::size_t k = 0; k < poly.size(); ++k) {
-        const Vec2& a = poly[k];
-        const Vec2& b = poly[(k + 1) % poly.size()];
-        area2 += a.x() * b.y() - a.y() * b.x();
-      }
-      if (area2 < 0.0) std::reverse(poly.begin(), poly.end());
+      std::vector<Vec2> poly = face_in_plane_axes(faces[static_cast<std::size_t>(fi)], mp.basis);
       for (const Vec2& q : poly) {
         i_lo = std::min(i_lo, static_cast<int>(std::floor(q.x() / l)));
         i_hi = std::max(i_hi, static_cast<int>(std::floor(q.x() / l)));

@@ -73,6 +73,10 @@ struct ExtrudedFace {
 /// soffits, obstacles, then floor and ceiling rectangles). Validates params first.
 std::vector<ExtrudedFace> extrude_faces(const FloorPlan& plan, const ExtrusionParams& params = {});
 
+/// A face's vertices in a plane's in-plane axes (u = basis.col(0), v = basis.col(1), e.g.
+/// plane_cell_basis of the face's plane), counter-clockwise in (u, v) whatever the face's winding.
+std::vector<Vec2> face_in_plane_axes(const ExtrudedFace& face, const Eigen::Matrix3d& basis);
+
 /// Coplanar, connected faces of an extrusion: one physical planar surface (a wall side with its
 /// lintels and closed door leaves, a glass pane, the floor of a connected interior, ...).
 struct ExtrudedPlane {
