@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "floorcast/floorplans/extrusion.hpp"
@@ -173,6 +174,124 @@ TEST(WallJoins, EndJoinsEqualAScanOverEveryWall) {
   EXPECT_GT(checked, 500);
   EXPECT_GT(joined, checked / 2);  // the test meets both answers
   EXPECT_LT(joined, checked);
+}
+
+// The glass-pane index of the extrusion (issue 28) against the obvious scan it replaced: every
+// window (its wall found by a scan over the walls), then every glass wall. Points: the midpoints
+// of the glass outline segments the extrusion asks about, at every band, and random points in
+// and around every pane (both faces, ends, the tolerance band), on generated buildings with
+// windows and glass walls, their walls cut into collinear pieces, a window on an unknown wall and
+// a zero-length glass wall.
+TEST(Extrusion, GlassPartsEqualAScanOverEveryPane) {
+  auto scan_part = [](const FloorPlan& plan, const Vec2& p) {
+    int best = -1;
+    double best_dist = std::numeric_limits<double>::infinity();
+    auto consider = [&](int id, const Wall& wall, double t0, double t1) {
+      const Vec2 dir = wall.direction();
+      const double t = (p - wall.a_m).dot(dir);
+      const double off = std::abs((p - wall.a_m).x() * dir.y() - (p - wall.a_m).y() * dir.x());
+      const double tol = 1e-6;
+      if (t < t0 - tol || t > t1 + tol || off > 0.5 * wall.thickness_m + tol) return;
+      if (off < best_dist) {
+        best_dist = off;
+        best = id;
+      }
+    };
+    for (std::size_t k = 0; k < plan.windows.size(); ++k) {
+      const Window& w = plan.windows[k];
+      const OpeningSpan s = opening_span(plan, w.wall_id, w.center_m, w.width_m);
+      if (s.wall_index < 0) continue;
+      consider(static_cast<int>(k), plan.walls[static_cast<std::size_t>(s.wall_index)], s.t0_m, s.t1_m);
+    }
+    if (best >= 0) return best;
+    for (std::size_t k = 0; k < plan.walls.size(); ++k) {
+      const Wall& w = plan.walls[k];
+      if (w.material != WallMaterial::kGlass) continue;
+      const double cap = 0.5 * w.thickness_m;
+      consider(static_cast<int>(plan.windows.size() + k), w, -cap, w.length_m() + cap);
+    }
+    return best;
+  };
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  int checked = 0, windows_hit = 0, glass_walls_hit = 0, none = 0;
+  for (const Archetype a : {Archetype::kOffice, Archetype::kCampus, Archetype::kAngled}) {
+    FloorPlan plan = generate_building(a, 5).plan;
+    // Every third glass-free wall without openings cut in two; every seventh wall made glass.
+    std::vector<char> opening(plan.walls.size(), 0);
+    for (const Door& d : plan.doors) opening[static_cast<std::size_t>(std::max(0, plan.wall_index(d.wall_id)))] = 1;
+    for (const Window& w : plan.windows) opening[static_cast<std::size_t>(std::max(0, plan.wall_index(w.wall_id)))] = 1;
+    const std::size_t n = plan.walls.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i % 7 == 0) {
+        plan.walls[i].material = WallMaterial::kGlass;
+        plan.walls[i].glass_sill_m = 0.2;
+      }
+      if (i % 3 == 0 && !opening[i]) {
+        Wall w = plan.walls[i];
+        const Vec2 mid = 0.5 * (w.a_m + w.b_m);
+        plan.walls[i].b_m = mid;
+        w.id += "_cut";
+        w.a_m = mid;
+        plan.walls.push_back(w);
+      }
+    }
+    if (!plan.walls.empty()) {
+      Window lost = plan.windows.empty() ? Window{} : plan.windows.front();
+      lost.id = "lost";
+      lost.wall_id = "no_such_wall";
+      plan.windows.push_back(lost);
+      Wall dot = plan.walls.front();
+      dot.id = "dot";
+      dot.b_m = dot.a_m;
+      dot.material = WallMaterial::kGlass;
+      plan.walls.push_back(dot);
+    }
+    ASSERT_GT(plan.windows.size(), 1u) << archetype_name(a);
+    const WallIdIndex ids(plan);
+    GlassPaneIndex index(plan, ids);
+    std::vector<Vec2> points;
+    for (const double z : {0.5, 1.0, 1.5, 2.0, 2.5}) {
+      BlockingOptions opt;
+      opt.cut_height_m = z;
+      for (const LabeledSegment& l : blocking_outline(plan, opt)) {
+        if (l.label == SurfaceLabel::kGlass) points.push_back(0.5 * (l.segment_m.a_m + l.segment_m.b_m));
+      }
+    }
+    auto around = [&](const Wall& w, double t0, double t1) {
+      if (!(w.length_m() > 0.0)) return;
+      const Vec2 dir = w.direction(), nrm(-dir.y(), dir.x());
+      const double h = 0.5 * w.thickness_m;
+      for (int k = 0; k < 6; ++k) {
+        const double t = t0 - 0.05 + (t1 - t0 + 0.1) * u01(rng);
+        const double o = (2.0 * u01(rng) - 1.0) * (h + 0.05);
+        points.push_back(w.a_m + t * dir + o * nrm);
+      }
+      for (const double o : {-h, h}) {  // on both faces and just beyond the tolerance
+        points.push_back(w.a_m + 0.5 * (t0 + t1) * dir + o * nrm);
+        points.push_back(w.a_m + 0.5 * (t0 + t1) * dir + (o + (o > 0 ? 2e-6 : -2e-6)) * nrm);
+      }
+    };
+    for (const Window& w : plan.windows) {
+      const OpeningSpan s = opening_span(plan, w.wall_id, w.center_m, w.width_m);
+      if (s.wall_index >= 0) around(plan.walls[static_cast<std::size_t>(s.wall_index)], s.t0_m, s.t1_m);
+    }
+    for (const Wall& w : plan.walls) {
+      if (w.material == WallMaterial::kGlass) around(w, -0.5 * w.thickness_m, w.length_m() + 0.5 * w.thickness_m);
+    }
+    for (const Vec2& p : points) {
+      const int want = scan_part(plan, p);
+      ASSERT_EQ(index.part_id(p), want) << archetype_name(a) << " at " << p.transpose();
+      ++checked;
+      if (want < 0) ++none;
+      else if (static_cast<std::size_t>(want) < plan.windows.size()) ++windows_hit;
+      else ++glass_walls_hit;
+    }
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(windows_hit, 100);  // the test meets every answer
+  EXPECT_GT(glass_walls_hit, 100);
+  EXPECT_GT(none, 100);
 }
 
 TEST(Geometry, RaySegmentDistance) {

@@ -42,38 +42,6 @@ void add_face(std::vector<ExtrudedFace>& faces, std::vector<Eigen::Vector3f> pol
   faces.push_back(std::move(f));
 }
 
-/// The glass element (window k -> k, glass wall w -> windows.size() + w) whose pane contains the
-/// 2D point p (a point on a glass face), or -1.
-int glass_part_id(const FloorPlan& plan, const Vec2& p) {
-  int best = -1;
-  double best_dist = std::numeric_limits<double>::infinity();
-  auto consider = [&](int id, const Wall& wall, double t0, double t1) {
-    const Vec2 dir = wall.direction();
-    const double t = (p - wall.a_m).dot(dir);
-    const double off = std::abs((p - wall.a_m).x() * dir.y() - (p - wall.a_m).y() * dir.x());
-    const double tol = 1e-6;
-    if (t < t0 - tol || t > t1 + tol || off > 0.5 * wall.thickness_m + tol) return;
-    if (off < best_dist) {
-      best_dist = off;
-      best = id;
-    }
-  };
-  for (std::size_t k = 0; k < plan.windows.size(); ++k) {
-    const Window& w = plan.windows[k];
-    const OpeningSpan s = opening_span(plan, w.wall_id, w.center_m, w.width_m);
-    if (s.wall_index < 0) continue;
-    consider(static_cast<int>(k), plan.walls[static_cast<std::size_t>(s.wall_index)], s.t0_m, s.t1_m);
-  }
-  if (best >= 0) return best;
-  for (std::size_t k = 0; k < plan.walls.size(); ++k) {
-    const Wall& w = plan.walls[k];
-    if (w.material != WallMaterial::kGlass) continue;
-    const double cap = 0.5 * w.thickness_m;
-    consider(static_cast<int>(plan.windows.size() + k), w, -cap, w.length_m() + cap);
-  }
-  return best;
-}
-
 void add_floor_and_ceiling(std::vector<ExtrudedFace>& faces, const FloorPlan& plan, const ExtrusionParams& params) {
   const double res = params.floor_resolution_m;
   const GridSpec grid = grid_for_plan(plan, res, 1.0);
@@ -123,6 +91,77 @@ void add_floor_and_ceiling(std::vector<ExtrudedFace>& faces, const FloorPlan& pl
 }
 
 }  // namespace
+
+GlassPaneIndex::GlassPaneIndex(const FloorPlan& plan, const WallIdIndex& ids)
+    : plan_(plan), windows_(plan.windows.size()) {
+  std::vector<IndexBox> boxes;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  auto add = [&](int id, int wall, double t0, double t1) {
+    panes_.push_back({id, wall, t0, t1});
+    if (wall < 0) {
+      boxes.push_back({nan, nan, nan, nan});  // unresolved: never a candidate (as in the scan)
+      return;
+    }
+    const Wall& w = plan.walls[static_cast<std::size_t>(wall)];
+    const Vec2 dir = w.direction();
+    const Vec2 n(-dir.y(), dir.x());
+    const double h = 0.5 * w.thickness_m + kTol;
+    IndexBox b{inf, inf, -inf, -inf};
+    for (const double t : {t0 - kTol, t1 + kTol}) {
+      for (const double o : {-h, h}) {
+        const Vec2 c = w.a_m + t * dir + o * n;
+        b.xmin = std::min(b.xmin, c.x());
+        b.ymin = std::min(b.ymin, c.y());
+        b.xmax = std::max(b.xmax, c.x());
+        b.ymax = std::max(b.ymax, c.y());
+      }
+    }
+    // A NaN corner (a zero-length wall) leaves the box out of the index, where the scan never
+    // picked it either (its distance is NaN); the margin covers the rounding of the corners.
+    if (!std::isfinite(b.xmin + b.ymin + b.xmax + b.ymax)) {
+      boxes.push_back({nan, nan, nan, nan});
+      return;
+    }
+    boxes.push_back(b.grown(1e-9 * (1.0 + std::abs(b.xmin) + std::abs(b.ymin) + std::abs(b.xmax) + std::abs(b.ymax))));
+  };
+  for (std::size_t k = 0; k < plan.windows.size(); ++k) {
+    const Window& w = plan.windows[k];
+    const OpeningSpan s = opening_span(plan, ids.find(w.wall_id), w.center_m, w.width_m);
+    add(static_cast<int>(k), s.wall_index, s.t0_m, s.t1_m);
+  }
+  for (std::size_t k = 0; k < plan.walls.size(); ++k) {
+    const Wall& w = plan.walls[k];
+    if (w.material != WallMaterial::kGlass) continue;
+    const double cap = 0.5 * w.thickness_m;
+    add(static_cast<int>(windows_ + k), static_cast<int>(k), -cap, w.length_m() + cap);
+  }
+  index_ = BoxIndex(boxes);
+}
+
+int GlassPaneIndex::part_id(const Vec2& p) {
+  index_.query({p.x(), p.y(), p.x(), p.y()}, candidates_);
+  int best = -1;
+  double best_dist = std::numeric_limits<double>::infinity();
+  bool windows_done = false;
+  for (const std::uint32_t c : candidates_) {  // ascending: window panes first, then glass walls
+    const Pane& pane = panes_[c];
+    if (!windows_done && static_cast<std::size_t>(pane.id) >= windows_) {
+      if (best >= 0) return best;  // a window pane wins over any glass wall
+      windows_done = true;
+    }
+    const Wall& wall = plan_.walls[static_cast<std::size_t>(pane.wall)];
+    const Vec2 dir = wall.direction();
+    const double t = (p - wall.a_m).dot(dir);
+    const double off = std::abs((p - wall.a_m).x() * dir.y() - (p - wall.a_m).y() * dir.x());
+    if (t < pane.t0_m - kTol || t > pane.t1_m + kTol || off > 0.5 * wall.thickness_m + kTol) continue;
+    if (off < best_dist) {
+      best_dist = off;
+      best = pane.id;
+    }
+  }
+  return best;
+}
 
 const char* mesh_label_name(MeshLabel label) {
   switch (label) {
@@ -199,6 +238,8 @@ std::vector<ExtrudedFace> extrude_faces(const FloorPlan& plan, const ExtrusionPa
 
   FloorPlan no_doors = plan;
   no_doors.doors.clear();
+  const WallIdIndex ids(plan);
+  GlassPaneIndex glass(plan, ids);
 
   std::vector<ExtrudedFace> faces;
   // Vertical faces, band by band; a face present with the same 2D segment in consecutive bands
@@ -238,7 +279,7 @@ std::vector<ExtrudedFace> extrude_faces(const FloorPlan& plan, const ExtrusionPa
         open.erase(it);
       } else {
         const int part = label == MeshLabel::kGlass
-                             ? glass_part_id(plan, 0.5 * (s.segment_m.a_m + s.segment_m.b_m))
+                             ? glass.part_id(0.5 * (s.segment_m.a_m + s.segment_m.b_m))
                              : -1;
         next[key] = {z0, part};
       }
@@ -251,7 +292,7 @@ std::vector<ExtrudedFace> extrude_faces(const FloorPlan& plan, const ExtrusionPa
   // Soffits of open door openings (the underside of the lintel).
   for (const Door& d : plan.doors) {
     if (d.closed) continue;
-    const OpeningSpan s = opening_span(plan, d.wall_id, d.center_m, d.width_m);
+    const OpeningSpan s = opening_span(plan, ids.find(d.wall_id), d.center_m, d.width_m);
     if (s.wall_index < 0) continue;
     const Wall& w = plan.walls[static_cast<std::size_t>(s.wall_index)];
     const Vec2 dir = w.direction();

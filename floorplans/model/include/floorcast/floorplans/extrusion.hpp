@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "floorcast/core/box_index.hpp"
 #include "floorcast/floorplans/floor_plan.hpp"
 
 namespace floorcast {
@@ -67,6 +68,32 @@ struct ExtrudedFace {
   MeshLabel label = MeshLabel::kWall;
   /// Glass faces: the glass element (window k -> k, glass wall w -> windows.size() + w); -1 else.
   int part_id = -1;
+};
+
+/// The glass panes of a plan and a spatial index over them, built once per extrusion: which glass
+/// element (window k -> k, glass wall w -> windows.size() + w, as ExtrudedFace::part_id) a point
+/// on a glass face belongs to, from the few panes near it instead of a scan over every window and
+/// every wall (quadratic on a plan of 1,000,000 walls). Keeps a reference to the plan.
+class GlassPaneIndex {
+ public:
+  GlassPaneIndex(const FloorPlan& plan, const WallIdIndex& ids);
+  /// The window whose pane (its interval along the wall, the wall's thickness, 1e-6 m tolerance)
+  /// holds p, the one nearest the wall's centre line; else the glass wall that holds p, the
+  /// nearest; the first in plan order on a tie; -1 when none does.
+  int part_id(const Vec2& p);
+
+ private:
+  static constexpr double kTol = 1e-6;
+  struct Pane {
+    int id;
+    int wall;
+    double t0_m, t1_m;
+  };
+  const FloorPlan& plan_;
+  std::size_t windows_;
+  std::vector<Pane> panes_;
+  BoxIndex index_;
+  std::vector<std::uint32_t> candidates_;  // query buffer, reused
 };
 
 /// Every face of the plan's extrusion, in a fixed order (vertical faces band by band, door
