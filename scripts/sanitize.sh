@@ -52,7 +52,7 @@ A=tests/adversarial/data
 inputs() {
   case $1 in
     fuzz_plan_json) echo floorplans/buildings $A/plan $A/rooms "$GEN/json" ;;
-    fuzz_import_csv) echo tests/floorplans_import/data/csv "$GEN/csv" ;;
+    fuzz_import_csv) echo tests/floorplans_import/data/csv $A/csv "$GEN/csv" ;;
     fuzz_import_osm) echo tests/floorplans_import/data/osm "$GEN/xml" ;;
     fuzz_import_s3d) echo tests/floorplans_import/data/s3d "$GEN/json" ;;
     fuzz_import_imdf) echo "$GEN/imdf" ;;

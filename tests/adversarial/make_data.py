@@ -466,6 +466,12 @@ y("building_is_folder", "buildings: [floorplans/buildings]\nmatchers: {k: {match
 # CSV from a spreadsheet: a UTF-8 byte-order mark before the first number.
 put("csv/bom.csv", b"\xef\xbb\xbf" + b"0,0,8,0\n8,0,8,5\n8,5,0,5\n0,5,0,0\n")
 put("csv/bom_crlf.csv", b"\xef\xbb\xbf" + b"0,0,8,0\r\n8,0,8,5\r\n8,5,0,5\r\n0,5,0,0\r\n")
+# Fuzzing finding (issue 28's campaign): a wall 255 m long at a slant; rasters painted its whole
+# bounding box (6 s under the fuzzer's sanitizers for 359 bytes). A non-UTF-8 byte in the comment.
+put("csv/fuzz_diagonal_feet.csv", b"# x1,y1,x2,y2 in\x9c feet\n0.0000,0.0000,9.8425,0.0000\n12.7953,0.0000,32.8084,0.0000\n"
+    b"32.8084,0.0000,32.8084,26.2467\n32.8044,862.267,0.0000,26.2467\n0.0000,26.2467,0.0000,0.0000\n"
+    b"16.4042,0.0000,16.4042,9.8425\n16.4042,12.7953,16.4042,26.2467\n0.0000,132.134,6.5617,13.1234\n"
+    b"9.5144,13.1234,16.4042,13.1234\n16.4042,13.1234,22.9659,13.1234\n25.9186,11.1234,32.8084,13.1234\n")
 
 
 def gray_png(width, height, value):

@@ -1,10 +1,13 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ximgproc.hpp>
 #include <random>
 
+#include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/raster.hpp"
 #include "test_plans.hpp"
 
@@ -73,6 +76,71 @@ TEST(Raster, OccupancyEqualsBruteForceOnRandomPlans) {
     EXPECT_EQ(cv::countNonZero(fast != slow), 0) << "trial " << trial;
     EXPECT_GT(cv::countNonZero(fast), 100);
   }
+}
+
+/// The rasterizer before issue 28: every cell of each footprint's bounding box (one cell of margin)
+/// through the same predicates; the row-span painting must give the same cells.
+cv::Mat bounding_box_occupancy(const FloorPlan& plan, const GridSpec& g, const BlockingOptions& o) {
+  cv::Mat occ(g.height_px, g.width_px, CV_8U, cv::Scalar(0));
+  const double res = g.resolution_m_per_px;
+  for (const Footprint& f : blocking_footprints(plan, o)) {
+    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+    for (const Vec2& p : f.polygon_m) {
+      x0 = std::min(x0, p.x());
+      y0 = std::min(y0, p.y());
+      x1 = std::max(x1, p.x());
+      y1 = std::max(y1, p.y());
+    }
+    const Vec2 g0 = g.world_to_grid({x0, y0}), g1 = g.world_to_grid({x1, y1});
+    const int c0 = std::max(0, static_cast<int>(std::floor(g0.x())) - 1), r0 = std::max(0, static_cast<int>(std::floor(g0.y())) - 1);
+    const int c1 = std::min(g.width_px - 1, static_cast<int>(std::floor(g1.x())) + 1);
+    const int r1 = std::min(g.height_px - 1, static_cast<int>(std::floor(g1.y())) + 1);
+    for (int r = r0; r <= r1; ++r) {
+      for (int c = c0; c <= c1; ++c) {
+        bool hit = point_in_convex_polygon(f.polygon_m, g.cell_center_m(r, c));
+        if (!hit && f.has_axis) {
+          Vec2 a = f.axis_m.a_m, b = f.axis_m.b_m;
+          const double bx0 = g.origin_x_m + c * res, by0 = g.origin_y_m + r * res;
+          hit = clip_segment_to_box(a, b, bx0, by0, bx0 + res, by0 + res);
+        }
+        if (hit) occ.at<std::uint8_t>(r, c) = 255;
+      }
+    }
+  }
+  return occ;
+}
+
+// Long diagonal walls (their bounding box is mostly empty: the rasterizer paints row spans, issue
+// 28), thin ones painted by their axis, at resolutions that do not divide the coordinates, and
+// walls on cell borders and cell centres: the same cells as the bounding-box scan, and (away from
+// those ties, which the independent predicates may break the other way) as the brute force.
+TEST(Raster, LongDiagonalAndThinWallsEqualTheBoundingBoxScan) {
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> u(0.0, 12.0), ang(0.0, 6.283), th(0.005, 0.3), len(4.0, 15.0);
+  int painted = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    FloorPlan p;
+    for (int i = 0; i < 12; ++i) {
+      const Vec2 a(u(rng), u(rng));
+      const double t = ang(rng);
+      p.walls.push_back({"w" + std::to_string(i), a, a + len(rng) * Vec2(std::cos(t), std::sin(t)), th(rng),
+                         WallMaterial::kSolid, 0.0, {}});
+    }
+    const double res = trial % 3 == 0 ? 0.1 : (trial % 3 == 1 ? 0.137 : 0.05);
+    const GridSpec g = grid_for_plan(p, res, 0.5);
+    const cv::Mat fast = rasterize_occupancy(p, g, {});
+    EXPECT_EQ(cv::countNonZero(fast != brute_force_occupancy(p, g, {})), 0) << "trial " << trial;
+    FloorPlan ties = p;
+    ties.walls.push_back({"grid_aligned", {1.0, 1.0}, {3.0, 3.0}, 0.05, WallMaterial::kSolid, 0.0, {}});
+    ties.walls.push_back({"flat", {0.25, 2.05}, {9.75, 2.05}, 0.01, WallMaterial::kSolid, 0.0, {}});
+    ties.walls.push_back({"upright", {7.05, 0.5}, {7.05, 11.5}, 0.01, WallMaterial::kSolid, 0.0, {}});
+    ties.walls.push_back({"point", {5.0, 5.0}, {5.0, 5.0}, 0.2, WallMaterial::kSolid, 0.0, {}});
+    const GridSpec gt = grid_for_plan(ties, res, 0.5);
+    const cv::Mat fast_ties = rasterize_occupancy(ties, gt, {});
+    EXPECT_EQ(cv::countNonZero(fast_ties != bounding_box_occupancy(ties, gt, {})), 0) << "trial " << trial;
+    painted += cv::countNonZero(fast) + cv::countNonZero(fast_ties);
+  }
+  EXPECT_GT(painted, 5000);
 }
 
 TEST(Raster, ZhangSuenThinningEqualsOpenCvXimgproc) {

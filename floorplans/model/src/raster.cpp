@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -29,6 +30,37 @@ void clamp_cell_range(const GridSpec& grid, double x0, double y0, double x1, dou
   r1 = std::min(grid.height_px - 1, static_cast<int>(std::floor(g1.y())) + 1);
 }
 
+/// Widens [lo, hi] by the x of every point of the edges of `pts` (a closed polygon, or the open
+/// segment pts[0]-pts[1] when `closed` is false) whose y lies in [ya, yb].
+void widen_by_strip(const std::vector<Vec2>& pts, bool closed, double ya, double yb, double& lo, double& hi) {
+  const std::size_t n = pts.size();
+  const std::size_t edges = closed ? n : (n >= 2 ? n - 1 : 0);
+  for (std::size_t i = 0; i < edges; ++i) {
+    const Vec2& a = pts[i];
+    const Vec2& b = pts[(i + 1) % n];
+    const double dy = b.y() - a.y();
+    double t0 = 0.0, t1 = 1.0;
+    if (dy == 0.0) {
+      if (!(a.y() >= ya && a.y() <= yb)) continue;
+    } else {
+      const double ta = (ya - a.y()) / dy, tb = (yb - a.y()) / dy;
+      t0 = std::max(t0, std::min(ta, tb));
+      t1 = std::min(t1, std::max(ta, tb));
+      if (!(t0 <= t1)) continue;
+    }
+    for (const double t : {t0, t1}) {
+      const double x = a.x() + t * (b.x() - a.x());
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+  }
+}
+
+/// Paints the cells whose centre lies in the footprint's polygon, and (walls, doors, glass) every
+/// cell its axis passes through. Row by row, only over the columns where the polygon or the axis
+/// meets the row (widened by a row above and below and a column either side, so rounding never
+/// loses a cell): the work follows the footprint's area, not its bounding box (a long diagonal
+/// wall's box is ~its length squared; issue 28). The same cells as testing every cell of the box.
 void paint_footprint(cv::Mat& occ, const GridSpec& grid, const Footprint& f) {
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
   for (const Vec2& p : f.polygon_m) {
@@ -40,9 +72,18 @@ void paint_footprint(cv::Mat& occ, const GridSpec& grid, const Footprint& f) {
   int c0, r0, c1, r1;
   clamp_cell_range(grid, x0, y0, x1, y1, c0, r0, c1, r1);
   const double res = grid.resolution_m_per_px;
+  const std::vector<Vec2> axis = f.has_axis ? std::vector<Vec2>{f.axis_m.a_m, f.axis_m.b_m} : std::vector<Vec2>{};
   for (int r = r0; r <= r1; ++r) {
+    const double ya = grid.origin_y_m + (r - 1) * res, yb = grid.origin_y_m + (r + 2) * res;
+    double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
+    widen_by_strip(f.polygon_m, true, ya, yb, lo, hi);
+    widen_by_strip(axis, false, ya, yb, lo, hi);
+    if (!(lo <= hi)) continue;
+    const double g_lo = std::floor((lo - grid.origin_x_m) / res) - 1.0, g_hi = std::floor((hi - grid.origin_x_m) / res) + 1.0;
+    const int ca = g_lo > c0 ? static_cast<int>(std::min<double>(g_lo, c1 + 1)) : c0;
+    const int cb = g_hi < c1 ? static_cast<int>(std::max<double>(g_hi, c0 - 1)) : c1;
     std::uint8_t* row = occ.ptr<std::uint8_t>(r);
-    for (int c = c0; c <= c1; ++c) {
+    for (int c = ca; c <= cb; ++c) {
       if (row[c]) continue;
       if (point_in_convex_polygon(f.polygon_m, grid.cell_center_m(r, c))) {
         row[c] = 255;
