@@ -10,7 +10,10 @@
 # executions and findings; exits 1 when there is a finding.
 #
 # Environment: FLOORCAST_FUZZ_BUILD_JOBS (compile jobs, default 2), FLOORCAST_REALPLANS (seed
-#   plans folder). One fuzzing process (the machines are shared): run several targets at once
+#   plans folder), FLOORCAST_FUZZ_NO_BUILD=1 (fuzz the binary already in build-fuzz/bin, e.g.
+#   while a build of the other targets runs in build-fuzz), FLOORCAST_FUZZ_TIMEOUT (seconds of wall
+#   clock after which an input is a hang, default 10; raise it on a loaded machine, where a niced
+#   fuzzer waits for the CPU, and check every timeout's CPU time when it is reproduced). One fuzzing process (the machines are shared): run several targets at once
 #   for more.
 # Every finding gets a regression case in tests/adversarial/cases/ (see results/fuzz.md).
 set -euo pipefail
@@ -44,13 +47,20 @@ if [ ${#need[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
 fi
 
-FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g -O1"
-launcher=()
-if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache); fi
-cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_C_FLAGS="$FLAGS" -DCMAKE_CXX_FLAGS="$FLAGS" \
-  -DFLOORCAST_BUILD_FUZZERS=ON -DFLOORCAST_BUILD_TESTS=OFF -DFLOORCAST_BUILD_BENCHMARKS=OFF "${launcher[@]}" >/dev/null
-cmake --build build-fuzz -j"${FLOORCAST_FUZZ_BUILD_JOBS:-2}" --target "$TARGET"
+if [ "${FLOORCAST_FUZZ_NO_BUILD:-0}" = 1 ]; then
+  if [ ! -x build-fuzz/bin/"$TARGET" ]; then
+    echo "fuzz.sh: FLOORCAST_FUZZ_NO_BUILD=1 but build-fuzz/bin/$TARGET is not built" >&2
+    exit 2
+  fi
+else
+  FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g -O1"
+  launcher=()
+  if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache); fi
+  cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+    -DCMAKE_C_FLAGS="$FLAGS" -DCMAKE_CXX_FLAGS="$FLAGS" \
+    -DFLOORCAST_BUILD_FUZZERS=ON -DFLOORCAST_BUILD_TESTS=OFF -DFLOORCAST_BUILD_BENCHMARKS=OFF "${launcher[@]}" >/dev/null
+  cmake --build build-fuzz -j"${FLOORCAST_FUZZ_BUILD_JOBS:-2}" --target "$TARGET"
+fi
 
 # Seed corpus: every fixture of the matching kind.
 REALPLANS=${FLOORCAST_REALPLANS:-}
@@ -90,10 +100,10 @@ esac
 OUT=out/fuzz/$TARGET
 mkdir -p "$OUT/corpus"
 echo "fuzz.sh: $TARGET for ${SECONDS_TO_RUN}s, $(ls "$SEEDS" | wc -l) seeds, corpus $OUT/corpus"
-# -timeout: an input running longer than 10 s is a hang; -rss_limit_mb: more than 3 GiB is a
+# -timeout: an input running longer than 10 s (FLOORCAST_FUZZ_TIMEOUT) is a hang; -rss_limit_mb: more than 3 GiB is a
 # memory finding; -max_len 1 MiB covers the real-plan seeds.
 set +e
-build-fuzz/bin/"$TARGET" "$OUT/corpus" "$SEEDS" "${DICT[@]}" -max_total_time="$SECONDS_TO_RUN" -timeout=10 \
+build-fuzz/bin/"$TARGET" "$OUT/corpus" "$SEEDS" "${DICT[@]}" -max_total_time="$SECONDS_TO_RUN" -timeout="${FLOORCAST_FUZZ_TIMEOUT:-10}" \
   -rss_limit_mb=3072 -max_len=1048576 -print_final_stats=1 -artifact_prefix="$OUT/" > "$OUT/fuzz.log" 2>&1
 status=$?
 set -e
