@@ -42,6 +42,17 @@ std::vector<int> brute_force_bins(const SemanticPlanLines& lines, BevClasses cla
   return cls;
 }
 
+/// The same modes (cells, slices and scores), in the same order.
+void expect_same_modes(const std::vector<PoseHypothesis>& a, const std::vector<PoseHypothesis>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].slice, b[i].slice) << i;
+    EXPECT_EQ(a[i].row, b[i].row) << i;
+    EXPECT_EQ(a[i].col, b[i].col) << i;
+    EXPECT_EQ(a[i].score, b[i].score) << i;
+  }
+}
+
 class BevVolume : public ::testing::TestWithParam<BevClasses> {};
 
 // The z-buffered volume equals the brute-force cast at 3,000 random (cell, direction) pairs, up
@@ -316,13 +327,7 @@ TEST(BevMatcher, BoundedSearchEqualsTheFullPosterior) {
           for (const int k : {1, 3, 8}) {
             const std::vector<PoseHypothesis> expect = full.top_k(k);
             const MatchResult r = bounded.match(o, MatchRequest::modes(k));
-            ASSERT_EQ(r.modes.size(), expect.size());
-            for (std::size_t i = 0; i < expect.size(); ++i) {
-              EXPECT_EQ(r.modes[i].slice, expect[i].slice) << i;
-              EXPECT_EQ(r.modes[i].row, expect[i].row) << i;
-              EXPECT_EQ(r.modes[i].col, expect[i].col) << i;
-              EXPECT_EQ(r.modes[i].score, expect[i].score) << i;
-            }
+            expect_same_modes(r.modes, expect);
             EXPECT_EQ(r.counters.at("search_exhaustive"), 0.0);
             ++checked;
             if (mix == 0.0f && fov_deg == 360.0 && k == 1) {
@@ -330,13 +335,7 @@ TEST(BevMatcher, BoundedSearchEqualsTheFullPosterior) {
             }
             if (k != 3) continue;
             const MatchResult sw = auto_switching.match(o, MatchRequest::modes(k));
-            ASSERT_EQ(sw.modes.size(), expect.size());
-            for (std::size_t i = 0; i < expect.size(); ++i) {
-              EXPECT_EQ(sw.modes[i].slice, expect[i].slice) << i;
-              EXPECT_EQ(sw.modes[i].row, expect[i].row) << i;
-              EXPECT_EQ(sw.modes[i].col, expect[i].col) << i;
-              EXPECT_EQ(sw.modes[i].score, expect[i].score) << i;
-            }
+            expect_same_modes(sw.modes, expect);
             // It decides once 2% of the pairs are scored; a search that ends sooner is kept.
             const bool sw_exhaustive = sw.counters.at("search_exhaustive") == 1.0;
             EXPECT_EQ(sw_exhaustive, sw.stage_s.count("bounded_until_switch") == 1);
@@ -378,16 +377,7 @@ TEST(BevMatcher, AutoSearchChoosesByPredictedShareAndReportsIt) {
       const MatchResult y = bounded.match(o, MatchRequest::modes(5));
       const MatchResult n = auto_never.match(o, MatchRequest::modes(5));
       ASSERT_FALSE(a.modes.empty());
-      ASSERT_EQ(a.modes.size(), x.modes.size());
-      ASSERT_EQ(a.modes.size(), y.modes.size());
-      for (std::size_t i = 0; i < a.modes.size(); ++i) {
-        for (const MatchResult* r : {&x, &y, &n}) {
-          EXPECT_EQ(a.modes[i].slice, r->modes[i].slice) << i;
-          EXPECT_EQ(a.modes[i].row, r->modes[i].row) << i;
-          EXPECT_EQ(a.modes[i].col, r->modes[i].col) << i;
-          EXPECT_EQ(a.modes[i].score, r->modes[i].score) << i;
-        }
-      }
+      for (const MatchResult* r : {&x, &y, &n}) expect_same_modes(a.modes, r->modes);
       // The reported choice follows the documented rule.
       const double share = a.counters.at("search_predicted_share");
       EXPECT_GT(share, 0.0);
