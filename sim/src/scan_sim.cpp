@@ -716,10 +716,11 @@ std::vector<std::vector<SemanticHit>> simulate_column_semantics(const RayScene& 
     for (const auto& [t, label] : entered(high, dir, false)) {
       if (t >= stop - 5e-3) break;  // the stopping wall itself (coplanar above the camera)
       if (label != MeshLabel::kWall) continue;
+      const double range_m = t;  // a copy: clang 14 cannot capture a structured binding
       const bool matched = std::any_of(hits.begin(), hits.end(), [&](const SemanticHit& h) {
         // The same wall plane (a closed leaf, a pane or the wall itself under the probe): the
         // probe's face is coplanar with it, so the ranges agree to float precision.
-        return h.label != SemanticClass::kFurniture && std::abs(h.range_m - t) < 5e-3;
+        return h.label != SemanticClass::kFurniture && std::abs(h.range_m - range_m) < 5e-3;
       });
       const bool repeated = !doors.empty() && t - doors.back().range_m < 5e-3;
       if (!matched && !repeated) doors.push_back({SemanticClass::kDoorOpen, t});
