@@ -630,7 +630,7 @@ Report build_report(const Scenario& scenario, const std::vector<UnitResult>& uni
   // Sequential: median position error vs step, and the share of walks within 1 m vs step.
   for (const auto& [cell_id, by_tracker] : seq_records) {
     const auto cell_it = std::find_if(scenario.cells.begin(), scenario.cells.end(),
-                                      [&](const CellSpec& c) { return c.id == cell_id; });
+                                      [&id = cell_id](const CellSpec& c) { return c.id == id; });
     const CellSpec cell = cell_it != scenario.cells.end() ? *cell_it : CellSpec{};
     LinePlot err, ok;
     err.title = plot_title("Tracking error vs step (median over walks)", cell);
