@@ -53,7 +53,7 @@ inputs() {
   case $1 in
     fuzz_plan_json) echo floorplans/buildings $A/plan $A/rooms "$GEN/json" ;;
     fuzz_import_csv) echo tests/floorplans_import/data/csv $A/csv "$GEN/csv" ;;
-    fuzz_import_osm) echo tests/floorplans_import/data/osm "$GEN/xml" ;;
+    fuzz_import_osm) echo tests/floorplans_import/data/osm $A/osm "$GEN/xml" ;;
     fuzz_import_s3d) echo tests/floorplans_import/data/s3d "$GEN/json" ;;
     fuzz_import_imdf) echo "$GEN/imdf" ;;
     fuzz_import_png) echo tests/floorplans_import/data/png $A/scan ;;
