@@ -10,6 +10,8 @@
 #include <memory>
 #include <random>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "floorcast/bench/modes_equivalence.hpp"
 #include "floorcast/core/fields.hpp"
@@ -68,6 +70,15 @@ std::map<std::string, double> median_of(const std::vector<std::map<std::string, 
   std::map<std::string, double> out;
   for (auto& [k, x] : v) out[k] = median(x);
   return out;
+}
+
+/// The bounded search's scored share from its (median) counters. Both bounded searches report
+/// it; a missing counter is a broken matcher, not a value to invent.
+double scored_share(const std::map<std::string, double>& counters, const char* matcher) {
+  const auto it = counters.find("cells_scored_share");
+  if (it == counters.end())
+    throw std::logic_error(std::string("bench match: the ") + matcher + " matcher's search reported no cells_scored_share");
+  return it->second;
 }
 
 nlohmann::ordered_json to_json(const std::map<std::string, double>& m) {
@@ -297,7 +308,7 @@ MatchBenchResult bench_match(const FloorPlan& plan, const MatchBenchParams& para
     r.bounded_modes_identical = same_modes;
     r.max_over_yaw = yaw_map.cost();
     const std::map<std::string, double> c = median_of(counters);
-    r.cells_scored_share = c.count("cells_scored_share") ? c.at("cells_scored_share") : 1.0;
+    r.cells_scored_share = scored_share(c, "ray");
     r.stages_cpu_s = to_json(median_of(stages));
     r.search_counters = to_json(c);
     if (params.posteriors) {
@@ -388,7 +399,7 @@ MatchBenchResult bench_match(const FloorPlan& plan, const MatchBenchParams& para
       f.exhaustive_over_bounded = median_ratio(modes_exhaustive.cpu, modes.cpu);
       f.bounded_modes_identical = same;
       const std::map<std::string, double> c = median_of(counters);
-      f.cells_scored_share = c.count("cells_scored_share") ? c.at("cells_scored_share") : 1.0;
+      f.cells_scored_share = scored_share(c, "bev");
       f.stages_cpu_s = to_json(median_of(stages));
       f.search_counters = to_json(c);
       if (params.posteriors) {
