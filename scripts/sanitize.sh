@@ -42,7 +42,7 @@ printf '{"format_version":1,"name":"%s"}' "$(repeat 'ab' 100000)" > "$GEN/json/l
 printf '<osm>%s' "$(repeat '<a>' 100000)" > "$GEN/xml/deep.osm"
 printf 'x0,y0,x1,y1\n%s\n' "$(repeat 9 100000)" > "$GEN/csv/long_number.csv"
 printf '%s\n#unit\n%s\n#opening\n[' "$deep" "$deep" > "$GEN/imdf/deep.imdf"
-for d in tests/floorplans_import/data/imdf/*; do
+for d in tests/floorplans_import/data/imdf/* tests/adversarial/data/imdf/*; do
   [ -f "$d/unit.geojson" ] || continue
   { cat "$d/level.geojson"; printf '\n#unit\n'; cat "$d/unit.geojson"; printf '\n#opening\n';
     if [ -f "$d/opening.geojson" ]; then cat "$d/opening.geojson"; fi; } > "$GEN/imdf/$(basename "$d").imdf"

@@ -9,6 +9,7 @@
 
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/raster.hpp"
+#include "floorcast/floorplans/rooms.hpp"
 #include "test_plans.hpp"
 
 namespace floorcast {
@@ -264,6 +265,70 @@ TEST(Plan, BoundingBoxOfRotatedBoxesIsExact) {
   const Eigen::Vector4d b = plan_bbox_m(p);
   EXPECT_NEAR(b[0], -0.1, 1e-9);
   EXPECT_NEAR(b[2], 8.5, 1e-9);  // rotated 90 deg: depth 1.0 along x
+}
+
+
+// room_index_raster is a scanline fill (a fuzzing finding: the per-cell point-in-polygon test cost
+// cells x vertices); it must decide every cell exactly as the slow, obvious version does:
+// room_at() of each cell centre (smallest containing room, holes excluded, ties to the first).
+// Random non-convex and self-intersecting outlines, holes (some sticking out of the outline,
+// some overlapping each other), nested rooms of equal area, vertices on cell centres and on
+// cell edges, rooms partly off the grid and one far-away vertex.
+TEST(RoomIndexRaster, EqualsRoomAtOfEveryCellCentre) {
+  std::mt19937 rng(20261127);
+  const GridSpec g{-3.0, -2.0, 0.25, 96, 80};  // origin x, y, resolution, width, height
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto snap = [&](double v, int mode) {
+    // 0: free, 1: on a cell centre, 2: on a cell edge (of the grid above)
+    if (mode == 0) return v;
+    const double k = std::round(v / 0.25);
+    return k * 0.25 + (mode == 1 ? 0.125 : 0.0);
+  };
+  auto ring = [&](double cx, double cy, double r, int n, int mode) {
+    std::vector<Vec2> out;
+    for (int k = 0; k < n; ++k) {
+      const double a = 2.0 * M_PI * (k + 0.3 * u(rng)) / n;
+      const double rr = r * (0.35 + 0.65 * u(rng));
+      out.emplace_back(snap(cx + rr * std::cos(a), mode), snap(cy + rr * std::sin(a), mode));
+    }
+    return out;
+  };
+  int cells_in_rooms = 0, cells_in_holes = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    std::vector<Room> rooms;
+    const int nrooms = 1 + trial % 6;
+    for (int k = 0; k < nrooms; ++k) {
+      Room room;
+      room.id = "r" + std::to_string(k);
+      room.kind = "office";
+      const int mode = (trial + k) % 3;
+      const double cx = -4.0 + 30.0 * u(rng), cy = -3.0 + 24.0 * u(rng);
+      room.polygon_m = ring(cx, cy, 2.0 + 8.0 * u(rng), 3 + static_cast<int>(20 * u(rng)), mode);
+      if (k % 4 == 3) std::shuffle(room.polygon_m.begin(), room.polygon_m.end(), rng);  // self-intersecting
+      for (int h = 0; h < (k + trial) % 3; ++h) room.holes_m.push_back(ring(cx + 2.0 * (u(rng) - 0.5), cy, 2.5, 5, mode));
+      rooms.push_back(room);
+      if (k % 5 == 1) rooms.push_back(room);  // an identical room: equal area, the first wins
+    }
+    if (trial % 10 == 9) rooms.back().polygon_m.push_back(Vec2(3.0e5, 10.0));  // one far-away vertex
+    const cv::Mat fast = room_index_raster(rooms, g);
+    ASSERT_EQ(fast.type(), CV_32S);
+    ASSERT_EQ(fast.rows, g.height_px);
+    ASSERT_EQ(fast.cols, g.width_px);
+    for (int r = 0; r < g.height_px; ++r) {
+      for (int c = 0; c < g.width_px; ++c) {
+        const Vec2 p = g.cell_center_m(r, c);
+        const int expected = room_at(rooms, p);
+        ASSERT_EQ(fast.at<int>(r, c), expected) << "trial " << trial << " cell (" << r << ", " << c << ")";
+        if (expected >= 0) ++cells_in_rooms;
+        for (const Room& room : rooms) {
+          for (const auto& hole : room.holes_m) cells_in_holes += point_in_polygon(room.polygon_m, p) && point_in_polygon(hole, p);
+        }
+      }
+    }
+  }
+  // The cases were not vacuous: many cells in rooms, many excluded by holes.
+  EXPECT_GT(cells_in_rooms, 50000);
+  EXPECT_GT(cells_in_holes, 2000);
 }
 
 }  // namespace
