@@ -38,10 +38,14 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
   const double cw = snap(rng.uniform(p.hallway_width_min_m, p.hallway_width_max_m), 0.1);
   const double module = snap(rng.uniform(p.module_width_min_m, p.module_width_max_m), 0.05);
   const double target_m2 = rng.uniform(p.target_area_min_m2, p.target_area_max_m2);
+  // Depth of each row (S, I1b, I1t, I2b, I2t, N): one for all, or one per row.
+  std::array<double, kStripCount> d{};
+  for (double& x : d) x = p.depth_per_row ? snap(rng.uniform(p.room_depth_min_m, p.room_depth_max_m), 0.1) : rd;
 
-  // Free floor area is ~0.84 of the gross block area (walls, furniture).
-  constexpr double kFreeShare = 0.84;
-  const double depth = 6.0 * rd + 3.0 * cw;
+  // Free floor area is ~0.84 of the gross block area (walls, furniture) with rows of module rooms,
+  // ~0.80 with the calibrated rooms and halls (seating rows; measured on seeds 1-4).
+  const double kFreeShare = p.variety.enabled ? 0.80 : 0.84;
+  const double depth = d[0] + d[1] + d[2] + d[3] + d[4] + d[5] + 3.0 * cw;
   const double length_goal = target_m2 / kFreeShare / depth;
   const int nseg = std::max(
       2, static_cast<int>(std::lround((length_goal - 2.0 * rd - cw) / (p.segment_length_m + cw))));
@@ -51,8 +55,9 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
   const double Lx = vx.back() + cw + rd;
 
   // y bands.
-  const std::array<double, 3> yh = {rd, 3.0 * rd + cw, 5.0 * rd + 2.0 * cw};  // south edge of H0..H2
-  const double ytop = 6.0 * rd + 3.0 * cw;
+  const std::array<double, 3> yh = {d[0], d[0] + d[1] + d[2] + cw,
+                                    d[0] + d[1] + d[2] + d[3] + d[4] + 2.0 * cw};  // south edge of H0..H2
+  const double ytop = yh[2] + cw + d[5];
   // Strip extents (y0, y1, facing, hallway index).
   struct StripGeom {
     double y0, y1;
@@ -61,12 +66,12 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
     const char* name;
   };
   const std::array<StripGeom, kStripCount> strips = {{
-      {0.0, rd, +1, 0, true, "S"},
-      {rd + cw, 2.0 * rd + cw, -1, 0, false, "I1b"},
-      {2.0 * rd + cw, 3.0 * rd + cw, +1, 1, false, "I1t"},
-      {3.0 * rd + 2.0 * cw, 4.0 * rd + 2.0 * cw, -1, 1, false, "I2b"},
-      {4.0 * rd + 2.0 * cw, 5.0 * rd + 2.0 * cw, +1, 2, false, "I2t"},
-      {5.0 * rd + 3.0 * cw, ytop, -1, 2, true, "N"},
+      {0.0, yh[0], +1, 0, true, "S"},
+      {yh[0] + cw, yh[0] + cw + d[1], -1, 0, false, "I1b"},
+      {yh[0] + cw + d[1], yh[1], +1, 1, false, "I1t"},
+      {yh[1] + cw, yh[1] + cw + d[3], -1, 1, false, "I2b"},
+      {yh[1] + cw + d[3], yh[2], +1, 2, false, "I2t"},
+      {yh[2] + cw, ytop, -1, 2, true, "N"},
   }};
 
   const WindowSpec win = standard_windows(st);
@@ -88,10 +93,10 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
   for (int k = 0; k <= nseg; ++k) {
     const double x0 = vx[static_cast<std::size_t>(k)], x1 = x0 + cw;
     const std::string v = "V" + std::to_string(k);
-    L.add_rect(v + ".I1", "hallway", F, x0, rd + cw, x1, 3.0 * rd + cw, no_windows());
-    L.add_rect(v + ".I2", "hallway", F, x0, 3.0 * rd + 2.0 * cw, x1, 5.0 * rd + 2.0 * cw, no_windows());
+    L.add_rect(v + ".I1", "hallway", F, x0, yh[0] + cw, x1, yh[1], no_windows());
+    L.add_rect(v + ".I2", "hallway", F, x0, yh[1] + cw, x1, yh[2], no_windows());
     for (int side = 0; side < 2; ++side) {
-      const double y0 = side == 0 ? 0.0 : 5.0 * rd + 3.0 * cw, y1 = side == 0 ? rd : ytop;
+      const double y0 = side == 0 ? 0.0 : yh[2] + cw, y1 = side == 0 ? yh[0] : ytop;
       const int hall = H[side == 0 ? 0 : 2];
       const int facing = side == 0 ? +1 : -1;
       const std::string id = v + (side == 0 ? ".S" : ".N");
@@ -140,15 +145,16 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
     const double ll = snap(rng.uniform(p.lobby_length_min_m, p.lobby_length_max_m), 0.1);
     const double x0 = xc - 0.5 * ll, x1 = xc + 0.5 * ll;
     strip_res(jm, kS).reserve(x0, x1);
-    const int lobby = L.add_rect("lobby", "lobby", F, x0, 0.0, x1, rd, no_windows());
+    const double sd0 = d[kS];  // lobby depth: the south row's
+    const int lobby = L.add_rect("lobby", "lobby", F, x0, 0.0, x1, sd0, no_windows());
     L.set_open(lobby, H[0]);
     L.set_glass(lobby, kOutside, 0.0, std::nullopt, Vec2(0.0, -1.0));
     L.add_door(lobby, kOutside, dd, true, F.to_world(xc - 0.25 * ll, 0.0));
     L.add_door(lobby, kOutside, dd, rng.bernoulli(0.5), F.to_world(xc + 0.25 * ll, 0.0));
     if (st.furniture) {
-      L.add_obstacle("lobby_reception", ObstacleKind::kBox, F.to_world(x0 + 2.5, 0.6 * rd), Vec2(3.0, 0.8), 0.0, 1.1);
+      L.add_obstacle("lobby_reception", ObstacleKind::kBox, F.to_world(x0 + 2.5, 0.6 * sd0), Vec2(3.0, 0.8), 0.0, 1.1);
       for (int k = -1; k <= 1; k += 2) {
-        L.add_obstacle("lobby_pillar", ObstacleKind::kPillar, F.to_world(xc + k * 0.25 * ll, 0.55 * rd),
+        L.add_obstacle("lobby_pillar", ObstacleKind::kPillar, F.to_world(xc + k * 0.25 * ll, 0.55 * sd0),
                        Vec2(0.6, 0.6), 0.0, 3.5);
       }
     }
@@ -157,7 +163,7 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
     const double a0 = xc - 0.5 * la, a1 = xc + 0.5 * la;
     strip_res(jm, kI1b).reserve(a0, a1);
     strip_res(jm, kI1t).reserve(a0, a1);
-    const double ay0 = rd + cw, ay1 = 3.0 * rd + cw;
+    const double ay0 = yh[0] + cw, ay1 = yh[1];
     const int atrium = L.add_rect("atrium", "atrium", F, a0, ay0, a1, ay1, no_windows());
     L.set_glass(atrium, H[0]);
     L.set_glass(atrium, H[1]);
@@ -179,7 +185,7 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
     const double lc = snap(rng.uniform(16.0, 22.0), 0.1);
     const double c0 = xc - 0.5 * lc, c1 = xc + 0.5 * lc;
     if (strip_res(jm, kN).reserve(c0, c1)) {
-      const double cy0 = 5.0 * rd + 3.0 * cw;
+      const double cy0 = yh[2] + cw;
       const int caf = L.add_rect("cafeteria", "cafeteria", F, c0, cy0, c1, ytop, win);
       L.add_door(caf, H[2], dd, false, F.to_world(c0 + 0.25 * lc, cy0));
       L.add_door(caf, H[2], dd, rng.bernoulli(0.5), F.to_world(c1 - 0.25 * lc, cy0));
@@ -204,36 +210,47 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
       const int k = rng.integer(0, static_cast<int>(i) - 1);
       std::swap(slots[i - 1], slots[static_cast<std::size_t>(k)]);
     }
-    const int count = rng.integer(p.lecture_halls_min, p.lecture_halls_max);
+    const int count = p.great_halls + rng.integer(p.lecture_halls_min, p.lecture_halls_max);
     int placed = 0;
-    for (const Slot& slot : slots) {
-      if (placed >= count) break;
-      const int sb = slot.block == 0 ? kI1b : kI2b, stp = sb + 1;
-      StripReservations& rb = strip_res(slot.j, sb);
-      StripReservations& rt = strip_res(slot.j, stp);
-      const double lh = snap(rng.uniform(p.lecture_hall_length_min_m, p.lecture_hall_length_max_m), 0.1);
-      const bool at_start = rng.bernoulli(0.5);
-      const double x0 = at_start ? rb.x0() : rb.x1() - lh, x1 = x0 + lh;
-      if (!rb.fits(x0, x1) || !rt.fits(x0, x1)) continue;
-      rb.reserve(x0, x1);
-      rt.reserve(x0, x1);
-      ++placed;
-      const double y0 = strips[static_cast<std::size_t>(sb)].y0, y1 = strips[static_cast<std::size_t>(stp)].y1;
-      const std::string id = "lecture" + std::to_string(placed);
-      const int hall = L.add_rect(id, "lecture_hall", F, x0, y0, x1, y1, no_windows());
-      const int hall_lo = H[static_cast<std::size_t>(strips[static_cast<std::size_t>(sb)].hall)];
-      const int hall_hi = H[static_cast<std::size_t>(strips[static_cast<std::size_t>(stp)].hall)];
-      const double front = at_start ? x0 : x1, dir = at_start ? 1.0 : -1.0;  // lectern at `front`
-      L.add_door(hall, hall_lo, dd, false, F.to_world(front + dir * 0.75 * lh, y0));
-      L.add_door(hall, hall_hi, dd, rng.bernoulli(0.5), F.to_world(front + dir * 0.75 * lh, y1));
-      L.add_door(hall, hall_lo, sd, true, F.to_world(front + dir * 1.6, y0));
-      if (st.furniture) {
-        L.add_obstacle(id + "_lectern", ObstacleKind::kBox, F.to_world(front + dir * 1.8, 0.5 * (y0 + y1)),
-                       Vec2(0.6, 1.2), 0.0, 1.1);
-        const double aisle = 1.2;
-        for (double a = 3.5; a < lh - 1.6; a += 0.95) {
-          L.add_obstacle(id + "_seats", ObstacleKind::kBox, F.to_world(front + dir * a, 0.5 * (y0 + y1)),
-                         Vec2(0.5, (y1 - y0) - 2.0 * aisle - 0.3), 0.0, 0.8);
+    // First pass: one hall per slot at a random end; second pass (only while halls are missing):
+    // both ends of every slot.
+    for (int pass = 0; pass < 2 && placed < count; ++pass) {
+      for (const Slot& slot : slots) {
+        for (int end = 0; end < (pass == 0 ? 1 : 2) && placed < count; ++end) {
+          const int sb = slot.block == 0 ? kI1b : kI2b, stp = sb + 1;
+          StripReservations& rb = strip_res(slot.j, sb);
+          StripReservations& rt = strip_res(slot.j, stp);
+          // Great halls first (first pass only: one that fits nowhere is left out).
+          const bool great = pass == 0 && placed < p.great_halls;
+          const double block_depth =
+              strips[static_cast<std::size_t>(stp)].y1 - strips[static_cast<std::size_t>(sb)].y0;
+          const double lh =
+              great ? snap(rng.uniform(p.great_hall_area_min_m2, p.great_hall_area_max_m2) / block_depth, 0.1)
+                    : snap(rng.uniform(p.lecture_hall_length_min_m, p.lecture_hall_length_max_m), 0.1);
+          const bool at_start = pass == 0 ? rng.bernoulli(0.5) : end == 0;
+          const double x0 = at_start ? rb.x0() : rb.x1() - lh, x1 = x0 + lh;
+          if (!rb.fits(x0, x1) || !rt.fits(x0, x1)) continue;
+          rb.reserve(x0, x1);
+          rt.reserve(x0, x1);
+          ++placed;
+          const double y0 = strips[static_cast<std::size_t>(sb)].y0, y1 = strips[static_cast<std::size_t>(stp)].y1;
+          const std::string id = great ? "great_hall" + std::to_string(placed) : "lecture" + std::to_string(placed);
+          const int hall = L.add_rect(id, "lecture_hall", F, x0, y0, x1, y1, no_windows());
+          const int hall_lo = H[static_cast<std::size_t>(strips[static_cast<std::size_t>(sb)].hall)];
+          const int hall_hi = H[static_cast<std::size_t>(strips[static_cast<std::size_t>(stp)].hall)];
+          const double front = at_start ? x0 : x1, dir = at_start ? 1.0 : -1.0;  // lectern at `front`
+          L.add_door(hall, hall_lo, dd, false, F.to_world(front + dir * 0.75 * lh, y0));
+          L.add_door(hall, hall_hi, dd, rng.bernoulli(0.5), F.to_world(front + dir * 0.75 * lh, y1));
+          L.add_door(hall, hall_lo, sd, true, F.to_world(front + dir * 1.6, y0));
+          if (st.furniture) {
+            L.add_obstacle(id + "_lectern", ObstacleKind::kBox, F.to_world(front + dir * 1.8, 0.5 * (y0 + y1)),
+                           Vec2(0.6, 1.2), 0.0, 1.1);
+            const double aisle = 1.2;
+            for (double a = 3.5; a < lh - 1.6; a += 0.95) {
+              L.add_obstacle(id + "_seats", ObstacleKind::kBox, F.to_world(front + dir * a, 0.5 * (y0 + y1)),
+                             Vec2(0.5, (y1 - y0) - 2.0 * aisle - 0.3), 0.0, 0.8);
+            }
+          }
         }
       }
     }

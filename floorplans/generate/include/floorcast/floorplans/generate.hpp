@@ -153,35 +153,69 @@ struct OfficeParams {
 };
 
 /// Campus: ~8,000-15,000 m^2. A large block with three long east-west hallways crossed by
-/// north-south hallways (intersections every ~45 m), rows of identical classrooms and offices,
-/// a lobby with a glass facade opening onto the main hallway, a glass-walled atrium with pillars,
-/// large lecture halls with seating, stair/toilet cores, lounges and exits.
+/// north-south hallways (intersections every ~45 m), rows of classrooms and offices, a lobby with
+/// a glass facade opening onto the main hallway, a glass-walled atrium with pillars, a great hall
+/// and lecture halls with seating, stair/toilet cores, lounges and exits.
+/// The defaults are calibrated on the large real development levels (SPbSTU main building L0-L2,
+/// Grenoble mall L-1..L1; `floorcast plan stats`, results/realplans_vs_generated.md, "How the
+/// calibration was done"): deep classrooms along wide hallways, room areas from the large levels'
+/// distribution, a few halls of several hundred m^2. `repetitive()` is the hard case of rows of
+/// identical rooms in rows of one depth along 3 m hallways (the campus before any calibration).
 struct CampusParams {
   BuildingStyle style = campus_style();
   double target_area_min_m2 = 9500.0;  ///< the block is sized for a free area drawn in this range
   double target_area_max_m2 = 12500.0;
-  double room_depth_min_m = 7.0;
-  double room_depth_max_m = 8.0;
-  double hallway_width_min_m = 2.8;
-  double hallway_width_max_m = 3.2;
-  double module_width_min_m = 3.8;     ///< width of the standard (repeated) room
+  /// Depth of the rows of rooms (hallway wall to facade or to the next row). Large real levels:
+  /// the longer side of rooms under 200 m^2 has its median at 12.0 m, 30-90% quantiles 8.3-13.8 m
+  /// (SPbSTU main: classrooms 3.9 m x 12 m along the hallways), not one depth per building.
+  double room_depth_min_m = 8.5;
+  double room_depth_max_m = 13.0;
+  /// Each of the six rows draws its own depth in the range (else one depth for every row).
+  bool depth_per_row = true;
+  /// Large real levels: median corridor width 4.0-5.0 m on SPbSTU main L0-L2 (1.8-6.6 m with the
+  /// Grenoble mall).
+  double hallway_width_min_m = 4.0;
+  double hallway_width_max_m = 5.0;
+  double module_width_min_m = 3.8;     ///< width of the standard (repeated) room (repetitive rows)
   double module_width_max_m = 4.2;
   double segment_length_m = 48.0;      ///< aimed-at distance between cross hallways
-  int lecture_halls_min = 2;
-  int lecture_halls_max = 3;
-  double lecture_hall_length_min_m = 18.0;
-  double lecture_hall_length_max_m = 24.0;
+  /// Lecture halls span an inner block (two rows deep). Large real levels: SPbSTU main L0 / L1 /
+  /// L2 hold 8 / 11 / 11 rooms of 200 m^2 or more (auditoriums, large classrooms; 204-696 m^2,
+  /// median 316 m^2, leaving out the largest two of each level), i.e. 6-9 per 10,500 m^2; lengths of
+  /// 9-22 m give 190-550 m^2 at the blocks' 19-25 m depth. Halls that do not fit are left out.
+  int lecture_halls_min = 5;
+  int lecture_halls_max = 8;
+  double lecture_hall_length_min_m = 9.0;
+  double lecture_hall_length_max_m = 22.0;
+  /// Great (assembly) halls: lecture halls of a floor area drawn in this range (the length follows
+  /// from the block depth), placed first. Large real levels: the two largest rooms of SPbSTU main
+  /// L0 / L1 / L2 are 1,041 + 696 / 836 + 572 / 750 + 645 m^2 (the Grenoble mall's largest shops
+  /// 1,168-1,584 m^2).
+  int great_halls = 2;
+  double great_hall_area_min_m2 = 570.0;
+  double great_hall_area_max_m2 = 1050.0;
   double atrium_length_min_m = 22.0;
   double atrium_length_max_m = 30.0;
   double lobby_length_min_m = 14.0;
   double lobby_length_max_m = 20.0;
   double cross_hallway_exit_probability = 0.6;  ///< a cross hallway reaches the facade (else stairwell)
   double lounge_probability = 0.4;     ///< per segment: an open lounge niche off a hallway
-  RoomVariety variety;  ///< calibrated by default; none() in repetitive()
+  RoomVariety variety = campus_variety();  ///< calibrated by default; none() in repetitive()
 
-  /// The pre-calibration campus (`campus_repetitive`, floorplans/buildings/campus.json).
+  /// The pre-calibration campus (`campus_repetitive`, floorplans/buildings/campus.json): identical
+  /// module rooms, 7-8 m deep rows, 2.8-3.2 m hallways, 2-3 lecture halls of 18-24 m.
   static CampusParams repetitive() {
     CampusParams p;
+    p.room_depth_min_m = 7.0;
+    p.room_depth_max_m = 8.0;
+    p.depth_per_row = false;
+    p.hallway_width_min_m = 2.8;
+    p.hallway_width_max_m = 3.2;
+    p.lecture_halls_min = 2;
+    p.lecture_halls_max = 3;
+    p.lecture_hall_length_min_m = 18.0;
+    p.lecture_hall_length_max_m = 24.0;
+    p.great_halls = 0;
     p.variety = RoomVariety::none();
     return p;
   }
@@ -191,6 +225,18 @@ struct CampusParams {
     s.window_width_m = 1.8;
     s.window_pier_m = 1.2;
     return s;
+  }
+
+  /// Room variety of the large real levels: row-room areas as equal-probability quantiles (0.1,
+  /// ..., 1.0) of the pooled non-transitional rooms of SPbSTU main L0-L2 and the Grenoble mall
+  /// L-1..L1 (315 rooms; 10-80% quantiles 15.2, 30.2, 42.7, 46.8, 46.8, 66.4, 108.0, 154.2 m^2),
+  /// the top capped at 170 m^2 (what a row room of the widest width holds; the real 90% quantile,
+  /// 253 m^2, and larger rooms are the halls, laid out separately). Every other feature as
+  /// calibrated on the small levels.
+  static RoomVariety campus_variety() {
+    RoomVariety v;
+    v.room_area_quantiles_m2 = {15.2, 30.2, 42.7, 46.8, 46.8, 66.4, 108.0, 154.2, 170.0, 170.0};
+    return v;
   }
 };
 
