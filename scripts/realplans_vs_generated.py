@@ -60,6 +60,29 @@ def rng_text(values, fmt="{:.0f}"):
     return fmt.format(lo) if fmt.format(lo) == fmt.format(hi) else fmt.format(lo) + "-" + fmt.format(hi)
 
 
+TRANSITIONAL = {"hallway", "corridor", "walkway", "lobby", "foyer", "entrance", "atrium", "lounge", "hall", "vestibule",
+                "circulation"}  # rooms.cpp transitional_room_kinds()
+
+
+def polygon_area(ring):
+    return 0.5 * abs(sum(ring[i][0] * ring[(i + 1) % len(ring)][1] - ring[(i + 1) % len(ring)][0] * ring[i][1]
+                         for i in range(len(ring))))
+
+
+def circulation_share(path):
+    """Transitional rooms' share of the labelled room area (polygons less holes; "unmapped" left out)."""
+    with open(path) as fh:
+        rooms = json.load(fh)["rooms"]
+    total = trans = 0.0
+    for r in rooms:
+        if r["kind"] == "unmapped":
+            continue
+        a = polygon_area(r["polygon"]) - sum(polygon_area(h) for h in r.get("holes", []))
+        total += a
+        trans += a if r["kind"] in TRANSITIONAL else 0.0
+    return trans / total if total > 0 else float("nan")
+
+
 def faithfulness_table(plans_dir):
     """The import report (`plan import --json`, saved by scripts/import_realplans.sh) of every real
     level: is the imported plan what the source says?"""
@@ -96,7 +119,7 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--points", type=int, default=40, help="observation points per plan")
     ap.add_argument("--seeds", default="1,2,3", help="generator seeds per archetype")
-    ap.add_argument("--campus-seeds", default="1,2", help="campus seeds (large buildings)")
+    ap.add_argument("--campus-seeds", default="1,2,3,4", help="campus seeds (large buildings)")
     args = ap.parse_args()
     os.makedirs(os.path.join(args.out, "gen"), exist_ok=True)
 
@@ -138,21 +161,22 @@ def main():
             "rep": rng_text([r["repeated_width_share"] for r in rows if r["room_area_m2"]["count"]], "{:.2f}"),
             "corr": rng_text([r["corridor_width_m"]["median"] for r in rows if r["corridor_width_m"]["count"]],
                              "{:.1f}"),
+            "circ": rng_text([circulation_share(f) for f in files], "{:.2f}"),
         }
 
     print("## Structure (`floorcast plan stats`; ranges over levels / seeds)\n")
     print("| set | levels | free area (m^2) | walls | doors per 10 m of wall | wall directions (15 deg bins) "
           "| thickness classes | median room (m^2) | room area q3/q1 | room area cv | room width cv "
-          "| repeated widths (share of rooms) | median corridor width (m) |")
-    print("|" + "---|" * 13)
+          "| repeated widths (share of rooms) | median corridor width (m) | circulation share of the room area |")
+    print("|" + "---|" * 14)
     struct_sets = [("real, small (TUM, RWTH, SPbSTU No. 3)", real_small), ("real, large (SPbSTU main, Grenoble mall)",
                                                                             real_large),
                    ("real, the six matched levels", sets["real"])] + [(a, sets[a]) for a in ARCHETYPES]
     for name, files in struct_sets:
         m = measures(files)
-        print("| %s | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+        print("| %s | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
             name, m["levels"], m["area"], m["walls"], m["doors"], m["dirs"], m["thick"], m["area_med"], m["area_iqr"],
-            m["area_cv"], m["width_cv"], m["rep"], m["corr"]))
+            m["area_cv"], m["width_cv"], m["rep"], m["corr"], m["circ"]))
 
     # Localization.
     results = {}
