@@ -89,12 +89,28 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
     }
   }
 
+  // Which cross hallways cross which inner block (0: between H0 and H1, 1: between H1 and H2);
+  // every block keeps at least one crossing, so the three long hallways stay connected.
+  std::vector<std::array<bool, 2>> crosses(static_cast<std::size_t>(nseg + 1), {true, true});
+  if (p.inner_crossing_probability < 1.0) {
+    for (int b = 0; b < 2; ++b) {
+      const int keep = rng.integer(0, nseg);
+      for (int k = 0; k <= nseg; ++k) {
+        crosses[static_cast<std::size_t>(k)][static_cast<std::size_t>(b)] =
+            rng.bernoulli(p.inner_crossing_probability) || k == keep;
+      }
+    }
+  }
+  auto crossed = [&crosses](int k, int block) {
+    return crosses[static_cast<std::size_t>(k)][static_cast<std::size_t>(block)];
+  };
+
   // Cross hallways.
   for (int k = 0; k <= nseg; ++k) {
     const double x0 = vx[static_cast<std::size_t>(k)], x1 = x0 + cw;
     const std::string v = "V" + std::to_string(k);
-    L.add_rect(v + ".I1", "hallway", F, x0, yh[0] + cw, x1, yh[1], no_windows());
-    L.add_rect(v + ".I2", "hallway", F, x0, yh[1] + cw, x1, yh[2], no_windows());
+    if (crossed(k, 0)) L.add_rect(v + ".I1", "hallway", F, x0, yh[0] + cw, x1, yh[1], no_windows());
+    if (crossed(k, 1)) L.add_rect(v + ".I2", "hallway", F, x0, yh[1] + cw, x1, yh[2], no_windows());
     for (int side = 0; side < 2; ++side) {
       const double y0 = side == 0 ? 0.0 : yh[2] + cw, y1 = side == 0 ? yh[0] : ytop;
       const int hall = H[side == 0 ? 0 : 2];
@@ -129,9 +145,15 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
   std::vector<std::array<StripReservations, kStripCount>> res;
   for (int j = 0; j < nseg; ++j) {
     const double xa = vx[static_cast<std::size_t>(j)] + cw, xb = vx[static_cast<std::size_t>(j + 1)];
-    res.push_back({StripReservations(xa, xb, min_gap), StripReservations(xa, xb, min_gap),
-                   StripReservations(xa, xb, min_gap), StripReservations(xa, xb, min_gap),
-                   StripReservations(xa, xb, min_gap), StripReservations(xa, xb, min_gap)});
+    // Inner strips take the place of a cross hallway that does not cross their block: the first
+    // segment from the west end, every segment up to the next segment's start.
+    auto inner = [&](int block) {
+      const double a = (j == 0 && !crossed(0, block)) ? vx[0] : xa;
+      const double b = crossed(j + 1, block) ? xb : xb + cw;
+      return StripReservations(a, b, min_gap);
+    };
+    res.push_back({StripReservations(xa, xb, min_gap), inner(0), inner(0), inner(1), inner(1),
+                   StripReservations(xa, xb, min_gap)});
   }
   auto strip_res = [&res](int j, int s) -> StripReservations& {
     return res[static_cast<std::size_t>(j)][static_cast<std::size_t>(s)];

@@ -154,13 +154,15 @@ struct OfficeParams {
 
 /// Campus: ~8,000-15,000 m^2. A large block with three long east-west hallways crossed by
 /// north-south hallways (intersections every ~45 m), rows of classrooms and offices, a lobby with
-/// a glass facade opening onto the main hallway, a glass-walled atrium with pillars, a great hall
+/// a glass facade opening onto the main hallway, a glass-walled atrium with pillars, great halls
 /// and lecture halls with seating, stair/toilet cores, lounges and exits.
 /// The defaults are calibrated on the large real development levels (SPbSTU main building L0-L2,
 /// Grenoble mall L-1..L1; `floorcast plan stats`, results/realplans_vs_generated.md, "How the
 /// calibration was done"): deep classrooms along wide hallways, room areas from the large levels'
-/// distribution, a few halls of several hundred m^2. `repetitive()` is the hard case of rows of
-/// identical rooms in rows of one depth along 3 m hallways (the campus before any calibration).
+/// distribution, a few halls of several hundred m^2, cross hallways only where the long hallways
+/// need a connection. `repetitive()` is the hard case of rows of identical rooms in rows of one
+/// depth along 3 m hallways with the full grid of cross hallways (the campus before any
+/// calibration).
 struct CampusParams {
   BuildingStyle style = campus_style();
   double target_area_min_m2 = 9500.0;  ///< the block is sized for a free area drawn in this range
@@ -199,6 +201,13 @@ struct CampusParams {
   double lobby_length_min_m = 14.0;
   double lobby_length_max_m = 20.0;
   double cross_hallway_exit_probability = 0.6;  ///< a cross hallway reaches the facade (else stairwell)
+  /// A cross hallway crosses an inner block (between two long hallways) with this probability;
+  /// every inner block keeps one crossing at a random cross hallway, and the rows run on where a
+  /// crossing is left out (1: the full grid, as in repetitive()). Large real levels: the
+  /// transitional rooms take 0.04-0.25 of the room area (SPbSTU main 0.08-0.25); with 4-5 m
+  /// hallways the campus's three long hallways, atrium and lobby alone take ~0.25 and the full grid
+  /// 0.30-0.34, so only the crossings connectivity needs are kept.
+  double inner_crossing_probability = 0.0;
   double lounge_probability = 0.4;     ///< per segment: an open lounge niche off a hallway
   RoomVariety variety = campus_variety();  ///< calibrated by default; none() in repetitive()
 
@@ -216,6 +225,7 @@ struct CampusParams {
     p.lecture_hall_length_min_m = 18.0;
     p.lecture_hall_length_max_m = 24.0;
     p.great_halls = 0;
+    p.inner_crossing_probability = 1.0;
     p.variety = RoomVariety::none();
     return p;
   }
