@@ -2,13 +2,15 @@
 //
 // Layout (x east, y north), all bands in metres:
 //   y: outer row S (rd) | hallway H0 (cw) | inner block 1 (2 rd) | H1 | inner block 2 (2 rd) | H2 |
-//      outer row N (rd)
+//      outer row N (rd)      (rd: one row depth, or one per row when depth_per_row)
 //   x: end rooms (rd) | cross hallway V0 (cw) | segment 0 | V1 | segment 1 | ... | V_n | end rooms
 // H0..H2 run the full length (exits or end windows at the facades); cross hallways V_k cross the
-// inner blocks and reach the facade through the outer rows (exits) or stop at a stairwell. Each
-// segment's strips are rows of identical module rooms facing a hallway, except the reserved
-// special rooms: lobby + atrium + cafeteria in the middle segment, lecture halls, cores (stairwell,
-// elevator, toilets) and lounge niches.
+// inner blocks (all of them, or with inner_crossing_probability < 1 at least one per block, the
+// rows running on where one is left out) and reach the facade through the outer rows (exits) or
+// stop at a stairwell. Each segment's strips are rows of module rooms (or, calibrated, rooms of
+// the real area distribution) facing a hallway, except the reserved special rooms: lobby + atrium
+// + cafeteria in the middle segment, great and lecture halls, cores (stairwell, elevator, toilets)
+// and lounge niches.
 #include <algorithm>
 #include <array>
 #include <cmath>
