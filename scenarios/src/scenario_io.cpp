@@ -1,4 +1,5 @@
 // Scenario YAML reading, validation (file:line:col + key in every message), defaults, sweeps.
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -36,6 +37,27 @@ struct Located {
   OJson value;
   std::map<std::string, YAML::Mark> marks;  // dotted path -> position
 };
+
+/// Where the documents of a YAML text start, at most `limit` of them (events only: no nodes built).
+std::vector<YAML::Mark> yaml_document_starts(const std::string& text, std::size_t limit) {
+  struct Starts final : YAML::EventHandler {
+    std::vector<YAML::Mark> marks;
+    void OnDocumentStart(const YAML::Mark& mark) override { marks.push_back(mark); }
+    void OnDocumentEnd() override {}
+    void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+    void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+    void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override {}
+    void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+    void OnSequenceEnd() override {}
+    void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {}
+    void OnMapEnd() override {}
+  } starts;
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  while (starts.marks.size() < limit && parser.HandleNextDocument(starts)) {
+  }
+  return starts.marks;
+}
 
 std::string mark_text(const std::string& source, const YAML::Mark& mark) {
   if (mark.line < 0) return source;
@@ -874,13 +896,22 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& source,
                         const std::string& source_root) {
   YAML::Node doc;
   try {
-    // Every document is read: a second one is refused rather than silently ignored.
-    const std::vector<YAML::Node> docs = YAML::LoadAll(yaml_text);
-    if (docs.size() > 1) {
-      throw InputError(mark_text(source, docs[1].Mark()) + ": a scenario file holds one YAML document, this one has " +
-                       std::to_string(docs.size()));
+    // Every document is counted: a second one is refused rather than silently ignored. Not with
+    // YAML::LoadAll: yaml-cpp 0.7's parser returns an empty document without consuming anything
+    // for a stray ',' at the top level (a fuzzing finding: a scenario whose third line began with
+    // a comma made LoadAll append empty documents until 18 GB were gone), so the documents are
+    // counted up to two, and a document that starts where the last one started is an error.
+    const std::vector<YAML::Mark> starts = yaml_document_starts(yaml_text, 2);
+    if (starts.size() > 1) {
+      if (starts[1].pos == starts[0].pos) {
+        const std::size_t at = static_cast<std::size_t>(std::max(0, starts[1].pos));
+        throw InputError(mark_text(source, starts[1]) + ": malformed YAML: the parser cannot go on at " +
+                         (at < yaml_text.size() ? "'" + printable_text(yaml_text.substr(at, 1)) + "'" : std::string("the end")) +
+                         " (a stray ',' or flow indicator outside [] or {}?)");
+      }
+      throw InputError(mark_text(source, starts[1]) + ": a scenario file holds one YAML document, this one has more");
     }
-    if (!docs.empty()) doc = docs.front();
+    if (!starts.empty()) doc = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
     throw InputError(source + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
                      ": malformed YAML: " + printable_text(e.msg));
