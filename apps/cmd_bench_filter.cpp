@@ -65,6 +65,10 @@ void register_bench_filter(CLI::App& root) {
                     << "    sparse vs dense: estimates at most " << r.hf_seq_position_diff_m << " m and " << r.hf_seq_yaw_diff_deg
                     << " deg apart; dropped mass " << std::setprecision(6) << r.hf_seq_dropped_mass
                     << ", total variation at the end " << r.hf_seq_total_variation << "\n"
+                    << std::setprecision(1) << "  hist_mr (coarse over the plan, fine window), same walk: " << r.hf_seq_mr_cpu_ms
+                    << " CPU-ms/step (second half " << r.hf_seq_mr_late_cpu_ms << "); against dense where it converged ("
+                    << r.hf_seq_dense_converged_steps << " steps): at most " << std::setprecision(2) << r.hf_seq_mr_converged_diff_m
+                    << " m apart; end errors " << r.hf_seq_dense_end_error_m << " / " << r.hf_seq_mr_end_error_m << " m (dense / hist_mr)\n"
                     << std::setprecision(1) << "  particle filter, sequential (kernel point queries every 10 steps): "
                     << r.pf_seq_steps_per_s << " steps/s (" << std::setprecision(3) << r.pf_seq_cpu_ms << " CPU-ms/step)\n";
         }

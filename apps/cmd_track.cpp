@@ -45,12 +45,14 @@ void register_track(CLI::App& root) {
   auto* cmd = root.add_subcommand("track", "Sequential localization of a walk folder: estimate.tum, errors.csv, metrics.json, track.png");
   cmd->add_option("PLAN", o->plan, "Floor-plan JSON")->required();
   cmd->add_option("WALK_DIR", o->walk, "Walk folder (floorcast sim walk -o DIR)")->required();
-  cmd->add_option("--filter", o->filter, "Tracker: pf (PALMS particle filter) or hist (F3Loc histogram filter)")
+  cmd->add_option("--filter", o->filter,
+                  "Tracker: pf (PALMS particle filter), hist (F3Loc histogram filter) or hist_mr (histogram filter, "
+                  "coarse over the plan and fine in a window)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"pf", "hist"}));
-  cmd->add_option("--init", o->init, "pf: palms (default), proportional, uniform, uniform-ori; hist: posterior, uniform");
+      ->check(CLI::IsMember(tracker_names()));
+  cmd->add_option("--init", o->init, "pf: palms (default), proportional, uniform, uniform-ori; hist, hist_mr: posterior, uniform");
   cmd->add_option("--matcher", o->matcher,
-                  "Matcher turning observations into posteriors (default: kernel for pf, ray for hist; a module "
+                  "Matcher turning observations into posteriors (default: kernel for pf, ray for hist and hist_mr; a module "
                   "floorcast_matcher_NAME.so is found by name)");
   CLI::Option* tracker_param = cmd->add_option(
       "--tracker-param", o->params, "Tracker parameter override KEY=VALUE (repeatable; keys as in metrics.json's tracker_parameters)");
@@ -81,7 +83,7 @@ void register_track(CLI::App& root) {
     }
     SharedParams shared;
     shared.range_m = o->range_m;
-    const std::string matcher_name = !o->matcher.empty() ? o->matcher : (o->filter == "hist" ? "ray" : "kernel");
+    const std::string matcher_name = !o->matcher.empty() ? o->matcher : default_tracker_matcher(o->filter);
     const std::shared_ptr<const MatcherConfig> matcher_config = make_matcher_config(matcher_name, matcher_overrides, shared);
     const std::shared_ptr<const TrackerConfig> tracker_config = make_tracker_config(o->filter, tracker_overrides);
     (void)observation_params_from_cli(o->observe, nullptr);  // the observation module's, checked now

@@ -1124,7 +1124,7 @@ PYBIND11_MODULE(_floorcast, m) {
       if (!matcher_params.is_none()) throw InputError("track: matcher_params go with a matcher name; this matcher is built already");
       matcher = matcher_arg.cast<const PyBuiltMatcher&>().matcher;
     } else {
-      const std::string name = matcher_arg.is_none() ? (tracker_name == "hist" ? "ray" : "kernel") : matcher_arg.cast<std::string>();
+      const std::string name = matcher_arg.is_none() ? default_tracker_matcher(tracker_name) : matcher_arg.cast<std::string>();
       SharedParams shared;
       if (range_m) shared.range_m = *range_m;
       const auto config = make_matcher_config(name, from_python(matcher_params), shared);

@@ -13,6 +13,7 @@
 #include "floorcast/sim/perfect_observation.hpp"
 #include "floorcast/sim/walk.hpp"
 #include "floorcast/track/histogram_filter.hpp"
+#include "floorcast/track/multires_histogram_filter.hpp"
 #include "floorcast/track/particle_filter.hpp"
 
 namespace floorcast {
@@ -155,6 +156,56 @@ void bench_sequential(const FloorPlan& plan, const FilterBenchParams& bp, const 
       out.hf_seq_yaw_diff_deg =
           std::max(out.hf_seq_yaw_diff_deg, rad_to_deg(angle_distance_rad(track[0][k].yaw_rad, track[1][k].yaw_rad)));
     }
+    // hist_mr on the same walk, against the dense filter's estimates (support kept per step).
+    {
+      std::vector<TrackEstimate> dense_est;
+      {
+        HistogramFilterParams p;
+        p.odometry = odometry_uncertainty(op);
+        p.sparse = false;
+        HistogramFilter f(plan, p);
+        f.initialise(start, odo.steps[0]);
+        for (std::size_t k = 1; k < odo.steps.size(); ++k) {
+          f.predict(odo.steps[k]);
+          if (k % 10 == 0) f.update(ray->query(observations[k]));
+          dense_est.push_back(f.estimate());
+        }
+      }
+      std::vector<double> cpu, late;
+      std::vector<TrackEstimate> mr_est;
+      for (int r = 0; r < bp.repeats; ++r) {
+        MultiResolutionHistogramFilterParams mp;
+        mp.filter.odometry = odometry_uncertainty(op);
+        if (bp.drop_mass >= 0.0) mp.filter.drop_mass = bp.drop_mass;
+        MultiResolutionHistogramFilter f(plan, mp);
+        f.initialise(start, odo.steps[0]);
+        mr_est.clear();
+        const double c0 = process_cpu_s();
+        double c_half = c0;
+        for (std::size_t k = 1; k < odo.steps.size(); ++k) {
+          f.predict(odo.steps[k]);
+          if (k % 10 == 0) f.update(ray->query(observations[k]));
+          mr_est.push_back(f.estimate());
+          if (static_cast<int>(k) == half) c_half = process_cpu_s();
+        }
+        const double c1 = process_cpu_s();
+        cpu.push_back((c1 - c0) / bp.sequential_steps);
+        late.push_back((c1 - c_half) / (bp.sequential_steps - half));
+      }
+      out.hf_seq_mr_cpu_ms = 1e3 * median(cpu);
+      out.hf_seq_mr_late_cpu_ms = 1e3 * median(late);
+      out.hf_seq_mr_converged_diff_m = 0.0;
+      out.hf_seq_dense_converged_steps = 0;
+      for (std::size_t k = 0; k < dense_est.size() && k < mr_est.size(); ++k) {
+        if (dense_est[k].support < 0.5) continue;
+        ++out.hf_seq_dense_converged_steps;
+        out.hf_seq_mr_converged_diff_m =
+            std::max(out.hf_seq_mr_converged_diff_m, (dense_est[k].pose.position_m() - mr_est[k].pose.position_m()).norm());
+      }
+      const Vec2 truth = walk.steps.back().T_world_body.position_m();
+      out.hf_seq_dense_end_error_m = (dense_est.back().pose.position_m() - truth).norm();
+      out.hf_seq_mr_end_error_m = (mr_est.back().pose.position_m() - truth).norm();
+    }
     double tv = 0.0;
     for (int s = 0; s < end_belief[0].num_slices(); ++s) {
       tv += cv::norm(end_belief[0].scores[static_cast<std::size_t>(s)], end_belief[1].scores[static_cast<std::size_t>(s)], cv::NORM_L1);
@@ -245,6 +296,13 @@ nlohmann::ordered_json to_json(const FilterBenchResult& r) {
           .number("hf_seq_position_diff_m", &R::hf_seq_position_diff_m, 0.0, kAny, "largest distance between the dense and sparse estimates, m")
           .number("hf_seq_yaw_diff_deg", &R::hf_seq_yaw_diff_deg, 0.0, 180.0, "largest heading difference between them, deg")
           .number("hf_seq_total_variation", &R::hf_seq_total_variation, 0.0, 1.0, "total variation between the dense and sparse beliefs at the end")
+          .number("hf_seq_mr_cpu_ms", &R::hf_seq_mr_cpu_ms, 0.0, kAny, "hist_mr (coarse over the plan, fine window), same walk: CPU ms per step")
+          .number("hf_seq_mr_late_cpu_ms", &R::hf_seq_mr_late_cpu_ms, 0.0, kAny, "the same over the walk's second half")
+          .number("hf_seq_mr_converged_diff_m", &R::hf_seq_mr_converged_diff_m, 0.0, kAny,
+                  "largest distance between the hist_mr and dense estimates at steps where the dense filter has converged, m")
+          .integer("hf_seq_dense_converged_steps", &R::hf_seq_dense_converged_steps, 0, 1000000, "steps where the dense filter has converged (support >= 0.5)")
+          .number("hf_seq_dense_end_error_m", &R::hf_seq_dense_end_error_m, 0.0, kAny, "dense filter's distance to the truth at the end, m")
+          .number("hf_seq_mr_end_error_m", &R::hf_seq_mr_end_error_m, 0.0, kAny, "hist_mr's distance to the truth at the end, m")
           .number("pf_seq_steps_per_s", &R::pf_seq_steps_per_s, 0.0, kAny,
                   "particle filter end to end on the sequential walk (kernel point-query updates every 10 steps): steps/s, wall")
           .number("pf_seq_cpu_ms", &R::pf_seq_cpu_ms, 0.0, kAny, "the same, CPU ms per step");

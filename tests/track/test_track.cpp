@@ -433,9 +433,21 @@ TEST(HistogramFilter, TracksAWalkWithExactOdometryAndObservations) {
   }
 }
 
+// mass_within: a uniform belief over a closed 20 x 10 m hall holds all its mass in a box around the
+// hall and half of it (within a cell row of the 0.1 m grid) in its left half.
+TEST(HistogramFilter, MassWithinABox) {
+  HistogramFilterParams p;
+  p.init = BeliefInit::kUniform;
+  HistogramFilter f(hall(), p);
+  f.initialise(Posterior{}, OdometryStep{});
+  EXPECT_NEAR(f.mass_within(-5.0, -5.0, 25.0, 15.0), 1.0, 1e-5);
+  EXPECT_NEAR(f.mass_within(-5.0, -5.0, 10.0, 15.0), 0.5, 0.01);
+  EXPECT_EQ(f.mass_within(30.0, 30.0, 40.0, 40.0), 0.0);
+}
+
 // Same seed, same bytes, at 1 and 2 threads.
 TEST(Trackers, DeterministicAtAnyThreadCount) {
-  for (const std::string name : {"pf", "hist"}) {
+  for (const std::string name : {"pf", "hist", "hist_mr"}) {
     auto run = [&](int threads) {
       tbb::global_control gc(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
       return track_apartment_walk(name, 4);
@@ -447,7 +459,7 @@ TEST(Trackers, DeterministicAtAnyThreadCount) {
 }
 
 TEST(Trackers, ParametersAndRegistry) {
-  EXPECT_EQ(tracker_names(), (std::vector<std::string>{"hist", "pf"}));
+  EXPECT_EQ(tracker_names(), (std::vector<std::string>{"hist", "hist_mr", "pf"}));
   const FloorPlan plan = hall();
   EXPECT_THROW(make_tracker("kalman", plan), InputError);
   EXPECT_THROW(make_tracker("pf", plan, {{"num_particle", 10}}), ParameterError);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "floorcast/core/math.hpp"
 #include "floorcast/core/params.hpp"
@@ -168,12 +169,30 @@ nlohmann::ordered_json HistogramFilterParams::to_json() const { return fields().
 
 void HistogramFilterParams::apply_overrides(const nlohmann::json& overrides) { fields().read(*this, overrides); }
 
-HistogramFilter::HistogramFilter(const FloorPlan& plan, const HistogramFilterParams& params) : params_(params) {
-  grid_ = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
-  check_raster_budget(grid_, 8.0 * params_.num_orientations + 16.0, "tracker hist (belief and scratch slices)");
-  const cv::Mat blocked = rasterize_occupancy(plan, grid_, map_walls());
+cv::Mat HistogramFilter::belief_interior(const FloorPlan& plan, const GridSpec& grid) {
+  const cv::Mat blocked = rasterize_occupancy(plan, grid, map_walls());
   cv::Mat inside;
-  cv::bitwise_and(valid_area_mask(plan, grid_), blocked == 0, inside);
+  cv::bitwise_and(valid_area_mask(plan, grid), blocked == 0, inside);
+  return inside;
+}
+
+HistogramFilter::HistogramFilter(const FloorPlan& plan, const HistogramFilterParams& params) : params_(params) {
+  const GridSpec grid = grid_for_plan(plan, params_.resolution_m, params_.grid_margin_m);
+  check_raster_budget(grid, 8.0 * params_.num_orientations + 16.0, "tracker hist (belief and scratch slices)");
+  setup(grid, belief_interior(plan, grid));
+}
+
+HistogramFilter::HistogramFilter(const GridSpec& grid, const cv::Mat& interior, const HistogramFilterParams& params)
+    : params_(params) {
+  if (interior.type() != CV_8U || interior.rows != grid.height_px || interior.cols != grid.width_px) {
+    throw std::logic_error("HistogramFilter: the interior mask must be CV_8U of the grid's size");
+  }
+  check_raster_budget(grid, 8.0 * params_.num_orientations + 16.0, "tracker hist (belief and scratch slices)");
+  setup(grid, interior);
+}
+
+void HistogramFilter::setup(const GridSpec& grid, const cv::Mat& inside) {
+  grid_ = grid;
   inside.convertTo(interior_, CV_32F, 1.0 / 255.0);
   // Interior column range of every row, and the range the horizontal pass must cover for the
   // vertical pass of rows within reach (the largest sub-step plus three sigmas).
@@ -188,7 +207,7 @@ HistogramFilter::HistogramFilter(const FloorPlan& plan, const HistogramFilterPar
       row_hi_[static_cast<std::size_t>(r)] = c;
     }
   }
-  reach_rows_ = static_cast<int>(std::ceil((params_.max_substep_m + 4.0 * max_substep_sigma_m()) / params_.resolution_m)) + 3;
+  reach_rows_ = static_cast<int>(std::ceil((params_.max_substep_m + 4.0 * max_substep_sigma_m()) / grid_.resolution_m_per_px)) + 3;
   reach_lo_.assign(static_cast<std::size_t>(H), W);
   reach_hi_.assign(static_cast<std::size_t>(H), -1);
   for (int r = 0; r < H; ++r) {
@@ -816,6 +835,24 @@ void HistogramFilter::update(const PosteriorQuery& query) {
   std::swap(span_, scratch_span_);
   normalise();
   elapsed_ = {};  // the biases' error restarts from the pose this update told
+}
+
+double HistogramFilter::mass_within(double x0_m, double y0_m, double x1_m, double y1_m) const {
+  if (lost_ || mass_.empty()) return 0.0;
+  const double res = grid_.resolution_m_per_px;
+  // Cells whose centre (moved by the slice's sub-cell offset) lies in the box; the belief is
+  // normalised, so the sum is a share of the mass.
+  double total = 0.0;
+  for (int o = 0; o < params_.num_orientations; ++o) {
+    const Vec2 off = offset_px_.empty() ? Vec2(0.0, 0.0) : offset_px_[static_cast<std::size_t>(o)];
+    const int c0 = std::max(0, static_cast<int>(std::ceil((x0_m - grid_.origin_x_m) / res - 0.5 - off.x())));
+    const int c1 = std::min(grid_.width_px - 1, static_cast<int>(std::floor((x1_m - grid_.origin_x_m) / res - 0.5 - off.x())));
+    const int r0 = std::max(0, static_cast<int>(std::ceil((y0_m - grid_.origin_y_m) / res - 0.5 - off.y())));
+    const int r1 = std::min(grid_.height_px - 1, static_cast<int>(std::floor((y1_m - grid_.origin_y_m) / res - 0.5 - off.y())));
+    if (c0 > c1 || r0 > r1) continue;
+    total += cv::sum(belief_[static_cast<std::size_t>(o)](cv::Range(r0, r1 + 1), cv::Range(c0, c1 + 1)))[0];
+  }
+  return total;
 }
 
 double HistogramFilter::mass_near(int slice, const cv::Point& at) const {

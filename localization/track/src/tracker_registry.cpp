@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "floorcast/track/histogram_filter.hpp"
+#include "floorcast/track/multires_histogram_filter.hpp"
 #include "floorcast/track/particle_filter.hpp"
 #include "floorcast/track/tracker.hpp"
 
@@ -76,11 +77,14 @@ struct Entry {
   std::shared_ptr<const TrackerConfig> (*parse)(const char*, const nlohmann::json&);
   std::vector<FieldInfo> (*describe)();
   std::string (*convergence)(const nlohmann::ordered_json&);
+  const char* matcher;  ///< the matcher its paper pairs it with (the default where none is named)
 };
 
 constexpr Entry kTrackers[] = {
-    {"hist", &parse<HistogramFilterParams, HistogramFilter>, &describe<HistogramFilterParams>, &hist_convergence},
-    {"pf", &parse<ParticleFilterParams, ParticleFilter>, &describe<ParticleFilterParams>, &pf_convergence},
+    {"hist", &parse<HistogramFilterParams, HistogramFilter>, &describe<HistogramFilterParams>, &hist_convergence, "ray"},
+    {"hist_mr", &parse<MultiResolutionHistogramFilterParams, MultiResolutionHistogramFilter>,
+     &describe<MultiResolutionHistogramFilterParams>, &hist_convergence, "ray"},
+    {"pf", &parse<ParticleFilterParams, ParticleFilter>, &describe<ParticleFilterParams>, &pf_convergence, "kernel"},
 };
 
 const Entry& find(const std::string& name) {
@@ -128,6 +132,8 @@ std::vector<std::string> tracker_names() {
   std::sort(names.begin(), names.end());
   return names;
 }
+
+std::string default_tracker_matcher(const std::string& name) { return find(name).matcher; }
 
 std::string describe_convergence(const std::string& name, const nlohmann::json& overrides) {
   const Entry& e = find(name);

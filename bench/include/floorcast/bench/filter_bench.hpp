@@ -57,6 +57,15 @@ struct FilterBenchResult {
   double hf_seq_position_diff_m = 0.0;
   double hf_seq_yaw_diff_deg = 0.0;
   double hf_seq_total_variation = 0.0;
+  /// hist_mr (coarse belief over the plan, fine window; its defaults) on the same walk: CPU ms
+  /// per step, over the second half, and its estimates against the dense filter's (largest
+  /// distance where the dense filter has converged, support >= 0.5; end errors against the truth).
+  double hf_seq_mr_cpu_ms = 0.0;
+  double hf_seq_mr_late_cpu_ms = 0.0;
+  double hf_seq_mr_converged_diff_m = 0.0;
+  int hf_seq_dense_converged_steps = 0;
+  double hf_seq_dense_end_error_m = 0.0;
+  double hf_seq_mr_end_error_m = 0.0;
   /// Particle filter end to end on the same walk (PALMS start, kernel point-query updates every
   /// 10 steps, observations included): steps per second (wall) and CPU ms per step.
   double pf_seq_steps_per_s = 0.0;

@@ -116,6 +116,13 @@ const std::vector<std::pair<const char*, BeliefEstimate>>& belief_estimate_names
 class HistogramFilter final : public Tracker {
  public:
   HistogramFilter(const FloorPlan& plan, const HistogramFilterParams& params = {});
+  /// A filter on a given grid (any part of a plan's grid: a window) whose belief lives where
+  /// `interior` (CV_8U, the grid's size) is non-zero; params.resolution_m and grid_margin_m are
+  /// not used (the grid says them).
+  HistogramFilter(const GridSpec& grid, const cv::Mat& interior, const HistogramFilterParams& params);
+  /// Where the filter of `plan` keeps belief on `grid` (CV_8U 255): the valid area less every
+  /// cell a map wall covers.
+  static cv::Mat belief_interior(const FloorPlan& plan, const GridSpec& grid);
   ~HistogramFilter() override;
 
   std::string name() const override { return "hist"; }
@@ -152,8 +159,12 @@ class HistogramFilter final : public Tracker {
   double drop_bound() const { return drop_ratio_ / (1.0 + drop_ratio_); }
   const GridSpec& grid() const { return grid_; }
   const HistogramFilterParams& params() const { return params_; }
+  /// Share of the belief (normalised) at positions inside the world box [x0, x1] x [y0, y1] (m),
+  /// all headings; 0 when the filter is lost.
+  double mass_within(double x0_m, double y0_m, double x1_m, double y1_m) const;
 
  private:
+  void setup(const GridSpec& grid, const cv::Mat& interior);
   /// One sub-step: body-frame motion, noise variances (translation per axis, rotation).
   void move(double dx_m, double dy_m, double dyaw_rad, double translation_var_m2, double rotation_var_rad2);
   /// Largest translation-noise sigma of one sub-step (larger noise is split into sub-steps): half

@@ -132,4 +132,8 @@ nlohmann::json with_odometry(const nlohmann::json& overrides, const OdometryUnce
 /// Names of all registered trackers, sorted.
 std::vector<std::string> tracker_names();
 
+/// The matcher a tracker is paired with where none is named (its paper's: kernel for pf, ray for
+/// the histogram filters). Throws InputError for an unknown tracker.
+std::string default_tracker_matcher(const std::string& name);
+
 }  // namespace floorcast
