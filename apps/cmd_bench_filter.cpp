@@ -49,11 +49,18 @@ void register_bench_filter(CLI::App& root) {
       const FilterBenchResult r = bench_filter(plan, o->params);
       all[plan.name] = to_json(r);
       if (!o->json) {
-        std::cout << std::fixed << std::setprecision(1) << plan.name << ": particle filter " << r.pf_steps_per_s
-                  << " steps/s (" << o->params.particles << " particles, " << std::setprecision(2) << r.pf_cpu_ms_per_step
-                  << " CPU-ms/step); histogram filter " << r.hf_ms_per_step << " ms/step (" << r.hf_cpu_ms_per_step
-                  << " CPU-ms), " << std::setprecision(0) << r.hf_state_mb << " MB for " << r.grid_cells
-                  << " cells x 36 directions\n";
+        // Only what was measured (a skipped part is not printed as zeros).
+        std::cout << std::fixed << std::setprecision(1) << plan.name << ":";
+        if (o->params.particle_filter) {
+          std::cout << " particle filter " << r.pf_steps_per_s << " steps/s (" << o->params.particles << " particles, "
+                    << std::setprecision(2) << r.pf_cpu_ms_per_step << " CPU-ms/step)" << (o->params.histogram_filter ? ";" : "");
+        }
+        if (o->params.histogram_filter) {
+          std::cout << std::setprecision(1) << " histogram filter " << r.hf_ms_per_step << " ms/step (" << std::setprecision(2)
+                    << r.hf_cpu_ms_per_step << " CPU-ms), " << std::setprecision(0) << r.hf_state_mb << " MB for " << r.grid_cells
+                    << " cells x 36 directions";
+        }
+        std::cout << "\n";
         if (o->params.sequential) {
           std::cout << std::setprecision(3) << "  particle-filter update (kernel, matching included): full posterior "
                     << r.pf_update_full_cpu_s << " CPU-s, point queries " << r.pf_update_points_cpu_s << " CPU-s ("
