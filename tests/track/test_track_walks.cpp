@@ -406,7 +406,7 @@ TEST(MultiResolutionHistogram, IsTheHistogramFilterOnPlansThatFitTheWindow) {
 //   step converged); hist_mr reports the coarse estimate, which stays within 1 m of the exact
 //   filter's at every step after the second observation (measured: printed), and both end within
 //   1 m of the truth.
-std::vector<TrackEstimate> compare_multires(const std::string& name, MultiResolutionHistogramFilter*& multi_out,
+std::vector<TrackEstimate> compare_multires(const std::string& name, std::unique_ptr<MultiResolutionHistogramFilter>& multi,
                                             std::vector<TrackEstimate>& exact, VioWalk& w) {
   const TestPlan& tp = test_plan(name);
   w = vio_walk(tp.plan, 5, 60);
@@ -416,9 +416,7 @@ std::vector<TrackEstimate> compare_multires(const std::string& name, MultiResolu
   HistogramFilter single(tp.plan, p);
   MultiResolutionHistogramFilterParams mp;
   mp.filter = p;
-  static std::unique_ptr<MultiResolutionHistogramFilter> multi;
   multi = std::make_unique<MultiResolutionHistogramFilter>(tp.plan, mp);
-  multi_out = multi.get();
   EXPECT_FALSE(multi->single_resolution());
   EXPECT_NEAR(multi->coarse_grid().resolution_m_per_px, 0.4, 1e-12);
   exact = run_sequential(single, tp.plan, w, *matcher, 10);
@@ -426,7 +424,7 @@ std::vector<TrackEstimate> compare_multires(const std::string& name, MultiResolu
 }
 
 TEST(MultiResolutionHistogram, RefinesInAWindowAndAgreesWithTheExactFilterOnceConverged) {
-  MultiResolutionHistogramFilter* multi = nullptr;
+  std::unique_ptr<MultiResolutionHistogramFilter> multi;
   std::vector<TrackEstimate> a;
   VioWalk w;
   const std::vector<TrackEstimate> b = compare_multires("office_calibrated", multi, a, w);
@@ -452,7 +450,7 @@ TEST(MultiResolutionHistogram, RefinesInAWindowAndAgreesWithTheExactFilterOnceCo
 }
 
 TEST(MultiResolutionHistogram, ReportsTheCoarseEstimateWhileTheBeliefIsWide) {
-  MultiResolutionHistogramFilter* multi = nullptr;
+  std::unique_ptr<MultiResolutionHistogramFilter> multi;
   std::vector<TrackEstimate> a;
   VioWalk w;
   const std::vector<TrackEstimate> b = compare_multires("campus", multi, a, w);
