@@ -58,7 +58,8 @@ void register_bench_filter(CLI::App& root) {
         if (o->params.histogram_filter) {
           std::cout << std::setprecision(1) << " histogram filter " << r.hf_ms_per_step << " ms/step (" << std::setprecision(2)
                     << r.hf_cpu_ms_per_step << " CPU-ms), " << std::setprecision(0) << r.hf_state_mb << " MB for " << r.grid_cells
-                    << " cells x 36 directions";
+                    << " cells x 36 directions; hist_mr " << std::setprecision(1) << r.hf_mr_ms_per_step << " ms/step ("
+                    << std::setprecision(2) << r.hf_mr_cpu_ms_per_step << " CPU-ms)";
         }
         std::cout << "\n";
         if (o->params.sequential) {

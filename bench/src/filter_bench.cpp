@@ -262,6 +262,24 @@ FilterBenchResult bench_filter(const FloorPlan& plan, const FilterBenchParams& b
     }
     out.hf_ms_per_step = 1e3 * median(wall);
     out.hf_cpu_ms_per_step = 1e3 * median(cpu);
+    wall.clear();
+    cpu.clear();
+    for (int r = 0; r < bp.repeats; ++r) {
+      MultiResolutionHistogramFilterParams mp;
+      mp.filter.init = BeliefInit::kUniform;
+      mp.filter.motion_noise = MotionNoiseSource::kFixed;
+      MultiResolutionHistogramFilter f(plan, mp);
+      f.initialise(empty, odo.steps[0]);
+      const double w0 = now_s(), c0 = process_cpu_s();
+      for (std::size_t k = 1; k < odo.steps.size(); ++k) {
+        f.predict(odo.steps[k]);
+        (void)f.estimate();
+      }
+      wall.push_back((now_s() - w0) / bp.steps);
+      cpu.push_back((process_cpu_s() - c0) / bp.steps);
+    }
+    out.hf_mr_ms_per_step = 1e3 * median(wall);
+    out.hf_mr_cpu_ms_per_step = 1e3 * median(cpu);
   }
   if (bp.sequential) bench_sequential(plan, bp, walk, out);
   return out;
@@ -278,6 +296,8 @@ nlohmann::ordered_json to_json(const FilterBenchResult& r) {
           .number("hf_ms_per_step", &R::hf_ms_per_step, 0.0, kAny, "histogram filter ms per step (median, wall)")
           .number("hf_cpu_ms_per_step", &R::hf_cpu_ms_per_step, 0.0, kAny, "histogram filter CPU ms per step")
           .number("hf_state_mb", &R::hf_state_mb, 0.0, kAny, "histogram filter state, MB")
+          .number("hf_mr_ms_per_step", &R::hf_mr_ms_per_step, 0.0, kAny, "hist_mr, the same uniform start and walk: ms per step (median, wall)")
+          .number("hf_mr_cpu_ms_per_step", &R::hf_mr_cpu_ms_per_step, 0.0, kAny, "hist_mr: CPU ms per step")
           .integer("hf_grid_cells", &R::grid_cells, 0, 1 << 30, "histogram filter (x, y) cells")
           .number("pf_update_full_cpu_s", &R::pf_update_full_cpu_s, 0.0, kAny,
                   "particle filter: CPU s per measurement update from the kernel's full posterior (matching included)")

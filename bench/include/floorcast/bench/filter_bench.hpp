@@ -33,6 +33,10 @@ struct FilterBenchResult {
   double hf_ms_per_step = 0.0;      ///< median, wall
   double hf_cpu_ms_per_step = 0.0;
   double hf_state_mb = 0.0;
+  /// hist_mr (its defaults) on the same uniform start and walk: a flat belief stays on its coarse
+  /// grid (no window holds half of it).
+  double hf_mr_ms_per_step = 0.0;      ///< median, wall
+  double hf_mr_cpu_ms_per_step = 0.0;
   double pf_state_mb = 0.0;
   int grid_cells = 0;               ///< histogram-filter grid (x, y) cells
   /// Particle-filter measurement update (kernel matcher, PALMS start at a perfect observation),
