@@ -84,7 +84,7 @@ void MultiResolutionHistogramFilter::window_box(double& x0, double& y0, double& 
   y1 = g.origin_y_m + g.height_px * g.resolution_m_per_px;
 }
 
-bool MultiResolutionHistogramFilter::build_window(const Vec2& centre, const Posterior& source) {
+GridSpec MultiResolutionHistogramFilter::window_grid(const Vec2& centre) const {
   const double res = fine_grid_.resolution_m_per_px;
   const int W = fine_grid_.width_px, H = fine_grid_.height_px;
   const int wpx = std::min(W, static_cast<int>(std::ceil(params_.window_m / res)));
@@ -98,6 +98,15 @@ bool MultiResolutionHistogramFilter::build_window(const Vec2& centre, const Post
   g.resolution_m_per_px = res;
   g.width_px = wpx;
   g.height_px = hpx;
+  return g;
+}
+
+bool MultiResolutionHistogramFilter::build_window(const Vec2& centre, const Posterior& source) {
+  const GridSpec g = window_grid(centre);
+  const double res = fine_grid_.resolution_m_per_px;
+  const int c0 = static_cast<int>(std::lround((g.origin_x_m - fine_grid_.origin_x_m) / res));
+  const int r0 = static_cast<int>(std::lround((g.origin_y_m - fine_grid_.origin_y_m) / res));
+  const int wpx = g.width_px, hpx = g.height_px;
   HistogramFilterParams fp = params_.filter;
   fp.init = BeliefInit::kPosterior;  // the window starts from the belief it is cut from
   auto f = std::make_unique<HistogramFilter>(g, fine_interior_(cv::Rect(c0, r0, wpx, hpx)).clone(), fp);
@@ -146,14 +155,10 @@ void MultiResolutionHistogramFilter::manage_window(const Posterior* fresh) {
   if (ce.degenerate || !(ce.support > 0.0)) return;
   // No trusted window: build one around the coarse estimate when the coarse belief holds
   // window_mass there.
-  const double res = fine_grid_.resolution_m_per_px;
-  const int wpx = std::min(fine_grid_.width_px, static_cast<int>(std::ceil(params_.window_m / res)));
-  const int hpx = std::min(fine_grid_.height_px, static_cast<int>(std::ceil(params_.window_m / res)));
   const Vec2 c = ce.pose.position_m();
-  const int c0 = std::clamp(static_cast<int>(std::floor((c.x() - fine_grid_.origin_x_m) / res)) - wpx / 2, 0, fine_grid_.width_px - wpx);
-  const int r0 = std::clamp(static_cast<int>(std::floor((c.y() - fine_grid_.origin_y_m) / res)) - hpx / 2, 0, fine_grid_.height_px - hpx);
-  const double x0 = fine_grid_.origin_x_m + c0 * res, y0 = fine_grid_.origin_y_m + r0 * res;
-  const double share = coarse_->mass_within(x0, y0, x0 + wpx * res, y0 + hpx * res);
+  const GridSpec g = window_grid(c);
+  const double share = coarse_->mass_within(g.origin_x_m, g.origin_y_m, g.origin_x_m + g.width_px * g.resolution_m_per_px,
+                                            g.origin_y_m + g.height_px * g.resolution_m_per_px);
   if (share < params_.window_mass) return;
   const bool built = fresh ? build_window(c, *fresh) : build_window(c, coarse_->belief());
   if (!built) return;

@@ -80,6 +80,9 @@ class MultiResolutionHistogramFilter final : public Tracker {
   /// Builds the fine window centred (as far as the plan allows) on `centre`, its belief from
   /// `source`; false when the source holds nothing there.
   bool build_window(const Vec2& centre, const Posterior& source);
+  /// The fine window's grid centred (as far as the plan allows) on `centre`: the fine grid's
+  /// cells, window_m x window_m of them.
+  GridSpec window_grid(const Vec2& centre) const;
   /// The fine window's world box.
   void window_box(double& x0, double& y0, double& x1, double& y1) const;
 
