@@ -21,14 +21,144 @@ namespace {
 /// around its centre and normalised: out(p) = sum_j w[j] in(p + first_offset + j) moves mass by
 /// +shift. Only the taps within the truncation are stored (a shift of 7 cells with sigma 1 has 7
 /// taps, not the 21 of a kernel centred on 0).
-/// dst[i] += w * src[i] for i < n: the inner loop of every pass of the motion step. Compiled for
-/// AVX2 and for the baseline, chosen at load time (GCC function multi-versioning), so the binary
-/// runs on any x86-64 and uses 8-wide vectors where the CPU has them.
+/// dst[i] = sum_k w[k] src[k][i] for i < n, the terms added in k order onto 0 (onto dst[i] with
+/// `accumulate`): the arithmetic of clearing dst and adding w[k] src[k] for each k in turn, bit for
+/// bit (no fused multiply-add), accumulated in registers so dst is written once: the inner loop of every pass of the motion
+/// step. Compiled for AVX2 and for the baseline, chosen at load time (GCC function
+/// multi-versioning), so the binary runs on any x86-64 and uses 8-wide vectors where the CPU has
+/// them.
 #if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
 __attribute__((target_clones("avx2", "default")))
 #endif
-void axpy(float* dst, const float* src, float w, int n) {
-  for (int i = 0; i < n; ++i) dst[i] += w * src[i];
+void weighted_sum(float* dst, const float* const* src, const float* w, int terms, int n, bool accumulate) {
+  // Eight floats (unaligned loads and stores through memcpy): one AVX register, two SSE ones.
+  typedef float Float8 __attribute__((vector_size(32)));
+  int i = 0;
+  for (; i + 16 <= n; i += 16) {
+    Float8 a0 = {}, a1 = {};
+    if (accumulate) {
+      std::memcpy(&a0, dst + i, sizeof a0);
+      std::memcpy(&a1, dst + i + 8, sizeof a1);
+    }
+    for (int k = 0; k < terms; ++k) {
+      Float8 s0, s1;
+      std::memcpy(&s0, src[k] + i, sizeof s0);
+      std::memcpy(&s1, src[k] + i + 8, sizeof s1);
+      a0 += w[k] * s0;
+      a1 += w[k] * s1;
+    }
+    std::memcpy(dst + i, &a0, sizeof a0);
+    std::memcpy(dst + i + 8, &a1, sizeof a1);
+  }
+  for (; i + 8 <= n; i += 8) {
+    Float8 a0 = {};
+    if (accumulate) std::memcpy(&a0, dst + i, sizeof a0);
+    for (int k = 0; k < terms; ++k) {
+      Float8 s0;
+      std::memcpy(&s0, src[k] + i, sizeof s0);
+      a0 += w[k] * s0;
+    }
+    std::memcpy(dst + i, &a0, sizeof a0);
+  }
+  for (; i < n; ++i) {
+    float acc = accumulate ? dst[i] : 0.0f;
+    for (int k = 0; k < terms; ++k) acc += w[k] * src[k][i];
+    dst[i] = acc;
+  }
+}
+
+/// One term of a weighted sum over a row: w x row[c + offset] for the output columns c in
+/// [lo, hi] (the term is absent elsewhere).
+struct RowTerm {
+  const float* row;
+  int offset;
+  float w;
+  int lo, hi;
+};
+
+/// dst[c] = the sum, in the terms' order, of the terms present at column c, for c in [c0, c1] (0
+/// where none is): the row is cut where a term starts or ends and each piece summed with
+/// weighted_sum (the same arithmetic as clearing the row and adding each term over its columns).
+/// Terms beyond kMaxTerms are added by further passes in their order (the same sums).
+void sum_terms(float* dst, int c0, int c1, const RowTerm* terms, int n_terms) {
+  if (c0 > c1) return;
+  constexpr int kMaxTerms = 32;
+  for (int first = 0; first == 0 || first < n_terms; first += kMaxTerms) {
+    const bool accumulate = first > 0;
+    const int n = std::min(kMaxTerms, n_terms - first);
+    const RowTerm* t = terms + first;
+    int cuts[2 * kMaxTerms + 2];
+    int n_cuts = 0;
+    cuts[n_cuts++] = c0;
+    cuts[n_cuts++] = c1 + 1;
+    for (int k = 0; k < n; ++k) {
+      if (t[k].lo > c0 && t[k].lo <= c1) cuts[n_cuts++] = t[k].lo;
+      if (t[k].hi >= c0 && t[k].hi < c1) cuts[n_cuts++] = t[k].hi + 1;
+    }
+    std::sort(cuts, cuts + n_cuts);
+    n_cuts = static_cast<int>(std::unique(cuts, cuts + n_cuts) - cuts);
+    const float* src[kMaxTerms];
+    float w[kMaxTerms];
+    for (int q = 0; q + 1 < n_cuts; ++q) {
+      const int a = cuts[q], z = cuts[q + 1] - 1;
+      int m = 0;
+      for (int k = 0; k < n; ++k) {
+        if (t[k].lo > a || t[k].hi < z) continue;
+        src[m] = t[k].row + (a + t[k].offset);
+        w[m++] = t[k].w;
+      }
+      if (m > 0) {
+        weighted_sum(dst + a, src, w, m, z - a + 1, accumulate);
+      } else if (!accumulate) {
+        std::fill(dst + a, dst + z + 1, 0.0f);
+      }
+    }
+  }
+}
+
+/// Sum (in double) and maximum of row[c0 .. c1] of non-negative floats, the cells summed in eight
+/// lanes by column modulo 8 (each in column order) and the lanes added in order: vectorised, and
+/// the same bits whatever c0 and c1 are as long as the cells outside are 0 (the sparse filter's
+/// narrower spans sum to the dense filter's full rows exactly: adding +0 is exact).
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+double row_sum_max(const float* row, int c0, int c1, float& row_max) {
+  typedef float Float4 __attribute__((vector_size(16)));
+  typedef double Double4 __attribute__((vector_size(32)));
+  double lane[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  float mx = 0.0f;
+  int c = c0;
+  for (; c <= c1 && (c & 7) != 0; ++c) {
+    lane[c & 7] += row[c];
+    mx = std::max(mx, row[c]);
+  }
+  if (c + 8 <= c1 + 1) {
+    Double4 lo, hi;
+    std::memcpy(&lo, lane, sizeof lo);
+    std::memcpy(&hi, lane + 4, sizeof hi);
+    Float4 m0 = {0, 0, 0, 0}, m1 = {0, 0, 0, 0};
+    for (; c + 8 <= c1 + 1; c += 8) {
+      Float4 a, b;
+      std::memcpy(&a, row + c, sizeof a);
+      std::memcpy(&b, row + c + 4, sizeof b);
+      lo += __builtin_convertvector(a, Double4);
+      hi += __builtin_convertvector(b, Double4);
+      m0 = m0 > a ? m0 : a;
+      m1 = m1 > b ? m1 : b;
+    }
+    std::memcpy(lane, &lo, sizeof lo);
+    std::memcpy(lane + 4, &hi, sizeof hi);
+    for (int j = 0; j < 4; ++j) mx = std::max({mx, m0[j], m1[j]});
+  }
+  for (; c <= c1; ++c) {
+    lane[c & 7] += row[c];
+    mx = std::max(mx, row[c]);
+  }
+  row_max = mx;
+  double sum = 0.0;
+  for (double v : lane) sum += v;
+  return sum;
 }
 
 /// The normalisation's pass over one row of n cells: a cell whose value is below `drop` or whose
@@ -288,13 +418,9 @@ void HistogramFilter::measure_slices() {
     for (int r = 0; r < H; ++r) {
       const Span& sp = span_[static_cast<std::size_t>(o) * blocks_ + r / kBlockRows];
       const int c0 = std::max(sp.lo, row_lo_[static_cast<std::size_t>(r)]), c1 = std::min(sp.hi, row_hi_[static_cast<std::size_t>(r)]);
-      const float* row = b.ptr<float>(r);
-      double rs = 0.0;
-      for (int c = c0; c <= c1; ++c) {
-        rs += row[c];
-        mx = std::max(mx, row[c]);
-      }
-      sum += rs;
+      float row_max = 0.0f;
+      sum += row_sum_max(b.ptr<float>(r), c0, c1, row_max);
+      mx = std::max(mx, row_max);
     }
     mass_[static_cast<std::size_t>(o)] = sum;
     slice_max_[static_cast<std::size_t>(o)] = mx;
@@ -406,9 +532,31 @@ float HistogramFilter::drop_threshold(double total, double& dropped) const {
       const Span& sp = span_[static_cast<std::size_t>(o) * blocks_ + r / kBlockRows];
       const int c0 = std::max(sp.lo, row_lo_[static_cast<std::size_t>(r)]), c1 = std::min(sp.hi, row_hi_[static_cast<std::size_t>(r)]);
       const float* row = b.ptr<float>(r);
-      for (int c = c0; c <= c1; ++c) {
-        // Cells above the budget can never be dropped: not counted (most of a concentrated
-        // belief's live cells are below it, all of a flat one's). Zero cells land in class 0.
+      // Cells above the budget can never be dropped: not counted (most of a concentrated
+      // belief's live cells are below it, all of a flat one's). Zero cells land in class 0. Runs
+      // of eight cells of one class (most of a flat belief) are summed first and added once.
+      int c = c0;
+      for (; c + 8 <= c1 + 1; c += 8) {
+        std::uint32_t bits[8];
+        std::memcpy(bits, row + c, sizeof bits);
+        bool one_class = true;
+        float mx = 0.0f;
+        for (int j = 0; j < 8; ++j) {
+          one_class = one_class && (bits[j] >> kShift) == (bits[0] >> kShift);
+          mx = std::max(mx, row[c + j]);
+        }
+        if (one_class && mx <= cap) {
+          double run = 0.0;
+          for (int j = 0; j < 8; ++j) run += row[c + j];
+          h[static_cast<std::size_t>((c >> 3) & 3) * kClasses + (bits[0] >> kShift)] += run;
+          continue;
+        }
+        for (int j = 0; j < 8; ++j) {
+          if (row[c + j] > cap) continue;
+          h[static_cast<std::size_t>((c + j) & 3) * kClasses + (bits[j] >> kShift)] += row[c + j];
+        }
+      }
+      for (; c <= c1; ++c) {
         const float v = row[c];
         if (v > cap) continue;
         std::uint32_t bits = 0;
@@ -550,12 +698,19 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
   std::vector<float> block_max(static_cast<std::size_t>(blocks) * D, 0.0f);
   std::vector<Span> out_span(static_cast<std::size_t>(D) * blocks);
   const std::size_t block_stride = static_cast<std::size_t>(kBlockRows) * W;
+  int max_terms = hi - lo + 1;  // the rotation's; the translations' below
+  for (int o = 0; o < D; ++o) {
+    max_terms = std::max({max_terms, static_cast<int>(kx[static_cast<std::size_t>(o)].w.size()),
+                          static_cast<int>(ky[static_cast<std::size_t>(o)].w.size())});
+  }
   tbb::parallel_for(0, blocks, [&](int blk) {
     const int r0 = blk * kBlockRows, r1 = std::min(H, r0 + kBlockRows);
     bool any_interior = false;
     for (int r = r0; r < r1; ++r) any_interior |= row_lo_[static_cast<std::size_t>(r)] <= row_hi_[static_cast<std::size_t>(r)];
     if (!any_interior) return;  // cells outside the building are never written: they stay 0
     MotionWorkspace& ws = workspace_.local();
+    std::vector<RowTerm> terms(static_cast<std::size_t>(max_terms));  // one row's terms of the pass at hand
+    int nt = 0;
     ws.block.resize(block_stride * D);
     ws.rows.resize(static_cast<std::size_t>(kBlockRows + 2 * reach_rows_ + 1) * W);
     std::vector<Span> reach(static_cast<std::size_t>(D));  // per source slice: the columns it reaches in this block
@@ -585,28 +740,29 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
         if (c0 > c1) continue;
         const float* in = b.ptr<float>(rr);
         float* t = ws.rows.data() + static_cast<std::size_t>(rr - first) * W;
-        std::fill(t + c0, t + c1 + 1, 0.0f);
+        nt = 0;
         for (int i = 0; i < taps; ++i) {
-          const float wi = kx[ss].w[static_cast<std::size_t>(i)];
           const int off = kx[ss].first_offset + i;
-          const int clo = std::max(c0, -off), chi = std::min(c1, W - 1 - off);
-          if (clo <= chi) axpy(t + clo, in + clo + off, wi, chi - clo + 1);
+          terms[static_cast<std::size_t>(nt++)] =
+              RowTerm{in, off, kx[ss].w[static_cast<std::size_t>(i)], std::max(c0, -off), std::min(c1, W - 1 - off)};
         }
+        sum_terms(t, c0, c1, terms.data(), nt);
       }
       // Vertical pass into the block buffer, times the interior mask.
       for (int r = r0; r < r1; ++r) {
         const int c0 = std::max(t_span.lo, row_lo_[static_cast<std::size_t>(r)]);
         const int c1 = std::min(t_span.hi, row_hi_[static_cast<std::size_t>(r)]);
         if (c0 > c1) continue;
-        float* acc = ws.block.data() + ss * block_stride + static_cast<std::size_t>(r - r0) * W + c0;
-        std::fill(acc, acc + (c1 - c0 + 1), 0.0f);
+        float* row = ws.block.data() + ss * block_stride + static_cast<std::size_t>(r - r0) * W;
+        nt = 0;
         for (int off = y_lo[ss]; off <= y_hi[ss]; ++off) {
           const int rr = r + off;
           if (rr < first || rr > last) continue;
-          const float wv = ky[ss].w[static_cast<std::size_t>(off - ky[ss].first_offset)];
-          const float* t = ws.rows.data() + static_cast<std::size_t>(rr - first) * W + c0;
-          axpy(acc, t, wv, c1 - c0 + 1);
+          terms[static_cast<std::size_t>(nt++)] = RowTerm{ws.rows.data() + static_cast<std::size_t>(rr - first) * W, 0,
+                                                          ky[ss].w[static_cast<std::size_t>(off - ky[ss].first_offset)], c0, c1};
         }
+        sum_terms(row, c0, c1, terms.data(), nt);
+        float* acc = row + c0;
         const float* in = interior_.ptr<float>(r) + c0;
         for (int c = 0; c <= c1 - c0; ++c) acc[c] *= in[c];
       }
@@ -632,29 +788,32 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
       for (int r = r0; r < r1; ++r) {
         float* dst = out.ptr<float>(r);
         const int rlo = row_lo_[static_cast<std::size_t>(r)], rhi = row_hi_[static_cast<std::size_t>(r)];
-        {
-          const int c0 = std::max(old.lo, rlo), c1 = std::min(old.hi, rhi);
-          if (c0 <= c1) std::fill(dst + c0, dst + c1 + 1, 0.0f);
-        }
         const int c0 = std::max(written.lo, rlo), c1 = std::min(written.hi, rhi);
+        {
+          // The old contents outside the columns written below.
+          const int o0 = std::max(old.lo, rlo), o1 = std::min(old.hi, rhi);
+          if (o0 <= o1 && c0 > c1) {
+            std::fill(dst + o0, dst + o1 + 1, 0.0f);
+          } else if (o0 <= o1) {
+            if (o0 < c0) std::fill(dst + o0, dst + std::min(o1 + 1, c0), 0.0f);
+            if (o1 > c1) std::fill(dst + std::max(o0, c1 + 1), dst + o1 + 1, 0.0f);
+          }
+        }
         if (c0 > c1) continue;
-        std::fill(dst + c0, dst + c1 + 1, 0.0f);
+        nt = 0;
         for (int k = lo; k <= hi; ++k) {
           const int src = ((o - k) % D + D) % D;  // mass of heading src moves to heading src + k
           const Span& sp = reach[static_cast<std::size_t>(src)];
           const int a = std::max(c0, sp.lo), z = std::min(c1, sp.hi);
           if (a > z) continue;
-          const float wk = w[static_cast<std::size_t>(k - lo)];
-          const float* in = ws.block.data() + static_cast<std::size_t>(src) * block_stride +
-                            static_cast<std::size_t>(r - r0) * W;
-          axpy(dst + a, in + a, wk, z - a + 1);
+          terms[static_cast<std::size_t>(nt++)] =
+              RowTerm{ws.block.data() + static_cast<std::size_t>(src) * block_stride + static_cast<std::size_t>(r - r0) * W, 0,
+                      w[static_cast<std::size_t>(k - lo)], a, z};
         }
-        double rs = 0.0;
-        for (int c = c0; c <= c1; ++c) {
-          rs += dst[c];
-          mx = std::max(mx, dst[c]);
-        }
-        sum += rs;
+        sum_terms(dst, c0, c1, terms.data(), nt);
+        float row_max = 0.0f;
+        sum += row_sum_max(dst, c0, c1, row_max);
+        mx = std::max(mx, row_max);
         extend_by_nonzero(dst, c0, c1, nz);
       }
       block_sum[static_cast<std::size_t>(blk) * D + o] = sum;
