@@ -197,6 +197,54 @@ double drop_and_scale(float* row, int n, float drop, float scale, float floor, f
   return dropped;
 }
 
+/// drop_mass's value classes: the bits of a non-negative float shifted right by kClassShift (8
+/// exponent bits and the top 3 mantissa bits: 1/8 octave), monotonic in the value.
+constexpr int kClassShift = 20;
+constexpr int kClasses = 1 << 11;
+
+/// Adds the cells of row[c0 .. c1] to their value classes in h: four interleaved tables of
+/// kClasses (so neighbouring cells of one class do not wait on each other's additions; the caller
+/// sums them in a fixed order). Runs of eight cells of one class (most of a flat belief) are
+/// summed first and added once. Zero cells land in class 0.
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void count_classes(const float* row, int c0, int c1, double* h) {
+  typedef std::uint32_t Bits8 __attribute__((vector_size(32)));
+  typedef float Float4 __attribute__((vector_size(16)));
+  typedef double Double4 __attribute__((vector_size(32)));
+  int c = c0;
+  for (; c + 8 <= c1 + 1; c += 8) {
+    Bits8 bits;
+    std::memcpy(&bits, row + c, sizeof bits);
+    const Bits8 cls = bits >> kClassShift;
+    const Bits8 same = cls == cls[0];
+    if ((same[0] & same[1] & same[2] & same[3] & same[4] & same[5] & same[6] & same[7]) != 0) {
+      Float4 a, b;
+      std::memcpy(&a, row + c, sizeof a);
+      std::memcpy(&b, row + c + 4, sizeof b);
+      const Double4 pair = __builtin_convertvector(a, Double4) + __builtin_convertvector(b, Double4);
+      h[static_cast<std::size_t>((c >> 3) & 3) * kClasses + cls[0]] += (pair[0] + pair[1]) + (pair[2] + pair[3]);
+      continue;
+    }
+    for (int j = 0; j < 8; ++j) h[static_cast<std::size_t>((c + j) & 3) * kClasses + cls[j]] += row[c + j];
+  }
+  for (; c <= c1; ++c) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, row + c, sizeof bits);
+    h[static_cast<std::size_t>(c & 3) * kClasses + (bits >> kClassShift)] += row[c];
+  }
+}
+
+/// Folds the four interleaved tables of h into out (kClasses, added to) in a fixed order and
+/// clears them.
+void fold_classes(double* h, double* out) {
+  for (int k = 0; k < kClasses; ++k) {
+    out[k] += ((h[k] + h[kClasses + k]) + h[2 * kClasses + k]) + h[3 * kClasses + k];
+    h[k] = h[kClasses + k] = h[2 * kClasses + k] = h[3 * kClasses + k] = 0.0;
+  }
+}
+
 /// Widens [lo, hi] (lo > hi: empty) by the first and last non-zero cells of row[c0 .. c1]
 /// (scanned from both ends: dense rows cost two reads).
 template <class Span>
@@ -324,8 +372,8 @@ HistogramFilter::HistogramFilter(const GridSpec& grid, const cv::Mat& interior, 
 void HistogramFilter::setup(const GridSpec& grid, const cv::Mat& inside) {
   grid_ = grid;
   inside.convertTo(interior_, CV_32F, 1.0 / 255.0);
-  // Interior column range of every row, and the range the horizontal pass must cover for the
-  // vertical pass of rows within reach (the largest sub-step plus three sigmas).
+  // Interior column range of every row, and the rows the vertical pass may read (the largest
+  // sub-step plus four sigmas of its noise, and three rows of slack).
   const int H = grid_.height_px, W = grid_.width_px;
   row_lo_.assign(static_cast<std::size_t>(H), W);
   row_hi_.assign(static_cast<std::size_t>(H), -1);
@@ -338,14 +386,6 @@ void HistogramFilter::setup(const GridSpec& grid, const cv::Mat& inside) {
     }
   }
   reach_rows_ = static_cast<int>(std::ceil((params_.max_substep_m + 4.0 * max_substep_sigma_m()) / grid_.resolution_m_per_px)) + 3;
-  reach_lo_.assign(static_cast<std::size_t>(H), W);
-  reach_hi_.assign(static_cast<std::size_t>(H), -1);
-  for (int r = 0; r < H; ++r) {
-    for (int k = std::max(0, r - reach_rows_); k <= std::min(H - 1, r + reach_rows_); ++k) {
-      reach_lo_[static_cast<std::size_t>(r)] = std::min(reach_lo_[static_cast<std::size_t>(r)], row_lo_[static_cast<std::size_t>(k)]);
-      reach_hi_[static_cast<std::size_t>(r)] = std::max(reach_hi_[static_cast<std::size_t>(r)], row_hi_[static_cast<std::size_t>(k)]);
-    }
-  }
   const int D = params_.num_orientations;
   slice_max_.assign(static_cast<std::size_t>(D), 0.0f);
   for (int o = 0; o < D; ++o) {
@@ -406,6 +446,7 @@ std::size_t HistogramFilter::state_bytes() const {
 }
 
 void HistogramFilter::measure_slices() {
+  classes_valid_ = false;  // the belief is not the one the motion step counted
   dense_spans();
   const int D = params_.num_orientations;
   const int H = grid_.height_px;
@@ -453,6 +494,7 @@ void HistogramFilter::finish_normalise() {
   if (accounting && belief_mass_ > 0.0) drop_ratio_ *= belief_mass_ / total;
   double dropped = 0.0;
   const float drop = drop_threshold(total, dropped);
+  classes_valid_ = false;
   const float scale = static_cast<float>(1.0 / (total - dropped));
   std::vector<double> slice_dropped(static_cast<std::size_t>(D), 0.0);
   const float top = *std::max_element(slice_max_.begin(), slice_max_.end()) * scale;
@@ -511,75 +553,44 @@ void HistogramFilter::finish_normalise() {
 float HistogramFilter::drop_threshold(double total, double& dropped) const {
   dropped = 0.0;
   if (!params_.sparse || !(params_.drop_mass > 0.0)) return 0.0f;
-  // Value classes: the bits of a non-negative float shifted right by 20 (8 exponent bits and the
-  // top 3 mantissa bits: 1/8 octave), monotonic in the value. Per slice (in parallel, each in row
-  // order), reduced in slice order: the same threshold at any thread count.
-  constexpr int kShift = 20;  // 8 exponent bits, 3 mantissa bits: 1/8 octave
-  constexpr int kClasses = 1 << 11;
-  const int D = params_.num_orientations;
-  const int H = grid_.height_px;
+  // The mass of every value class: from the motion step's count of the belief it produced (per
+  // row block, reduced in block order), or by a pass over the belief (per slice in parallel, each
+  // in row order, reduced in slice order): the same threshold at any thread count.
   const double budget = params_.drop_mass * total;
-  std::vector<std::vector<double>> hist(static_cast<std::size_t>(D));
-  tbb::parallel_for(0, D, [&](int o) {
-    if (!(slice_max_[static_cast<std::size_t>(o)] > 0.0f)) return;
-    std::vector<double>& h = hist[static_cast<std::size_t>(o)];
-    // Four interleaved histograms (column mod 4), so neighbouring cells of one class do not wait
-    // on each other's additions; summed in a fixed order.
-    h.assign(4 * kClasses, 0.0);
-    const cv::Mat& b = belief_[static_cast<std::size_t>(o)];
-    const float cap = static_cast<float>(budget);
-    for (int r = 0; r < H; ++r) {
-      const Span& sp = span_[static_cast<std::size_t>(o) * blocks_ + r / kBlockRows];
-      const int c0 = std::max(sp.lo, row_lo_[static_cast<std::size_t>(r)]), c1 = std::min(sp.hi, row_hi_[static_cast<std::size_t>(r)]);
-      const float* row = b.ptr<float>(r);
-      // Cells above the budget can never be dropped: not counted (most of a concentrated
-      // belief's live cells are below it, all of a flat one's). Zero cells land in class 0. Runs
-      // of eight cells of one class (most of a flat belief) are summed first and added once.
-      int c = c0;
-      for (; c + 8 <= c1 + 1; c += 8) {
-        std::uint32_t bits[8];
-        std::memcpy(bits, row + c, sizeof bits);
-        bool one_class = true;
-        float mx = 0.0f;
-        for (int j = 0; j < 8; ++j) {
-          one_class = one_class && (bits[j] >> kShift) == (bits[0] >> kShift);
-          mx = std::max(mx, row[c + j]);
-        }
-        if (one_class && mx <= cap) {
-          double run = 0.0;
-          for (int j = 0; j < 8; ++j) run += row[c + j];
-          h[static_cast<std::size_t>((c >> 3) & 3) * kClasses + (bits[0] >> kShift)] += run;
-          continue;
-        }
-        for (int j = 0; j < 8; ++j) {
-          if (row[c + j] > cap) continue;
-          h[static_cast<std::size_t>((c + j) & 3) * kClasses + (bits[j] >> kShift)] += row[c + j];
-        }
-      }
-      for (; c <= c1; ++c) {
-        const float v = row[c];
-        if (v > cap) continue;
-        std::uint32_t bits = 0;
-        std::memcpy(&bits, &v, sizeof bits);
-        h[static_cast<std::size_t>(c & 3) * kClasses + (bits >> kShift)] += v;
-      }
-    }
-    for (int k = 0; k < kClasses; ++k) {
-      h[static_cast<std::size_t>(k)] += h[static_cast<std::size_t>(kClasses + k)] + h[static_cast<std::size_t>(2 * kClasses + k)] +
-                                        h[static_cast<std::size_t>(3 * kClasses + k)];
-    }
-    h.resize(kClasses);
-  });
   std::vector<double> all(kClasses, 0.0);
-  for (const std::vector<double>& h : hist)
-    for (std::size_t k = 0; k < h.size(); ++k) all[k] += h[k];
+  if (classes_valid_) {
+    for (int blk = 0; blk < blocks_; ++blk) {
+      if (!block_counted_[static_cast<std::size_t>(blk)]) continue;
+      const double* h = block_classes_.data() + static_cast<std::size_t>(blk) * kClasses;
+      for (int k = 0; k < kClasses; ++k) all[static_cast<std::size_t>(k)] += h[k];
+    }
+  } else {
+    const int D = params_.num_orientations;
+    const int H = grid_.height_px;
+    std::vector<std::vector<double>> hist(static_cast<std::size_t>(D));
+    tbb::parallel_for(0, D, [&](int o) {
+      if (!(slice_max_[static_cast<std::size_t>(o)] > 0.0f)) return;
+      std::vector<double> h(4 * kClasses, 0.0);
+      const cv::Mat& b = belief_[static_cast<std::size_t>(o)];
+      for (int r = 0; r < H; ++r) {
+        const Span& sp = span_[static_cast<std::size_t>(o) * blocks_ + r / kBlockRows];
+        const int c0 = std::max(sp.lo, row_lo_[static_cast<std::size_t>(r)]), c1 = std::min(sp.hi, row_hi_[static_cast<std::size_t>(r)]);
+        count_classes(b.ptr<float>(r), c0, c1, h.data());
+      }
+      std::vector<double>& out = hist[static_cast<std::size_t>(o)];
+      out.assign(kClasses, 0.0);
+      fold_classes(h.data(), out.data());
+    });
+    for (const std::vector<double>& h : hist)
+      for (std::size_t k = 0; k < h.size(); ++k) all[k] += h[k];
+  }
   // The lowest classes whose mass together stays within the budget.
   int k = 0;
   double cum = 0.0;
   while (k < kClasses && cum + all[static_cast<std::size_t>(k)] <= budget) cum += all[static_cast<std::size_t>(k++)];
   if (!(cum > 0.0) || k >= kClasses) return 0.0f;
   dropped = cum;
-  const std::uint32_t bits = static_cast<std::uint32_t>(k) << kShift;
+  const std::uint32_t bits = static_cast<std::uint32_t>(k) << kClassShift;
   float threshold = 0.0f;
   std::memcpy(&threshold, &bits, sizeof threshold);
   return threshold;
@@ -703,12 +714,20 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
     max_terms = std::max({max_terms, static_cast<int>(kx[static_cast<std::size_t>(o)].w.size()),
                           static_cast<int>(ky[static_cast<std::size_t>(o)].w.size())});
   }
+  // drop_mass: the value classes of the belief this step produces, counted per block while its
+  // rows are in cache (the next normalisation's drop threshold; no pass of its own).
+  const bool count = params_.sparse && params_.drop_mass > 0.0;
+  if (count) {
+    block_classes_.resize(static_cast<std::size_t>(blocks) * kClasses);
+    block_counted_.assign(static_cast<std::size_t>(blocks), 0);
+  }
   tbb::parallel_for(0, blocks, [&](int blk) {
     const int r0 = blk * kBlockRows, r1 = std::min(H, r0 + kBlockRows);
     bool any_interior = false;
     for (int r = r0; r < r1; ++r) any_interior |= row_lo_[static_cast<std::size_t>(r)] <= row_hi_[static_cast<std::size_t>(r)];
     if (!any_interior) return;  // cells outside the building are never written: they stay 0
     MotionWorkspace& ws = workspace_.local();
+    if (count) ws.classes.resize(4 * kClasses, 0.0);  // zero at every block's start (fold_classes clears it)
     std::vector<RowTerm> terms(static_cast<std::size_t>(max_terms));  // one row's terms of the pass at hand
     int nt = 0;
     ws.block.resize(block_stride * D);
@@ -735,8 +754,15 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
       t_span.hi = std::min(W - 1, src.hi - kx[ss].first_offset);
       if (t_span.empty()) continue;
       for (int rr = first; rr <= last; ++rr) {
-        const int c0 = std::max(t_span.lo, reach_lo_[static_cast<std::size_t>(rr)]);
-        const int c1 = std::min(t_span.hi, reach_hi_[static_cast<std::size_t>(rr)]);
+        // The columns the vertical pass reads of this row: the interior of the block's rows
+        // within the vertical kernel's reach.
+        int need_lo = W, need_hi = -1;
+        for (int r = std::max(r0, rr - y_hi[ss]); r <= std::min(r1 - 1, rr - y_lo[ss]); ++r) {
+          need_lo = std::min(need_lo, row_lo_[static_cast<std::size_t>(r)]);
+          need_hi = std::max(need_hi, row_hi_[static_cast<std::size_t>(r)]);
+        }
+        const int c0 = std::max(t_span.lo, need_lo);
+        const int c1 = std::min(t_span.hi, need_hi);
         if (c0 > c1) continue;
         const float* in = b.ptr<float>(rr);
         float* t = ws.rows.data() + static_cast<std::size_t>(rr - first) * W;
@@ -814,13 +840,21 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
         float row_max = 0.0f;
         sum += row_sum_max(dst, c0, c1, row_max);
         mx = std::max(mx, row_max);
+        if (count) count_classes(dst, c0, c1, ws.classes.data());
         extend_by_nonzero(dst, c0, c1, nz);
       }
       block_sum[static_cast<std::size_t>(blk) * D + o] = sum;
       block_max[static_cast<std::size_t>(blk) * D + o] = mx;
       out_span[si] = nz;
     }
+    if (count) {
+      double* out = block_classes_.data() + static_cast<std::size_t>(blk) * kClasses;
+      std::fill(out, out + kClasses, 0.0);
+      fold_classes(ws.classes.data(), out);
+      block_counted_[static_cast<std::size_t>(blk)] = 1;
+    }
   });
+  classes_valid_ = count;
   // Blocks without interior rows were skipped: their buffers are 0 in both.
   for (std::size_t i = 0; i < out_span.size(); ++i) scratch_span_[i] = out_span[i];
   std::swap(span_, scratch_span_);

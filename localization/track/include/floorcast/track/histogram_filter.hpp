@@ -214,18 +214,27 @@ class HistogramFilter final : public Tracker {
   /// and the mass they hold (0, 0: nothing to drop). From a histogram of the live cells' values
   /// by float exponent and 3 mantissa bits.
   float drop_threshold(double total, double& dropped) const;
+  /// The value classes of the belief as the last motion step produced it, per block of rows
+  /// (block_counted_: the block had interior rows), for drop_threshold; valid until the belief
+  /// changes otherwise (classes_valid_).
+  std::vector<double> block_classes_;
+  std::vector<char> block_counted_;
+  bool classes_valid_ = false;
   /// Per slice after the last normalisation: mass, maximum and where it is.
   std::vector<double> mass_, peak_;
   /// Per slice: the unnormalised maximum of the belief as it is now (0: the slice is empty).
   std::vector<float> slice_max_;
   std::vector<cv::Point> peak_at_;
-  /// Interior column range of each row; the wider range the translation's horizontal pass covers.
-  std::vector<int> row_lo_, row_hi_, reach_lo_, reach_hi_;
+  /// Interior column range of each row.
+  std::vector<int> row_lo_, row_hi_;
+  /// Rows the vertical translation pass may read on either side of the row it writes (the
+  /// largest sub-step plus four sigmas of its noise; predict() splits larger motions).
   int reach_rows_ = 0;
   /// Per-thread buffers of the motion step: horizontal-pass rows and one block of translated rows
   /// of every slice.
   struct MotionWorkspace {
     std::vector<float> rows, block;
+    std::vector<double> classes;  ///< drop_mass's value classes of the block's rows (4 interleaved tables)
   };
   mutable tbb::enumerable_thread_specific<MotionWorkspace> workspace_;
   bool degenerate_ = false;
