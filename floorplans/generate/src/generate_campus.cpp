@@ -28,6 +28,59 @@ enum Strip { kS = 0, kI1b, kI1t, kI2b, kI2t, kN, kStripCount };
 
 std::string seg_name(int j) { return "seg" + std::to_string(j); }
 
+// How the campus cuts its rows: offices, two-module classrooms, three-module labs.
+RowFill campus_row_fill(double module_m, const RoomVariety& variety) {
+  RowFill fill;
+  fill.module_m = module_m;
+  fill.p_double = 0.25;
+  fill.p_triple = 0.1;
+  fill.kind_single = "office";
+  fill.kind_double = "classroom";
+  fill.kind_triple = "lab";
+  fill.glass_double_probability = 0.1;
+  fill.min_room_m = 2.4;  // narrower leftovers widen the last room instead of becoming closets
+  fill.variety = &variety;
+  return fill;
+}
+
+// A core: stairwell, elevator and two toilets side by side along x in [x0, x0 + kCoreLength] of a
+// row [y0, y1] facing `hallway`, ordered from the end the core sits at inward.
+constexpr double kCoreLength = 3.6 + 2.6 + 2.0 * 3.0;
+
+void add_core(Layout& L, const std::string& pre, const Frame& F, double x0, bool at_start, double y0, double y1,
+              int facing, int hallway, const WindowSpec& windows, Rng& rng) {
+  const BuildingStyle& st = L.style();
+  const std::array<double, 4> widths = {3.6, 2.6, 3.0, 3.0};
+  const std::array<const char*, 4> kinds = {"stairwell", "elevator", "toilet", "toilet"};
+  const std::array<const char*, 4> names = {".stair", ".lift", ".wc1", ".wc2"};
+  double x = at_start ? x0 : x0 + kCoreLength;
+  for (int k = 0; k < 4; ++k) {
+    const double w = widths[static_cast<std::size_t>(k)];
+    const double a = at_start ? x : x - w, b = at_start ? x + w : x;
+    x = at_start ? b : a;
+    const std::string id = pre + names[static_cast<std::size_t>(k)];
+    const std::string kind = kinds[static_cast<std::size_t>(k)];
+    const bool closed = kind == "toilet" ? rng.bernoulli(0.7) : true;
+    const double dw = kind == "elevator" ? 1.0 : st.door_width_m;
+    add_facing_room(L, id, kind, F, a, y0, b, y1, facing, hallway, windows, 0.5 * (a + b), dw, closed, rng);
+    if (kind == "stairwell" && st.furniture) add_stairs(L, id, F, a, y0, b, y1);
+  }
+}
+
+// A lecture hall's lectern and seat rows: the lectern at local x = `front`, rows across the hall
+// ([y0, y1], aisles at both sides) every 0.95 m towards `front + dir * length`.
+void furnish_hall(Layout& L, const std::string& id, const Frame& F, double front, double dir, double length,
+                  double y0, double y1) {
+  L.add_obstacle(id + "_lectern", ObstacleKind::kBox, F.to_world(front + dir * 1.8, 0.5 * (y0 + y1)), Vec2(0.6, 1.2),
+                 F.yaw_rad, 1.1);
+  const double aisle = 1.2;
+  for (double a = 3.5; a < length - 1.6; a += 0.95) {
+    L.add_obstacle(id + "_seats", ObstacleKind::kBox, F.to_world(front + dir * a, 0.5 * (y0 + y1)),
+                   Vec2(0.5, (y1 - y0) - 2.0 * aisle - 0.3), F.yaw_rad, 0.8);
+  }
+}
+
+
 }  // namespace
 
 GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
@@ -266,15 +319,7 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
           L.add_door(hall, hall_lo, dd, false, F.to_world(front + dir * 0.75 * lh, y0));
           L.add_door(hall, hall_hi, dd, rng.bernoulli(0.5), F.to_world(front + dir * 0.75 * lh, y1));
           L.add_door(hall, hall_lo, sd, true, F.to_world(front + dir * 1.6, y0));
-          if (st.furniture) {
-            L.add_obstacle(id + "_lectern", ObstacleKind::kBox, F.to_world(front + dir * 1.8, 0.5 * (y0 + y1)),
-                           Vec2(0.6, 1.2), 0.0, 1.1);
-            const double aisle = 1.2;
-            for (double a = 3.5; a < lh - 1.6; a += 0.95) {
-              L.add_obstacle(id + "_seats", ObstacleKind::kBox, F.to_world(front + dir * a, 0.5 * (y0 + y1)),
-                             Vec2(0.5, (y1 - y0) - 2.0 * aisle - 0.3), 0.0, 0.8);
-            }
-          }
+          if (st.furniture) furnish_hall(L, id, F, front, dir, lh, y0, y1);
         }
       }
     }
@@ -282,7 +327,7 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
 
   // Cores: stairwell, elevator, two toilets at one end of an inner strip of every segment.
   for (int j = 0; j < nseg; ++j) {
-    const double core_len = 3.6 + 2.6 + 2.0 * 3.0;
+    const double core_len = kCoreLength;
     bool done = false;
     const int first = rng.integer(0, 3);
     for (int t = 0; t < 8 && !done; ++t) {
@@ -293,24 +338,8 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
       if (!r.reserve(x0, x0 + core_len)) continue;
       done = true;
       const StripGeom& g = strips[static_cast<std::size_t>(s)];
-      const int hall = H[static_cast<std::size_t>(g.hall)];
-      const std::string pre = seg_name(j) + ".core";
-      // Order along x from the segment end inward: stairwell, elevator, toilets.
-      std::array<double, 4> widths = {3.6, 2.6, 3.0, 3.0};
-      std::array<const char*, 4> kinds = {"stairwell", "elevator", "toilet", "toilet"};
-      std::array<const char*, 4> names = {".stair", ".lift", ".wc1", ".wc2"};
-      double x = at_start ? x0 : x0 + core_len;
-      for (int k = 0; k < 4; ++k) {
-        const double w = widths[static_cast<std::size_t>(k)];
-        const double a = at_start ? x : x - w, b = at_start ? x + w : x;
-        x = at_start ? b : a;
-        const std::string id = pre + names[static_cast<std::size_t>(k)];
-        const std::string kind = kinds[static_cast<std::size_t>(k)];
-        const bool closed = kind == "toilet" ? rng.bernoulli(0.7) : true;
-        const double dw = kind == "elevator" ? 1.0 : sd;
-        add_facing_room(L, id, kind, F, a, g.y0, b, g.y1, g.facing, hall, no_windows(), 0.5 * (a + b), dw, closed, rng);
-        if (kind == "stairwell" && st.furniture) add_stairs(L, id, F, a, g.y0, b, g.y1);
-      }
+      add_core(L, seg_name(j) + ".core", F, x0, at_start, g.y0, g.y1, g.facing, H[static_cast<std::size_t>(g.hall)],
+               no_windows(), rng);
     }
   }
 
@@ -337,16 +366,7 @@ GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
   }
 
   // Rows of module rooms in what is left.
-  RowFill fill;
-  fill.module_m = module;
-  fill.p_double = 0.25;
-  fill.p_triple = 0.1;
-  fill.kind_single = "office";
-  fill.kind_double = "classroom";
-  fill.kind_triple = "lab";
-  fill.glass_double_probability = 0.1;
-  fill.min_room_m = 2.4;  // narrower leftovers widen the last room instead of becoming closets
-  fill.variety = &p.variety;
+  const RowFill fill = campus_row_fill(module, p.variety);
   for (int j = 0; j < nseg; ++j) {
     for (int s = 0; s < kStripCount; ++s) {
       const StripGeom& g = strips[static_cast<std::size_t>(s)];
