@@ -21,6 +21,7 @@ void register_plan_generate(CLI::App& root) {
     std::uint64_t seed = 1;
     std::string output;
     std::string rooms;
+    std::string campus_layout;
   };
   auto opts = std::make_shared<Options>();
   cmd->add_option("--archetype,-a", opts->archetype, "apartment | office | campus | angled | office_repetitive | campus_repetitive | angled_repetitive")->required();
@@ -28,12 +29,26 @@ void register_plan_generate(CLI::App& root) {
   cmd->add_option("-o,--output", opts->output, "Output plan JSON (- for standard output)")->required();
   cmd->add_option("--rooms", opts->rooms,
                   "Also write the rooms (id, kind, polygon) as JSON to this file (for labelling and sampling)");
+  cmd->add_option("--campus-layout", opts->campus_layout,
+                  "campus only: blocks (parallel hallways, back-to-back inner blocks) | spine (one long corridor with "
+                  "side wings, the large real teaching building's layout); default: the archetype's (CampusParams)")
+      ->check(CLI::IsMember({"blocks", "spine"}));
   cmd->callback([opts] {
     const Archetype archetype = parse_archetype(opts->archetype);
+    if (!opts->campus_layout.empty() && archetype != Archetype::kCampus) {
+      throw InputError("--campus-layout applies to the campus archetype only (got " + opts->archetype + ")");
+    }
     check_distinct_outputs({opts->output, opts->rooms});
     prepare_output_file(opts->output);
     if (!opts->rooms.empty()) prepare_output_file(opts->rooms);
-    const GeneratedBuilding b = generate_building(archetype, opts->seed);
+    GeneratedBuilding b;
+    if (opts->campus_layout.empty()) {
+      b = generate_building(archetype, opts->seed);
+    } else {
+      CampusParams params;
+      params.layout = opts->campus_layout == "spine" ? CampusLayout::kSpine : CampusLayout::kBlocks;
+      b = generate_campus(opts->seed, params);
+    }
     save_floor_plan(b.plan, opts->output);
     if (!opts->rooms.empty()) {
       nlohmann::ordered_json j;

@@ -81,9 +81,328 @@ void furnish_hall(Layout& L, const std::string& id, const Frame& F, double front
 }
 
 
+// ---- Spine layout ------------------------------------------------------------------------------
+//
+// World frame (x east, y north): the spine corridor [0, Ls] x [0, cw]; the west wing's corridor
+// [-cw, 0] x [-aW, LW - aW] (its frame rotated by 90 deg: local x runs north), the east wing's
+// [Ls, Ls + cw] x [cw + aE - LE, cw + aE] (rotated by 270 deg: local x runs south). In a wing's
+// frame the corridor is [0, Lw] x [0, cw], its inner side (towards the spine) local y < 0, its
+// outer side local y > cw, and the spine meets it at local x in [a, a + cw]. Each corridor is cut
+// into segments; per segment one side is lined with rooms and the other with
+// second_side_loaded_probability (else a facade with windows). Halls project from the spine's
+// sides and the wings' outer sides, and close the wing ends.
+
+struct SpinePiece {
+  StripReservations res;
+  bool loaded;
+};
+
+struct SpineSide {
+  Frame frame;
+  int degrees = 0;  // the frame's rotation
+  double y0 = 0.0, y1 = 0.0;  // the row band; the corridor at y1 (facing +1) or y0 (facing -1)
+  int facing = 1;
+  int hallway = -1;
+  bool halls = false;                       // halls may project from this side, away from the corridor
+  double hall_x0 = 0.0, hall_x1 = 0.0;      // ... within this local x range
+  double facade_x0 = 0.0, facade_x1 = 0.0;  // the row's far side is a facade within this range
+  std::string name;
+  std::vector<SpinePiece> pieces;
+};
+
+struct SpineCorridor {
+  Frame frame;
+  double length = 0.0;
+  int hallway = -1;
+  std::vector<double> cuts;           // segment boundaries (local x)
+  std::array<SpineSide, 2> side;      // 0: local y < 0 (facing +1), 1: local y > cw (facing -1)
+};
+
+// A hall [x0, x1] x [y0, y1] of a side's frame entered from the side's corridor by two double doors
+// (one open) and a single door near the lectern, which stands at the far wall; seat rows parallel
+// to the corridor.
+void add_spine_hall(Layout& L, const std::string& id, const SpineSide& side, double x0, double x1, double depth,
+                    Rng& rng) {
+  const BuildingStyle& st = L.style();
+  const double yc = side.facing > 0 ? side.y1 : side.y0;  // corridor edge
+  const double yf = yc - side.facing * depth;              // far wall
+  const double y0 = std::min(yc, yf), y1 = std::max(yc, yf);
+  const int hall = L.add_rect(id, "lecture_hall", side.frame, x0, y0, x1, y1, no_windows());
+  const double len = x1 - x0;
+  L.add_door(hall, side.hallway, st.double_door_width_m, false, side.frame.to_world(x0 + 0.25 * len, yc));
+  L.add_door(hall, side.hallway, st.double_door_width_m, rng.bernoulli(0.5), side.frame.to_world(x1 - 0.25 * len, yc));
+  if (!st.furniture) return;
+  // Lectern at the far wall, rows towards the corridor: furnished in a frame whose x runs from the
+  // far wall's middle to the corridor.
+  const Frame f = rotated_frame(side.frame.to_world(0.5 * (x0 + x1), yf), side.degrees + (side.facing > 0 ? 90 : 270));
+  furnish_hall(L, id, f, 0.0, 1.0, depth, -0.5 * len, 0.5 * len);
+}
+
+GeneratedBuilding generate_campus_spine(std::uint64_t seed, const CampusParams& p) {
+  Rng rng(mix_seed(seed, 0x5B14E5ULL));
+  const BuildingStyle& st = p.style;
+  Layout L(st);
+  const WindowSpec win = standard_windows(st);
+  const double dd = st.double_door_width_m, sd = st.door_width_m;
+  const double min_gap = 2.0 * st.door_jamb_m + sd + 0.6;
+  auto depth = [&]() { return snap(rng.uniform(p.room_depth_min_m, p.room_depth_max_m), 0.1); };
+
+  const double cw = snap(rng.uniform(p.hallway_width_min_m, p.hallway_width_max_m), 0.1);
+  const double module = snap(rng.uniform(p.module_width_min_m, p.module_width_max_m), 0.05);
+  const double target_m2 = rng.uniform(p.target_area_min_m2, p.target_area_max_m2);
+  const double dS = depth(), dN = depth();    // spine rows south / north
+  const double dWi = depth(), dWo = depth();  // west wing inner / outer rows
+  const double dEi = depth(), dEo = depth();  // east wing inner / outer rows
+  const double ratio_w = rng.uniform(p.wing_length_ratio_min, p.wing_length_ratio_max);
+  const double ratio_e = rng.uniform(p.wing_length_ratio_min, p.wing_length_ratio_max);
+  const double share_w = rng.uniform(p.wing_junction_share_min, p.wing_junction_share_max);
+  const double share_e = rng.uniform(p.wing_junction_share_min, p.wing_junction_share_max);
+
+  // Size: gross area per metre of corridor (rows on one side, the other with the loading
+  // probability) plus the halls' area beyond the rows; free floor ~0.78 of the gross (measured on
+  // seeds 1-8).
+  const double d_mean = (dS + dN + dWi + dWo + dEi + dEo) / 6.0;
+  const double per_m = cw + d_mean * (1.0 + p.second_side_loaded_probability);
+  const double hall_depth_mean = 0.5 * (p.spine_hall_depth_min_m + p.spine_hall_depth_max_m);
+  const double hall_len_mean = 0.5 * (p.spine_hall_length_min_m + p.spine_hall_length_max_m);
+  const double lecture_mean = 0.5 * (p.lecture_halls_min + p.lecture_halls_max);
+  const double halls_extra =
+      p.great_halls * (0.5 * (p.great_hall_area_min_m2 + p.great_hall_area_max_m2) -
+                       0.5 * (p.great_hall_width_min_m + p.great_hall_width_max_m) * d_mean) +
+      lecture_mean * hall_len_mean * std::max(0.0, hall_depth_mean - d_mean);
+  const double gross = std::max(target_m2 / 0.78 - halls_extra, 0.5 * target_m2);
+  const double Ls = snap(gross / per_m / (1.0 + ratio_w + ratio_e), 0.1);
+  const double LW = snap(ratio_w * Ls, 0.1), LE = snap(ratio_e * Ls, 0.1);
+  const double aW = snap(share_w * LW, 0.1), aE = snap(share_e * LE, 0.1);
+
+  const Frame F0;
+  const Frame FW = rotated_frame(Vec2(0.0, -aW), 90);
+  const Frame FE = rotated_frame(Vec2(Ls, aE + cw), 270);
+  const int spine = L.add_rect("spine", "hallway", F0, 0.0, 0.0, Ls, cw, win);
+  const int wing_w = L.add_rect("wingW", "hallway", FW, 0.0, 0.0, LW, cw, win);
+  const int wing_e = L.add_rect("wingE", "hallway", FE, 0.0, 0.0, LE, cw, win);
+
+  auto corridor = [&](const std::string& name, const Frame& f, int degrees, double len, int hallway, double d0,
+                      double d1) {
+    SpineCorridor c;
+    c.frame = f;
+    c.length = len;
+    c.hallway = hallway;
+    const int n = std::max(1, static_cast<int>(std::lround(len / p.segment_length_m)));
+    for (int k = 0; k <= n; ++k) c.cuts.push_back(k == n ? len : snap(len * k / n, 0.1));
+    for (int s = 0; s < 2; ++s) {
+      SpineSide& side = c.side[static_cast<std::size_t>(s)];
+      side.frame = f;
+      side.degrees = degrees;
+      side.facing = s == 0 ? +1 : -1;
+      side.y0 = s == 0 ? -d0 : cw;
+      side.y1 = s == 0 ? 0.0 : cw + d1;
+      side.hallway = hallway;
+      side.name = name + (s == 0 ? ".a" : ".b");
+      side.facade_x0 = 0.0;
+      side.facade_x1 = len;
+    }
+    return c;
+  };
+  // Spine: side 0 south (depth dS), side 1 north (dN). Wings: side 0 inner, side 1 outer.
+  std::array<SpineCorridor, 3> C = {corridor("spine", F0, 0, Ls, spine, dS, dN),
+                                    corridor("wingW", FW, 90, LW, wing_w, dWi, dWo),
+                                    corridor("wingE", FE, 270, LE, wing_e, dEi, dEo)};
+  // Halls project from the spine only between the wings' inner rows (where a spine row's far side
+  // is a facade, too), and from the wings' outer sides.
+  // A gap of kCourtGap between a hall and a wing's inner rows keeps the court between them open
+  // (no enclosed unmapped region).
+  constexpr double kCourtGap = 3.0;
+  for (SpineSide& s : C[0].side) {
+    s.halls = true;
+    s.facade_x0 = dWi;
+    s.facade_x1 = Ls - dEi;
+    s.hall_x0 = dWi + kCourtGap;
+    s.hall_x1 = Ls - dEi - kCourtGap;
+  }
+  for (std::size_t c = 1; c < 3; ++c) {
+    C[c].side[1].halls = true;
+    C[c].side[1].hall_x0 = 0.0;
+    C[c].side[1].hall_x1 = C[c].length;
+  }
+  // Where the spine's rows meet a wing's inner side (local x of the wing).
+  const std::array<Interval1, 2> junction = {Interval1{aW - dS, aW + cw + dN}, Interval1{aE - dN, aE + cw + dS}};
+  const std::array<double, 2> junction_a = {aW, aE};
+
+  for (std::size_t c = 0; c < 3; ++c) {
+    SpineCorridor& cor = C[c];
+    for (std::size_t k = 0; k + 1 < cor.cuts.size(); ++k) {
+      const double x0 = cor.cuts[k], x1 = cor.cuts[k + 1];
+      const int first = rng.integer(0, 1);
+      const bool both = rng.bernoulli(p.second_side_loaded_probability);
+      for (int s = 0; s < 2; ++s) {
+        std::vector<Interval1> parts = {{x0, x1}};
+        if (c > 0 && s == 0) parts = {{x0, std::min(x1, junction[c - 1].x0)}, {std::max(x0, junction[c - 1].x1), x1}};
+        for (const Interval1& part : parts) {
+          if (part.x1 - part.x0 < min_gap) continue;  // a short leftover stays outside
+          cor.side[static_cast<std::size_t>(s)].pieces.push_back({StripReservations(part.x0, part.x1, min_gap),
+                                                                   first == s || both});
+        }
+      }
+    }
+  }
+  auto piece_at = [](SpineSide& side, double x0, double x1) -> StripReservations* {
+    for (SpinePiece& pc : side.pieces) {
+      if (pc.res.fits(x0, x1)) return &pc.res;
+    }
+    return nullptr;
+  };
+
+  // Exits: a stub across each wing's outer row opposite the spine (lined with rooms there).
+  for (std::size_t w = 0; w < 2; ++w) {
+    SpineSide& outer = C[w + 1].side[1];
+    const double x0 = junction_a[w], x1 = x0 + cw;
+    StripReservations* r = piece_at(outer, x0, x1);
+    if (r == nullptr) continue;
+    r->reserve(x0, x1);
+    for (SpinePiece& pc : outer.pieces) {
+      if (&pc.res == r) pc.loaded = true;
+    }
+    const int stub = L.add_rect(outer.name + ".exit", "hallway", outer.frame, x0, outer.y0, x1, outer.y1, no_windows());
+    L.add_door(stub, kOutside, dd, true, outer.frame.to_world(0.5 * (x0 + x1), outer.y1));
+  }
+
+  // Lobby in the middle of the spine (south side, glass facade, entrances, open onto the spine)
+  // and the first great hall opposite it.
+  const std::size_t jm = (C[0].cuts.size() - 1) / 2;
+  const double xc = snap(0.5 * (C[0].cuts[jm] + C[0].cuts[jm + 1]), 0.1);
+  {
+    const double ll = snap(rng.uniform(p.lobby_length_min_m, p.lobby_length_max_m), 0.1);
+    const double x0 = xc - 0.5 * ll, x1 = xc + 0.5 * ll;
+    StripReservations* r = piece_at(C[0].side[0], x0, x1);
+    if (r != nullptr && r->reserve(x0, x1)) {
+      const int lobby = L.add_rect("lobby", "lobby", F0, x0, -dS, x1, 0.0, no_windows());
+      L.set_open(lobby, spine);
+      L.set_glass(lobby, kOutside, 0.0, std::nullopt, Vec2(0.0, -1.0));
+      L.add_door(lobby, kOutside, dd, true, F0.to_world(xc - 0.25 * ll, -dS));
+      L.add_door(lobby, kOutside, dd, rng.bernoulli(0.5), F0.to_world(xc + 0.25 * ll, -dS));
+      if (st.furniture) {
+        L.add_obstacle("lobby_reception", ObstacleKind::kBox, F0.to_world(x0 + 2.5, -0.6 * dS), Vec2(3.0, 0.8), 0.0,
+                       1.1);
+      }
+    }
+  }
+
+  // Halls: great halls (the first opposite the lobby), the wing end halls, then lecture halls
+  // projecting from a random side of a random segment, at one end of it.
+  int placed = 0;
+  auto try_hall = [&](SpineSide& side, double x0, double x1, double hall_depth, const std::string& id) {
+    if (!side.halls || x0 < side.hall_x0 - 1e-6 || x1 > side.hall_x1 + 1e-6) return false;
+    StripReservations* r = piece_at(side, x0, x1);
+    if (r == nullptr || !r->reserve(x0, x1)) return false;
+    add_spine_hall(L, id, side, x0, x1, hall_depth, rng);
+    ++placed;
+    return true;
+  };
+  for (int g = 0; g < p.great_halls; ++g) {
+    const double w = snap(rng.uniform(p.great_hall_width_min_m, p.great_hall_width_max_m), 0.1);
+    const double hd = snap(rng.uniform(p.great_hall_area_min_m2, p.great_hall_area_max_m2) / w, 0.1);
+    const std::string id = "great_hall" + std::to_string(g + 1);
+    if (g == 0) {
+      try_hall(C[0].side[1], xc - 0.5 * w, xc + 0.5 * w, hd, id);
+      continue;
+    }
+    for (int t = 0; t < 6; ++t) {  // a random spine segment side, at one end
+      SpineSide& side = C[0].side[static_cast<std::size_t>(rng.integer(0, 1))];
+      const std::size_t k = static_cast<std::size_t>(rng.integer(0, static_cast<int>(C[0].cuts.size()) - 2));
+      const double x0 = rng.bernoulli(0.5) ? std::max(C[0].cuts[k], side.hall_x0) : std::min(C[0].cuts[k + 1], side.hall_x1) - w;
+      if (try_hall(side, x0, x0 + w, hd, id)) break;
+    }
+  }
+  const int lecture_count = rng.integer(p.lecture_halls_min, p.lecture_halls_max);
+  int lectures = 0;
+  // Wing ends: a hall across the wing (inner row + corridor + outer row), entered from the corridor.
+  for (std::size_t w = 0; w < 2; ++w) {
+    const SpineCorridor& cor = C[w + 1];
+    for (int end = 0; end < 2; ++end) {
+      const bool hall_here = lectures < lecture_count && rng.bernoulli(p.wing_end_hall_probability);
+      const double xe = end == 0 ? 0.0 : cor.length;
+      if (!hall_here) {  // the corridor ends at the facade: an exit
+        L.add_door(cor.hallway, kOutside, dd, true, cor.frame.to_world(xe, 0.5 * cw));
+        continue;
+      }
+      const double hd = snap(rng.uniform(p.spine_hall_depth_min_m, p.spine_hall_depth_max_m), 0.1);
+      const double x0 = end == 0 ? -hd : xe, x1 = end == 0 ? 0.0 : xe + hd;
+      const double y0 = cor.side[0].y0, y1 = cor.side[1].y1;
+      const std::string id = "lecture" + std::to_string(++lectures);
+      const int hall = L.add_rect(id, "lecture_hall", cor.frame, x0, y0, x1, y1, win);
+      L.add_door(hall, cor.hallway, dd, false, cor.frame.to_world(xe, 0.5 * cw));
+      ++placed;
+      if (st.furniture) {
+        const double front = end == 0 ? x0 : x1, dir = end == 0 ? 1.0 : -1.0;
+        furnish_hall(L, id, cor.frame, front, dir, hd, y0, y1);
+      }
+    }
+  }
+  for (int t = 0; t < 40 && lectures < lecture_count; ++t) {
+    SpineCorridor& cor = C[static_cast<std::size_t>(rng.integer(0, 2))];
+    SpineSide& side = cor.side[static_cast<std::size_t>(rng.integer(0, 1))];
+    const std::size_t k = static_cast<std::size_t>(rng.integer(0, static_cast<int>(cor.cuts.size()) - 2));
+    const double len = snap(rng.uniform(p.spine_hall_length_min_m, p.spine_hall_length_max_m), 0.1);
+    const double hd = snap(rng.uniform(p.spine_hall_depth_min_m, p.spine_hall_depth_max_m), 0.1);
+    const double x0 = rng.bernoulli(0.5) ? std::max(cor.cuts[k], side.hall_x0) : std::min(cor.cuts[k + 1], side.hall_x1) - len;
+    if (try_hall(side, x0, x0 + len, hd, "lecture" + std::to_string(lectures + 1))) ++lectures;
+  }
+
+  // Cores (stairwell, elevator, toilets) at one end of a lined side of every segment.
+  int core_no = 0;
+  for (SpineCorridor& cor : C) {
+    for (std::size_t k = 0; k + 1 < cor.cuts.size(); ++k) {
+      const int first = rng.integer(0, 1);
+      const bool at_start = rng.bernoulli(0.5);
+      bool done = false;
+      for (int t = 0; t < 4 && !done; ++t) {
+        SpineSide& side = cor.side[static_cast<std::size_t>((first + t) % 2)];
+        const bool start = (t < 2) == at_start;
+        for (SpinePiece& pc : side.pieces) {
+          if (!pc.loaded || pc.res.x1() <= cor.cuts[k] || pc.res.x0() >= cor.cuts[k + 1]) continue;
+          const double x0 = start ? pc.res.x0() : pc.res.x1() - kCoreLength;
+          if (!pc.res.reserve(x0, x0 + kCoreLength)) continue;
+          add_core(L, "core" + std::to_string(++core_no), side.frame, x0, start, side.y0, side.y1, side.facing,
+                   side.hallway, small_windows(st), rng);
+          done = true;
+          break;
+        }
+      }
+    }
+  }
+
+  // Rows of rooms in what is left of the lined pieces; the rest of the corridor is facade.
+  const RowFill fill = campus_row_fill(module, p.variety);
+  for (SpineCorridor& cor : C) {
+    for (SpineSide& side : cor.side) {
+      int part = 0;
+      for (SpinePiece& pc : side.pieces) {
+        if (!pc.loaded) continue;
+        for (const Interval1& f : pc.res.free_intervals()) {
+          RowStrip row;
+          row.frame = side.frame;
+          row.x0 = f.x0;
+          row.x1 = f.x1;
+          row.y0 = side.y0;
+          row.y1 = side.y1;
+          row.facing = side.facing;
+          row.hallway = side.hallway;
+          row.id_prefix = side.name + std::to_string(part++);
+          row.windows = win;
+          row.far_side_is_facade = f.x0 >= side.facade_x0 - 1e-6 && f.x1 <= side.facade_x1 + 1e-6;
+          fill_row(L, row, fill, rng);
+        }
+      }
+    }
+  }
+  return L.assemble("campus spine (seed " + std::to_string(seed) + ")");
+}
+
 }  // namespace
 
 GeneratedBuilding generate_campus(std::uint64_t seed, const CampusParams& p) {
+  if (p.layout == CampusLayout::kSpine) return generate_campus_spine(seed, p);
   Rng rng(mix_seed(seed, 0xCA3905ULL));
   const BuildingStyle& st = p.style;
   Layout L(st);

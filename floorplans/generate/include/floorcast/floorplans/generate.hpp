@@ -152,7 +152,8 @@ struct OfficeParams {
   }
 };
 
-/// Campus: ~8,000-15,000 m^2. A large block with three long east-west hallways crossed by
+/// Campus: ~8,000-15,000 m^2. Calibrated (default, `layout = kSpine`): the large real teaching
+/// building's layout, see CampusLayout. `layout = kBlocks` (and repetitive()): a large block with three long east-west hallways crossed by
 /// north-south hallways (intersections every ~45 m), rows of classrooms and offices, a lobby with
 /// a glass facade opening onto the main hallway, a glass-walled atrium with pillars, great halls
 /// and lecture halls with seating, stair/toilet cores, lounges and exits.
@@ -163,8 +164,24 @@ struct OfficeParams {
 /// need a connection. `repetitive()` is the hard case of rows of identical rooms in rows of one
 /// depth along 3 m hallways with the full grid of cross hallways (the campus before any
 /// calibration).
+/// How the campus's hallways and rooms are arranged.
+enum class CampusLayout {
+  /// A near-square block: three long parallel hallways, cross hallways, back-to-back inner blocks
+  /// of rooms between them (most rooms without a facade), halls inside the blocks.
+  kBlocks,
+  /// The large real teaching building (SPbSTU main L0-L2): one long spine corridor with a side
+  /// wing across each end (an H / Z footprint), every room along a corridor and on a facade,
+  /// corridors lined with rooms on both sides or on one side only (windows opposite), halls
+  /// projecting from the facades and closing the wing ends, a lobby in the middle of the spine.
+  kSpine,
+};
+
 struct CampusParams {
   BuildingStyle style = campus_style();
+  /// Spine by default: its structure is inside the large real levels' range where the blocks'
+  /// is not (circulation share 0.20-0.25 vs blocks 0.27-0.30, real 0.04-0.25; room area on a
+  /// facade 0.98 vs 0.45, real 0.89-0.97; results/realplans_vs_generated.md). repetitive(): blocks.
+  CampusLayout layout = CampusLayout::kSpine;
   double target_area_min_m2 = 9500.0;  ///< the block is sized for a free area drawn in this range
   double target_area_max_m2 = 12500.0;
   /// Depth of the rows of rooms (hallway wall to facade or to the next row). Large real levels:
@@ -208,13 +225,45 @@ struct CampusParams {
   /// hallways the campus's three long hallways, atrium and lobby alone take ~0.25 and the full grid
   /// 0.30-0.34, so only the crossings connectivity needs are kept.
   double inner_crossing_probability = 0.0;
-  double lounge_probability = 0.4;     ///< per segment: an open lounge niche off a hallway
+  double lounge_probability = 0.4;     ///< per segment: an open lounge niche off a hallway (blocks)
   RoomVariety variety = campus_variety();  ///< calibrated by default; none() in repetitive()
+
+  // ---- Spine layout (layout = kSpine). Measured on SPbSTU main L0-L2 (imported from
+  // ../shared/realplans; results/realplans_vs_generated.md, "The layout of the large real levels").
+  // Rows use room_depth_*, hallways hallway_width_*, rooms the variety, segments segment_length_m,
+  // the lobby lobby_length_*, great_halls and great_hall_area_*, lecture_halls_min/max (the wing
+  // end halls among them).
+  /// Length of each side wing over the spine's length. SPbSTU main: spine ~210 m between the wings,
+  /// wings ~100-115 m.
+  double wing_length_ratio_min = 0.45;
+  double wing_length_ratio_max = 0.60;
+  /// Where the spine meets a wing: the share of the wing's length on its shorter side (the west
+  /// wing reaches further north, the east wing further south). SPbSTU main: ~0.4.
+  double wing_junction_share_min = 0.30;
+  double wing_junction_share_max = 0.50;
+  /// Per corridor segment one side is lined with rooms, the other with this probability (else it
+  /// is a facade with windows). SPbSTU main L0-L2: 24-30% of the corridor boundary is facade, about
+  /// half of the corridor length has rooms on one side only.
+  double second_side_loaded_probability = 0.5;
+  /// Lecture halls projecting from the facade side of a row (along the corridor x out from it).
+  /// SPbSTU main: 14.6-29.1 m x 13.3-18.1 m (204-480 m^2).
+  double spine_hall_length_min_m = 14.5;
+  double spine_hall_length_max_m = 29.0;
+  double spine_hall_depth_min_m = 13.0;
+  double spine_hall_depth_max_m = 18.0;
+  /// Great halls' side along the corridor (the depth follows from the area). SPbSTU main: the
+  /// largest halls are 22.8-27.8 m across (48.4 x 25.1, 32.1 x 24.8, 43.8 x 25.1 m, ...).
+  double great_hall_width_min_m = 23.0;
+  double great_hall_width_max_m = 28.0;
+  /// Wing ends closed by a hall across the wing's full width (counted among the lecture halls).
+  /// SPbSTU main: 3-4 of the 4 wing ends on every level (14 m deep, 204-324 m^2).
+  double wing_end_hall_probability = 0.85;
 
   /// The pre-calibration campus (`campus_repetitive`, floorplans/buildings/campus.json): identical
   /// module rooms, 7-8 m deep rows, 2.8-3.2 m hallways, 2-3 lecture halls of 18-24 m.
   static CampusParams repetitive() {
     CampusParams p;
+    p.layout = CampusLayout::kBlocks;
     p.room_depth_min_m = 7.0;
     p.room_depth_max_m = 8.0;
     p.depth_per_row = false;
