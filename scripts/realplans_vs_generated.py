@@ -23,8 +23,11 @@ REAL_LARGE = ["spbstu_main_L0", "spbstu_main_L1", "spbstu_main_L2", "grenoble_ma
 # The six small levels whose localization is measured (the real dev set of the earlier table); the
 # large levels are measured as a second set.
 REAL_MATCHED = ["tum_studitum_L1", "tum_studitum_L2", "rwth_plt_L0", "rwth_plt_L1", "spbstu_no3_L2", "spbstu_no3_L4"]
-ARCHETYPES = ["office", "office_repetitive", "angled", "angled_repetitive", "apartment", "campus",
+ARCHETYPES = ["office", "office_repetitive", "angled", "angled_repetitive", "apartment", "campus", "campus_blocks",
               "campus_repetitive"]
+# Generated sets that are an archetype with a generator option: the calibrated campus's blocks layout (the
+# calibrated campus before it took the spine layout).
+GENERATE = {"campus_blocks": ["--archetype", "campus", "--campus-layout", "blocks"]}
 
 
 def run(cmd):
@@ -83,6 +86,76 @@ def circulation_share(path):
     return trans / total if total > 0 else float("nan")
 
 
+def point_in_ring(x, y, ring):
+    inside = False
+    for i in range(len(ring)):
+        (x1, y1), (x2, y2) = ring[i], ring[(i + 1) % len(ring)]
+        if (y1 > y) != (y2 > y) and x < (x2 - x1) * (y - y1) / (y2 - y1) + x1:
+            inside = not inside
+    return inside
+
+
+def facade_shares(path):
+    """Layout measures from the room polygons: the share of the non-transitional room area in rooms
+    with a facade (at least 1 m of boundary whose outside, 0.6 m beyond the edge, lies in no room or
+    "unmapped" region), halls (rooms of 200 m^2 or more) on a facade / all halls, and the share of
+    the transitional rooms' boundary on a facade (one-sided corridors, glazed lobbies)."""
+    with open(path) as fh:
+        rooms = json.load(fh)["rooms"]
+    boxes = []
+    for r in rooms:
+        xs, ys = [p[0] for p in r["polygon"]], [p[1] for p in r["polygon"]]
+        boxes.append((min(xs), min(ys), max(xs), max(ys)))
+
+    def outside_all(x, y, skip):
+        for i, r in enumerate(rooms):
+            b = boxes[i]
+            if i != skip and b[0] <= x <= b[2] and b[1] <= y <= b[3] and point_in_ring(x, y, r["polygon"]):
+                return False
+        return True
+
+    def facade_and_perimeter(i):
+        ring = rooms[i]["polygon"]
+        ccw = sum(ring[k][0] * ring[(k + 1) % len(ring)][1] - ring[(k + 1) % len(ring)][0] * ring[k][1]
+                  for k in range(len(ring))) > 0
+        facade = perimeter = 0.0
+        for k in range(len(ring)):
+            (ax, ay), (bx, by) = ring[k], ring[(k + 1) % len(ring)]
+            length = ((bx - ax) ** 2 + (by - ay) ** 2) ** 0.5
+            if length < 1e-6:
+                continue
+            nx, ny = (by - ay) / length, -(bx - ax) / length
+            if not ccw:
+                nx, ny = -nx, -ny
+            steps = max(1, int(length / 0.5))
+            for j in range(steps):
+                t = (j + 0.5) / steps
+                if outside_all(ax + t * (bx - ax) + 0.6 * nx, ay + t * (by - ay) + 0.6 * ny, i):
+                    facade += length / steps
+            perimeter += length
+        return facade, perimeter
+
+    room_area = facade_area = boundary = boundary_facade = 0.0
+    halls = halls_facade = 0
+    for i, r in enumerate(rooms):
+        if r["kind"] == "unmapped":
+            continue
+        f, per = facade_and_perimeter(i)
+        if r["kind"] in TRANSITIONAL:
+            boundary += per
+            boundary_facade += f
+            continue
+        a = polygon_area(r["polygon"]) - sum(polygon_area(h) for h in r.get("holes", []))
+        room_area += a
+        facade_area += a if f >= 1.0 else 0.0
+        if a >= 200.0:
+            halls += 1
+            halls_facade += 1 if f >= 1.0 else 0
+    nan = float("nan")
+    return (facade_area / room_area if room_area > 0 else nan, (halls_facade, halls),
+            boundary_facade / boundary if boundary > 0 else nan)
+
+
 def faithfulness_table(plans_dir):
     """The import report (`plan import --json`, saved by scripts/import_realplans.sh) of every real
     level: is the imported plan what the source says?"""
@@ -130,7 +203,7 @@ def main():
         files = []
         for s in seeds.split(","):
             f = os.path.join(args.out, "gen", "%s_%s.json" % (a, s))
-            run([args.bin, "plan", "generate", "--archetype", a, "--seed", s, "-o", f])
+            run([args.bin, "plan", "generate"] + GENERATE.get(a, ["--archetype", a]) + ["--seed", s, "-o", f])
             files.append(f)
         sets[a] = files
 
@@ -147,6 +220,7 @@ def main():
     def measures(files):
         rows = [stats[f] for f in files]
         ra = [r["room_area_m2"] for r in rows]
+        fs = [facade_shares(f) for f in files]
         return {
             "levels": len(rows),
             "area": rng_text([r["free_area_m2"] for r in rows], "{:,.0f}"),
@@ -162,21 +236,25 @@ def main():
             "corr": rng_text([r["corridor_width_m"]["median"] for r in rows if r["corridor_width_m"]["count"]],
                              "{:.1f}"),
             "circ": rng_text([circulation_share(f) for f in files], "{:.2f}"),
+            "facade": rng_text([v[0] for v in fs], "{:.2f}"),
+            "halls": ", ".join("%d/%d" % v[1] for v in fs),
+            "corr_facade": rng_text([v[2] for v in fs], "{:.2f}"),
         }
 
     print("## Structure (`floorcast plan stats`; ranges over levels / seeds)\n")
     print("| set | levels | free area (m^2) | walls | doors per 10 m of wall | wall directions (15 deg bins) "
           "| thickness classes | median room (m^2) | room area q3/q1 | room area cv | room width cv "
-          "| repeated widths (share of rooms) | median corridor width (m) | circulation share of the room area |")
-    print("|" + "---|" * 14)
+          "| repeated widths (share of rooms) | median corridor width (m) | circulation share of the room area "
+          "| room area on a facade | halls (200 m^2 or more) on a facade, per level | transitional boundary on a facade |")
+    print("|" + "---|" * 17)
     struct_sets = [("real, small (TUM, RWTH, SPbSTU No. 3)", real_small), ("real, large (SPbSTU main, Grenoble mall)",
                                                                             real_large),
                    ("real, the six matched levels", sets["real"])] + [(a, sets[a]) for a in ARCHETYPES]
     for name, files in struct_sets:
         m = measures(files)
-        print("| %s | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+        print("| %s | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
             name, m["levels"], m["area"], m["walls"], m["doors"], m["dirs"], m["thick"], m["area_med"], m["area_iqr"],
-            m["area_cv"], m["width_cv"], m["rep"], m["corr"], m["circ"]))
+            m["area_cv"], m["width_cv"], m["rep"], m["corr"], m["circ"], m["facade"], m["halls"], m["corr_facade"]))
 
     # Localization.
     results = {}

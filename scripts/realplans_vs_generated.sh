@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Real development plans vs each generated archetype (issue 10 item 2; results/realplans_vs_generated.md):
 # imports the real development plans (../shared/realplans, not in the repository), generates every
-# archetype (calibrated office/angled/campus, their *_repetitive hard cases, apartment) for a few
+# archetype (calibrated office/angled/campus, campus_blocks, the *_repetitive hard cases, apartment) for a few
 # seeds, and prints side by side: structure measures (`floorcast plan stats`) and perfect-observation
 # success of the kernel and ray matchers (`floorcast compare-matchers`: 10 m, doors closed, seed 1)
 # in transitional spaces and uniformly, with near-equivalent poses and the real per-plan range.
