@@ -67,6 +67,15 @@ void weighted_sum(float* dst, const float* const* src, const float* w, int terms
   }
 }
 
+/// dst[i] *= mask[i] for i < n (the building mask after the translation), vectorised like
+/// weighted_sum.
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void multiply_by(float* dst, const float* mask, int n) {
+  for (int i = 0; i < n; ++i) dst[i] *= mask[i];
+}
+
 /// One term of a weighted sum over a row: w x row[c + offset] for the output columns c in
 /// [lo, hi] (the term is absent elsewhere).
 struct RowTerm {
@@ -169,16 +178,19 @@ double row_sum_max(const float* row, int c0, int c1, float& row_max) {
 __attribute__((target_clones("avx2", "default")))
 #endif
 double drop_and_scale(float* row, int n, float drop, float scale, float floor, float& row_max) {
-  float lane_dropped[8] = {0, 0, 0, 0, 0, 0, 0, 0}, lane_max[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  typedef float Float8 __attribute__((vector_size(32)));
+  const Float8 zero = {0, 0, 0, 0, 0, 0, 0, 0};
+  Float8 lane_dropped = zero, lane_max = zero;
   int c = 0;
   for (; c + 8 <= n; c += 8) {
-    for (int j = 0; j < 8; ++j) {
-      const float raw = row[c + j], v = raw * scale;
-      const bool kill = raw < drop || v < floor;
-      lane_dropped[j] += kill ? raw : 0.0f;
-      lane_max[j] = std::max(lane_max[j], kill ? 0.0f : v);
-      row[c + j] = kill ? 0.0f : v;
-    }
+    Float8 raw;
+    std::memcpy(&raw, row + c, sizeof raw);
+    const Float8 v = raw * scale;
+    const auto kill = (raw < drop) | (v < floor);
+    lane_dropped += kill ? raw : zero;
+    const Float8 kept = kill ? zero : v;
+    lane_max = lane_max > kept ? lane_max : kept;
+    std::memcpy(row + c, &kept, sizeof kept);
   }
   double dropped = 0.0;
   float mx = 0.0f;
@@ -790,7 +802,7 @@ void HistogramFilter::move(double dx, double dy, double dyaw, double translation
         sum_terms(row, c0, c1, terms.data(), nt);
         float* acc = row + c0;
         const float* in = interior_.ptr<float>(r) + c0;
-        for (int c = 0; c <= c1 - c0; ++c) acc[c] *= in[c];
+        multiply_by(acc, in, c1 - c0 + 1);
       }
     }
     // Rotation into the output slices, with the block's per-slice sum, maximum and span.
