@@ -22,6 +22,8 @@ void register_plan_generate(CLI::App& root) {
     std::string output;
     std::string rooms;
     std::string campus_layout;
+    std::string campus_halls;
+    bool no_furniture = false;
   };
   auto opts = std::make_shared<Options>();
   cmd->add_option("--archetype,-a", opts->archetype, "apartment | office | campus | angled | office_repetitive | campus_repetitive | angled_repetitive")->required();
@@ -33,22 +35,33 @@ void register_plan_generate(CLI::App& root) {
                   "campus only: blocks (parallel hallways, back-to-back inner blocks) | spine (one long corridor with "
                   "side wings, the large real teaching building's layout); default: the archetype's (CampusParams)")
       ->check(CLI::IsMember({"blocks", "spine"}));
+  cmd->add_option("--campus-halls", opts->campus_halls,
+                  "campus, spine layout only: varied (outlines and doors as measured on the large real teaching "
+                  "building's halls, CampusParams::HallVariety) | plain (rectangles with two double doors, the spine "
+                  "campus before that); default: varied")
+      ->check(CLI::IsMember({"plain", "varied"}));
+  cmd->add_flag("--no-furniture", opts->no_furniture,
+                "No furniture, seating or other clutter obstacles (BuildingStyle::furniture = false): e.g. to compare "
+                "with imported real plans, which map none");
   cmd->callback([opts] {
     const Archetype archetype = parse_archetype(opts->archetype);
     if (!opts->campus_layout.empty() && archetype != Archetype::kCampus) {
       throw InputError("--campus-layout applies to the campus archetype only (got " + opts->archetype + ")");
     }
+    if (!opts->campus_halls.empty() && (archetype != Archetype::kCampus || opts->campus_layout == "blocks")) {
+      throw InputError("--campus-halls applies to the campus archetype's spine layout only (got " + opts->archetype +
+                       (opts->campus_layout.empty() ? "" : ", --campus-layout " + opts->campus_layout) + ")");
+    }
     check_distinct_outputs({opts->output, opts->rooms});
     prepare_output_file(opts->output);
     if (!opts->rooms.empty()) prepare_output_file(opts->rooms);
-    GeneratedBuilding b;
-    if (opts->campus_layout.empty()) {
-      b = generate_building(archetype, opts->seed);
-    } else {
-      CampusParams params;
-      params.layout = opts->campus_layout == "spine" ? CampusLayout::kSpine : CampusLayout::kBlocks;
-      b = generate_campus(opts->seed, params);
+    ArchetypeOverrides overrides;
+    overrides.furniture = !opts->no_furniture;
+    if (!opts->campus_layout.empty()) {
+      overrides.campus_layout = opts->campus_layout == "spine" ? CampusLayout::kSpine : CampusLayout::kBlocks;
     }
+    if (!opts->campus_halls.empty()) overrides.campus_hall_variety = opts->campus_halls == "varied";
+    const GeneratedBuilding b = generate_building(archetype, opts->seed, overrides);
     save_floor_plan(b.plan, opts->output);
     if (!opts->rooms.empty()) {
       nlohmann::ordered_json j;

@@ -6,9 +6,11 @@
 #include <map>
 #include <regex>
 #include <set>
+#include <vector>
 #include <string>
 
 #include "floorcast/floorplans/generate.hpp"
+#include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/io.hpp"
 #include "floorcast/floorplans/raster.hpp"
 #include "floorcast/floorplans/rooms.hpp"
@@ -563,6 +565,101 @@ TEST(Generate, CampusSpineIsDeterministicValidAndConnected) {
     EXPECT_NO_THROW(validate_floor_plan(b.plan, "generated"));
     EXPECT_EQ(test::interior_components_doors_open(b.plan, 0.2), 1);
   }
+}
+
+// The halls (rooms of 200 m^2 or more) of the calibrated campus against SPbSTU main L0-L2's 30
+// (results/realplans_vs_generated.md, "Halls"; the large real levels' halls that map doors): 15 of
+// 30 not rectangles (area / minimum-area rectangle 0.68-0.96, median 0.86; 6-16 corners, 0-4
+// reflex), 19 / 6 / 5 with 1 / 2 / 3 or more doors, door centres 0.09-0.50 of the side from the
+// nearest corner, 20 of 48 doors within 0.02 of 1/4 or 1/2 of their side. Tolerances (pooled over
+// seeds 1-8): non-rectangular share 0.3-0.7, shaped halls' rectangularity 0.60-0.99 with the
+// median 0.78-0.95, at most 16 corners and 4 reflex ones, one-door share 0.45-0.80, 3 or more
+// doors in at least 5% of the halls, at most 60% of the doors at 1/4 or 1/2 of their side. The
+// spine campus before (HallVariety::enabled = false) is outside: every hall a rectangle, two doors
+// at 1/4 and 3/4 or one at the middle (the measures can fail).
+TEST(Generate, CalibratedCampusHallsHaveTheRealHallsShapesAndDoors) {
+  struct HallMeasures {
+    int halls = 0, shaped = 0, one_door = 0, three_doors = 0, max_corners = 0, max_reflex = 0, doors = 0,
+        doors_at_quarter_or_middle = 0;
+    std::vector<double> shaped_rectangularity;
+  };
+  auto measure = [](const std::vector<GeneratedBuilding>& buildings) {
+    HallMeasures m;
+    for (const GeneratedBuilding& b : buildings) {
+      for (const GeneratedRoom& r : b.rooms) {
+        const double area = test::polygon_area(r.polygon_m);
+        if (is_transitional_kind(r.kind) || area < 200.0) continue;
+        ++m.halls;
+        // The campus is axis aligned: the minimum-area rectangle is the bounding box.
+        double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
+        for (const Vec2& q : r.polygon_m) {
+          x0 = std::min(x0, q.x()), y0 = std::min(y0, q.y()), x1 = std::max(x1, q.x()), y1 = std::max(y1, q.y());
+        }
+        const double rectangularity = area / ((x1 - x0) * (y1 - y0));
+        if (rectangularity < 0.99) {
+          ++m.shaped;
+          m.shaped_rectangularity.push_back(rectangularity);
+        }
+        const std::size_t n = r.polygon_m.size();
+        int reflex = 0;
+        for (std::size_t i = 0; i < n; ++i) {  // counter-clockwise: a right turn is a reflex corner
+          const Vec2 e0 = r.polygon_m[i] - r.polygon_m[(i + n - 1) % n], e1 = r.polygon_m[(i + 1) % n] - r.polygon_m[i];
+          if (e0.x() * e1.y() - e0.y() * e1.x() < 0.0) ++reflex;
+        }
+        m.max_corners = std::max(m.max_corners, static_cast<int>(n));
+        m.max_reflex = std::max(m.max_reflex, reflex);
+        int doors = 0;
+        for (const Door& d : b.plan.doors) {
+          double dist = 1e18;
+          for (std::size_t i = 0; i < n; ++i) {
+            dist = std::min(dist, point_segment_distance(d.center_m, Segment2{r.polygon_m[i], r.polygon_m[(i + 1) % n]}));
+          }
+          if (dist > 0.4) continue;
+          ++doors;
+          // Share of the bounding box side from its nearest corner.
+          const bool on_x_side = std::abs(d.center_m.y() - y0) < 0.4 || std::abs(d.center_m.y() - y1) < 0.4;
+          const double share = on_x_side ? std::min(d.center_m.x() - x0, x1 - d.center_m.x()) / (x1 - x0)
+                                         : std::min(d.center_m.y() - y0, y1 - d.center_m.y()) / (y1 - y0);
+          if (std::abs(share - 0.25) <= 0.02 || std::abs(share - 0.5) <= 0.02) ++m.doors_at_quarter_or_middle;
+        }
+        m.doors += doors;
+        if (doors == 1) ++m.one_door;
+        if (doors >= 3) ++m.three_doors;
+        EXPECT_GE(doors, 1) << r.id;
+      }
+    }
+    return m;
+  };
+  std::vector<GeneratedBuilding> varied, plain;
+  CampusParams before;
+  before.hall_variety.enabled = false;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    varied.push_back(generate_campus(seed));
+    plain.push_back(generate_campus(seed, before));
+  }
+  HallMeasures m = measure(varied);
+  ASSERT_GE(m.halls, 40);
+  const double shaped = static_cast<double>(m.shaped) / m.halls;
+  EXPECT_GE(shaped, 0.3);
+  EXPECT_LE(shaped, 0.7);
+  ASSERT_FALSE(m.shaped_rectangularity.empty());
+  std::sort(m.shaped_rectangularity.begin(), m.shaped_rectangularity.end());
+  EXPECT_GE(m.shaped_rectangularity.front(), 0.60);
+  const double median = m.shaped_rectangularity[m.shaped_rectangularity.size() / 2];
+  EXPECT_GE(median, 0.78);
+  EXPECT_LE(median, 0.95);
+  EXPECT_LE(m.max_corners, 16);
+  EXPECT_LE(m.max_reflex, 4);
+  const double one_door = static_cast<double>(m.one_door) / m.halls;
+  EXPECT_GE(one_door, 0.45);
+  EXPECT_LE(one_door, 0.80);
+  EXPECT_GE(static_cast<double>(m.three_doors) / m.halls, 0.05);
+  EXPECT_LE(static_cast<double>(m.doors_at_quarter_or_middle) / m.doors, 0.6);
+
+  const HallMeasures mp = measure(plain);
+  EXPECT_EQ(mp.shaped, 0);
+  EXPECT_EQ(mp.three_doors, 0);
+  EXPECT_GE(static_cast<double>(mp.doors_at_quarter_or_middle) / mp.doors, 0.8);
 }
 
 // Every variety feature at its extreme (always / never) still gives valid, connected buildings.

@@ -68,13 +68,13 @@ void add_core(Layout& L, const std::string& pre, const Frame& F, double x0, bool
 }
 
 // A lecture hall's lectern and seat rows: the lectern at local x = `front`, rows across the hall
-// ([y0, y1], aisles at both sides) every 0.95 m towards `front + dir * length`.
+// ([y0, y1], aisles at both sides) every 0.95 m from `first_row_m` towards `front + dir * length`.
 void furnish_hall(Layout& L, const std::string& id, const Frame& F, double front, double dir, double length,
-                  double y0, double y1) {
+                  double y0, double y1, double first_row_m = 3.5) {
   L.add_obstacle(id + "_lectern", ObstacleKind::kBox, F.to_world(front + dir * 1.8, 0.5 * (y0 + y1)), Vec2(0.6, 1.2),
                  F.yaw_rad, 1.1);
   const double aisle = 1.2;
-  for (double a = 3.5; a < length - 1.6; a += 0.95) {
+  for (double a = first_row_m; a < length - 1.6; a += 0.95) {
     L.add_obstacle(id + "_seats", ObstacleKind::kBox, F.to_world(front + dir * a, 0.5 * (y0 + y1)),
                    Vec2(0.5, (y1 - y0) - 2.0 * aisle - 0.3), F.yaw_rad, 0.8);
   }
@@ -118,24 +118,126 @@ struct SpineCorridor {
   std::array<SpineSide, 2> side;      // 0: local y < 0 (facing +1), 1: local y > cw (facing -1)
 };
 
-// A hall [x0, x1] x [y0, y1] of a side's frame entered from the side's corridor by two double doors
-// (one open) and a single door near the lectern, which stands at the far wall; seat rows parallel
-// to the corridor.
+// A hall's outline in its own coordinates: u along its corridor side [0, len], v away from the
+// corridor [0, depth]. With the hall variety a shaped hall's far side (v = depth) has rectangular
+// notches cut from its far corners and / or a bay beyond its middle (CampusParams::HallVariety);
+// `far_cut_m` is how deep the notches reach in from the far side (seat rows start beyond it).
+struct HallOutline {
+  std::vector<Vec2> uv;
+  double far_cut_m = 0.0;
+};
+
+HallOutline hall_outline(double len, double depth, const CampusParams::HallVariety& v, Rng& rng) {
+  HallOutline o;
+  std::array<bool, 2> notch = {false, false};  // at u = 0, at u = len
+  bool bay = false;
+  if (v.enabled && rng.bernoulli(v.shaped_probability)) {
+    notch[0] = rng.bernoulli(v.corner_notch_probability);
+    notch[1] = rng.bernoulli(v.corner_notch_probability);
+    bay = rng.bernoulli(v.bay_probability);
+    if (!notch[0] && !notch[1] && !bay) {  // a shaped hall has at least one feature
+      const int k = rng.integer(0, 2);
+      if (k < 2) notch[static_cast<std::size_t>(k)] = true;
+      else bay = true;
+    }
+  }
+  std::array<double, 2> nw{}, nd{};
+  for (std::size_t k = 0; k < 2; ++k) {
+    if (!notch[k]) continue;
+    nw[k] = snap(rng.uniform(v.notch_width_share_min, v.notch_width_share_max) * len, 0.1);
+    nd[k] = snap(rng.uniform(v.notch_depth_share_min, v.notch_depth_share_max) * depth, 0.1);
+    o.far_cut_m = std::max(o.far_cut_m, nd[k]);
+  }
+  o.uv = {Vec2(0.0, 0.0), Vec2(len, 0.0)};
+  if (notch[1]) {
+    o.uv.insert(o.uv.end(), {Vec2(len, depth - nd[1]), Vec2(len - nw[1], depth - nd[1]), Vec2(len - nw[1], depth)});
+  } else {
+    o.uv.emplace_back(len, depth);
+  }
+  if (bay) {
+    const double hw = 0.5 * snap(rng.uniform(v.bay_width_share_min, v.bay_width_share_max) * len, 0.2);
+    const double bd = snap(rng.uniform(v.bay_depth_min_m, v.bay_depth_max_m), 0.1);
+    const double uc = snap(0.5 * len, 0.1);
+    o.uv.insert(o.uv.end(), {Vec2(uc + hw, depth), Vec2(uc + hw, depth + bd), Vec2(uc - hw, depth + bd),
+                             Vec2(uc - hw, depth)});
+  }
+  if (notch[0]) {
+    o.uv.insert(o.uv.end(), {Vec2(nw[0], depth), Vec2(nw[0], depth - nd[0]), Vec2(0.0, depth - nd[0])});
+  } else {
+    o.uv.emplace_back(0.0, depth);
+  }
+  return o;
+}
+
+// How many doors a hall has on its corridor side (HallVariety::door_count_weights) and where (u
+// along the side, each in its own equal part of [0, len], at least door_corner_share_min * len from
+// either end).
+std::vector<double> hall_door_positions(double len, const CampusParams::HallVariety& v, Rng& rng) {
+  double total = 0.0;
+  for (double w : v.door_count_weights) total += std::max(0.0, w);
+  double pick = rng.uniform(0.0, total);
+  int n = 1;
+  for (std::size_t k = 0; k < v.door_count_weights.size(); ++k) {
+    pick -= std::max(0.0, v.door_count_weights[k]);
+    n = static_cast<int>(k) + 1;
+    if (pick < 0.0) break;
+  }
+  const double margin = v.door_corner_share_min * len;
+  std::vector<double> u;
+  for (int k = 0; k < n; ++k) {
+    const double a = std::max(margin, len * k / n), b = std::min(len - margin, len * (k + 1) / n);
+    u.push_back(snap(rng.uniform(a, std::max(a, b)), 0.1));
+  }
+  return u;
+}
+
+// A hall [x0, x1] of a side's frame reaching `depth` from the side's corridor, entered from it.
+// Without the hall variety: a rectangle with two double doors (one open); with it: the outline of
+// hall_outline() and the doors of hall_door_positions(); a hall whose outline holds less than
+// `area_m2` (great halls: the drawn area is the outline's) is deepened to hold it. The lectern
+// stands at the far wall; seat rows parallel to the corridor.
 void add_spine_hall(Layout& L, const std::string& id, const SpineSide& side, double x0, double x1, double depth,
-                    Rng& rng) {
+                    double area_m2, const CampusParams::HallVariety& variety, Rng& rng) {
   const BuildingStyle& st = L.style();
+  const double len = x1 - x0;
+  HallOutline o;
+  if (variety.enabled) {
+    o = hall_outline(len, depth, variety, rng);
+    const double a = std::abs(signed_area(o.uv));
+    if (a < area_m2) {
+      const double k = area_m2 / a;
+      for (Vec2& q : o.uv) q.y() = snap(k * q.y(), 0.1);
+      depth = snap(k * depth, 0.1);
+      o.far_cut_m *= k;
+    }
+  }
   const double yc = side.facing > 0 ? side.y1 : side.y0;  // corridor edge
   const double yf = yc - side.facing * depth;              // far wall
   const double y0 = std::min(yc, yf), y1 = std::max(yc, yf);
-  const int hall = L.add_rect(id, "lecture_hall", side.frame, x0, y0, x1, y1, no_windows());
-  const double len = x1 - x0;
-  L.add_door(hall, side.hallway, st.double_door_width_m, false, side.frame.to_world(x0 + 0.25 * len, yc));
-  L.add_door(hall, side.hallway, st.double_door_width_m, rng.bernoulli(0.5), side.frame.to_world(x1 - 0.25 * len, yc));
+  double first_row = 3.5;
+  int hall = -1;
+  if (!variety.enabled) {
+    hall = L.add_rect(id, "lecture_hall", side.frame, x0, y0, x1, y1, no_windows());
+    L.add_door(hall, side.hallway, st.double_door_width_m, false, side.frame.to_world(x0 + 0.25 * len, yc));
+    L.add_door(hall, side.hallway, st.double_door_width_m, rng.bernoulli(0.5),
+               side.frame.to_world(x1 - 0.25 * len, yc));
+  } else {
+    std::vector<Vec2> poly;
+    for (const Vec2& q : o.uv) poly.push_back(side.frame.to_world(x0 + q.x(), yc - side.facing * q.y()));
+    hall = L.add_room(id, "lecture_hall", poly, no_windows());
+    bool first = true;
+    for (double u : hall_door_positions(len, variety, rng)) {
+      L.add_door(hall, side.hallway, st.double_door_width_m, first ? false : rng.bernoulli(0.5),
+                 side.frame.to_world(x0 + u, yc));
+      first = false;
+    }
+    first_row = std::max(first_row, o.far_cut_m + 1.0);
+  }
   if (!st.furniture) return;
   // Lectern at the far wall, rows towards the corridor: furnished in a frame whose x runs from the
   // far wall's middle to the corridor.
   const Frame f = rotated_frame(side.frame.to_world(0.5 * (x0 + x1), yf), side.degrees + (side.facing > 0 ? 90 : 270));
-  furnish_hall(L, id, f, 0.0, 1.0, depth, -0.5 * len, 0.5 * len);
+  furnish_hall(L, id, f, 0.0, 1.0, depth, -0.5 * len, 0.5 * len, first_row);
 }
 
 GeneratedBuilding generate_campus_spine(std::uint64_t seed, const CampusParams& p) {
@@ -291,11 +393,12 @@ GeneratedBuilding generate_campus_spine(std::uint64_t seed, const CampusParams& 
   // Halls: great halls (the first opposite the lobby), the wing end halls, then lecture halls
   // projecting from a random side of a random segment, at one end of it.
   int placed = 0;
-  auto try_hall = [&](SpineSide& side, double x0, double x1, double hall_depth, const std::string& id) {
+  auto try_hall = [&](SpineSide& side, double x0, double x1, double hall_depth, const std::string& id,
+                      double area_m2 = 0.0) {
     if (!side.halls || x0 < side.hall_x0 - 1e-6 || x1 > side.hall_x1 + 1e-6) return false;
     StripReservations* r = piece_at(side, x0, x1);
     if (r == nullptr || !r->reserve(x0, x1)) return false;
-    add_spine_hall(L, id, side, x0, x1, hall_depth, rng);
+    add_spine_hall(L, id, side, x0, x1, hall_depth, area_m2, p.hall_variety, rng);
     ++placed;
     return true;
   };
@@ -304,14 +407,14 @@ GeneratedBuilding generate_campus_spine(std::uint64_t seed, const CampusParams& 
     const double hd = snap(rng.uniform(p.great_hall_area_min_m2, p.great_hall_area_max_m2) / w, 0.1);
     const std::string id = "great_hall" + std::to_string(g + 1);
     if (g == 0) {
-      try_hall(C[0].side[1], xc - 0.5 * w, xc + 0.5 * w, hd, id);
+      try_hall(C[0].side[1], xc - 0.5 * w, xc + 0.5 * w, hd, id, w * hd);
       continue;
     }
     for (int t = 0; t < 6; ++t) {  // a random spine segment side, at one end
       SpineSide& side = C[0].side[static_cast<std::size_t>(rng.integer(0, 1))];
       const std::size_t k = static_cast<std::size_t>(rng.integer(0, static_cast<int>(C[0].cuts.size()) - 2));
       const double x0 = rng.bernoulli(0.5) ? std::max(C[0].cuts[k], side.hall_x0) : std::min(C[0].cuts[k + 1], side.hall_x1) - w;
-      if (try_hall(side, x0, x0 + w, hd, id)) break;
+      if (try_hall(side, x0, x0 + w, hd, id, w * hd)) break;
     }
   }
   const int lecture_count = rng.integer(p.lecture_halls_min, p.lecture_halls_max);
@@ -330,12 +433,22 @@ GeneratedBuilding generate_campus_spine(std::uint64_t seed, const CampusParams& 
       const double x0 = end == 0 ? -hd : xe, x1 = end == 0 ? 0.0 : xe + hd;
       const double y0 = cor.side[0].y0, y1 = cor.side[1].y1;
       const std::string id = "lecture" + std::to_string(++lectures);
-      const int hall = L.add_rect(id, "lecture_hall", cor.frame, x0, y0, x1, y1, win);
+      double first_row = 3.5;
+      int hall = -1;
+      if (!p.hall_variety.enabled) {
+        hall = L.add_rect(id, "lecture_hall", cor.frame, x0, y0, x1, y1, win);
+      } else {  // u across the wing from y0, v from the corridor's end outward
+        const HallOutline o = hall_outline(y1 - y0, hd, p.hall_variety, rng);
+        std::vector<Vec2> poly;
+        for (const Vec2& q : o.uv) poly.push_back(cor.frame.to_world(end == 0 ? -q.y() : xe + q.y(), y0 + q.x()));
+        hall = L.add_room(id, "lecture_hall", poly, win);
+        first_row = std::max(first_row, o.far_cut_m + 1.0);
+      }
       L.add_door(hall, cor.hallway, dd, false, cor.frame.to_world(xe, 0.5 * cw));
       ++placed;
       if (st.furniture) {
         const double front = end == 0 ? x0 : x1, dir = end == 0 ? 1.0 : -1.0;
-        furnish_hall(L, id, cor.frame, front, dir, hd, y0, y1);
+        furnish_hall(L, id, cor.frame, front, dir, hd, y0, y1, first_row);
       }
     }
   }

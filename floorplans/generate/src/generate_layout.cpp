@@ -112,8 +112,6 @@ WindowSpec no_windows() { return WindowSpec{}; }
 
 // ---- Layout -----------------------------------------------------------------------------------
 
-namespace {
-
 double signed_area(const std::vector<Vec2>& poly) {
   double a = 0.0;
   for (std::size_t i = 0; i < poly.size(); ++i) {
@@ -123,6 +121,8 @@ double signed_area(const std::vector<Vec2>& poly) {
   }
   return 0.5 * a;
 }
+
+namespace {
 
 double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 

@@ -67,6 +67,9 @@ struct WindowSpec {
   double margin_m = 0.5;
 };
 
+/// Signed area of a polygon (positive when counter-clockwise), m^2.
+double signed_area(const std::vector<Vec2>& poly);
+
 WindowSpec standard_windows(const BuildingStyle& style);
 WindowSpec small_windows(const BuildingStyle& style);    ///< bathrooms: narrow, high sill
 WindowSpec hallway_end_windows(const BuildingStyle& style);

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -259,6 +260,40 @@ struct CampusParams {
   /// SPbSTU main: 3-4 of the 4 wing ends on every level (14 m deep, 204-324 m^2).
   double wing_end_hall_probability = 0.85;
 
+  /// Outlines and doors of the spine layout's halls (great, projecting and wing end halls),
+  /// measured on SPbSTU main L0-L2's 30 rooms of 200 m^2 or more (results/realplans_vs_generated.md,
+  /// "Halls"): 15 of 30 are not rectangles (area / minimum-area rectangle 0.68-0.96, median 0.86;
+  /// 6-16 corners, 0-4 of them reflex), 19 / 6 / 5 have 1 / 2 / 3 or more doors, a door's centre
+  /// lies 0.09-0.50 of its side's length from the nearest corner (median ~0.25).
+  struct HallVariety {
+    /// false: every hall a plain rectangle with the same two double doors at 1/4 and 3/4 of its
+    /// corridor side (one at the middle of a wing end): the spine campus before this calibration,
+    /// byte-identical.
+    bool enabled = true;
+    double shaped_probability = 0.5;  ///< a hall's far side (away from its corridor) is not straight
+    /// A shaped hall's two far corners are each cut by a rectangular notch with this probability,
+    /// and its far wall carries a bay (a stage or projection recess outward) with bay_probability;
+    /// at least one of the three. Corner notch + bay: the 8-16-corner halls of SPbSTU main.
+    double corner_notch_probability = 0.5;
+    double bay_probability = 0.5;
+    double notch_width_share_min = 0.15;  ///< of the hall's side along the corridor
+    double notch_width_share_max = 0.30;
+    double notch_depth_share_min = 0.15;  ///< of the hall's depth away from the corridor
+    double notch_depth_share_max = 0.35;
+    double bay_width_share_min = 0.20;
+    double bay_width_share_max = 0.35;
+    double bay_depth_min_m = 2.0;
+    double bay_depth_max_m = 5.0;
+    /// Doors on the corridor side of a great or projecting hall: 1, 2, 3 with these relative
+    /// weights, each in its own equal part of the side, its centre at least door_corner_share_min
+    /// of the side from a corner. A wing end hall keeps its one door at the corridor's end. SPbSTU
+    /// main: 19, 6, 5 of 30 halls have 1, 2, 3 or more doors; with ~40% of the campus's halls at
+    /// the wing ends (one door each), these weights give ~0.62 / 0.20 / 0.17 over all halls.
+    std::vector<double> door_count_weights = {7.0, 6.0, 5.0};
+    double door_corner_share_min = 0.10;
+  };
+  HallVariety hall_variety;
+
   /// The pre-calibration campus (`campus_repetitive`, floorplans/buildings/campus.json): identical
   /// module rooms, 7-8 m deep rows, 2.8-3.2 m hallways, 2-3 lecture halls of 18-24 m.
   static CampusParams repetitive() {
@@ -366,5 +401,13 @@ GeneratedBuilding generate_angled(std::uint64_t seed, const AngledParams& params
 /// The archetype with its default parameters (repetitive archetypes: `repetitive()`). The plan is validated (validate_floor_plan) before
 /// it is returned.
 GeneratedBuilding generate_building(Archetype archetype, std::uint64_t seed);
+
+/// Changes to an archetype's parameters (`plan generate`'s options); unset: the archetype's.
+struct ArchetypeOverrides {
+  bool furniture = true;                      ///< false: BuildingStyle::furniture off
+  std::optional<CampusLayout> campus_layout;  ///< campus archetypes only
+  std::optional<bool> campus_hall_variety;    ///< campus archetypes only: CampusParams::HallVariety::enabled
+};
+GeneratedBuilding generate_building(Archetype archetype, std::uint64_t seed, const ArchetypeOverrides& overrides);
 
 }  // namespace floorcast
