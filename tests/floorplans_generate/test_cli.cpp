@@ -49,6 +49,29 @@ TEST_F(Cli, GenerateWritesTheSameBytesAsTheLibrary) {
   EXPECT_NE(r.find("\"polygon\""), std::string::npos);
 }
 
+// --campus-halls and --no-furniture give the library's buildings with those parameters; misapplied
+// options are refused with a non-zero exit and a message naming the option.
+TEST_F(Cli, GenerateCampusHallsAndNoFurnitureMatchTheLibrary) {
+  const fs::path out = dir_ / "campus.json";
+  ASSERT_EQ(run_cli("plan generate -a campus -s 3 --campus-halls plain -o " + out.string(), dir_ / "log"), 0)
+      << read_text_file((dir_ / "log").string());
+  CampusParams plain;
+  plain.hall_variety.enabled = false;
+  EXPECT_EQ(read_text_file(out.string()), floor_plan_to_json(generate_campus(3, plain).plan));
+  ASSERT_EQ(run_cli("plan generate -a campus -s 3 --no-furniture -o " + out.string(), dir_ / "log"), 0)
+      << read_text_file((dir_ / "log").string());
+  CampusParams bare;
+  bare.style.furniture = false;
+  const GeneratedBuilding b = generate_campus(3, bare);
+  EXPECT_TRUE(b.plan.obstacles.empty());
+  EXPECT_EQ(read_text_file(out.string()), floor_plan_to_json(b.plan));
+  EXPECT_NE(run_cli("plan generate -a office -s 3 --campus-halls plain -o " + out.string(), dir_ / "log"), 0);
+  EXPECT_NE(read_text_file((dir_ / "log").string()).find("--campus-halls"), std::string::npos);
+  EXPECT_NE(run_cli("plan generate -a campus -s 3 --campus-layout blocks --campus-halls varied -o " + out.string(),
+                    dir_ / "log"),
+            0);
+}
+
 TEST_F(Cli, PlanStatsPrintsOneJsonObjectPerPlanMatchingTheLibrary) {
   const std::string office = std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/office.json";
   const std::string apt = std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/apartment.json";
