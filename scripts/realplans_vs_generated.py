@@ -10,6 +10,7 @@ imports the real plans first. Standard library only.
 import argparse
 import csv
 import json
+import math
 import os
 import re
 import subprocess
@@ -23,11 +24,14 @@ REAL_LARGE = ["spbstu_main_L0", "spbstu_main_L1", "spbstu_main_L2", "grenoble_ma
 # The six small levels whose localization is measured (the real dev set of the earlier table); the
 # large levels are measured as a second set.
 REAL_MATCHED = ["tum_studitum_L1", "tum_studitum_L2", "rwth_plt_L0", "rwth_plt_L1", "spbstu_no3_L2", "spbstu_no3_L4"]
-ARCHETYPES = ["office", "office_repetitive", "angled", "angled_repetitive", "apartment", "campus", "campus_blocks",
-              "campus_repetitive"]
+ARCHETYPES = ["office", "office_repetitive", "angled", "angled_repetitive", "apartment", "campus",
+              "campus_plain_halls", "campus_no_furniture", "campus_blocks", "campus_repetitive"]
 # Generated sets that are an archetype with a generator option: the calibrated campus's blocks layout (the
-# calibrated campus before it took the spine layout).
-GENERATE = {"campus_blocks": ["--archetype", "campus", "--campus-layout", "blocks"]}
+# calibrated campus before it took the spine layout), its halls before they took the real halls' outlines and
+# doors, and the calibrated campus without furniture (like the imported real plans, which map none).
+GENERATE = {"campus_blocks": ["--archetype", "campus", "--campus-layout", "blocks"],
+            "campus_plain_halls": ["--archetype", "campus", "--campus-halls", "plain"],
+            "campus_no_furniture": ["--archetype", "campus", "--no-furniture"]}
 
 
 def run(cmd):
@@ -156,6 +160,195 @@ def facade_shares(path):
             boundary_facade / boundary if boundary > 0 else nan)
 
 
+def convex_hull(points):
+    pts = sorted(set(map(tuple, points)))
+    if len(pts) < 3:
+        return pts
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return lower[:-1] + upper[:-1]
+
+
+def min_area_rectangle(ring):
+    """(area, side along u, side across, unit u, u offset, across offset) of the minimum-area rectangle."""
+    hull = convex_hull(ring)
+    best = None
+    for i in range(len(hull)):
+        (ax, ay), (bx, by) = hull[i], hull[(i + 1) % len(hull)]
+        length = ((bx - ax) ** 2 + (by - ay) ** 2) ** 0.5
+        if length < 1e-9:
+            continue
+        ux, uy = (bx - ax) / length, (by - ay) / length
+        s = [p[0] * ux + p[1] * uy for p in hull]
+        t = [-p[0] * uy + p[1] * ux for p in hull]
+        a = (max(s) - min(s)) * (max(t) - min(t))
+        if best is None or a < best[0]:
+            best = (a, max(s) - min(s), max(t) - min(t), (ux, uy), min(s), min(t))
+    return best
+
+
+def simplified_ring(ring, angle_deg=10.0, min_edge_m=0.3):
+    """The outline without vertices on a straight run (turn under angle_deg) or on edges under min_edge_m."""
+    r = [tuple(p) for p in ring]
+    if len(r) > 1 and r[0] == r[-1]:
+        r = r[:-1]
+    changed = True
+    while changed and len(r) > 3:
+        changed = False
+        for i in range(len(r)):
+            a, b, c = r[i - 1], r[i], r[(i + 1) % len(r)]
+            e1, e2 = (b[0] - a[0], b[1] - a[1]), (c[0] - b[0], c[1] - b[1])
+            l1, l2 = (e1[0] ** 2 + e1[1] ** 2) ** 0.5, (e2[0] ** 2 + e2[1] ** 2) ** 0.5
+            if l1 < min_edge_m or l2 < 1e-9 or (e1[0] * e2[0] + e1[1] * e2[1]) / (l1 * l2) > math.cos(
+                    math.radians(angle_deg)):
+                del r[i]
+                changed = True
+                break
+    return r
+
+
+def segment_distance(p, a, b):
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    l2 = dx * dx + dy * dy
+    t = 0.0 if l2 == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2))
+    return ((p[0] - a[0] - t * dx) ** 2 + (p[1] - a[1] - t * dy) ** 2) ** 0.5
+
+
+def hall_measures(path, min_area_m2=200.0):
+    """Every hall (non-transitional room of min_area_m2 or more) of a plan: area, sides and area share of its
+    minimum-area rectangle, corners and reflex corners of its outline (simplified_ring), its doors (centre within
+    0.4 m of the outline): what lies beyond each (a transitional room, another room, outside) and how far its centre
+    is from the nearest corner of its side of the rectangle (share of the side), and the obstacles inside."""
+    with open(path) as fh:
+        plan = json.load(fh)
+    rooms = [r for r in plan["rooms"] if r["kind"] != "unmapped"]
+    walls = {w["id"]: w for w in plan["walls"]}
+    halls = []
+    for i, r in enumerate(rooms):
+        ring = r["polygon"]
+        area = polygon_area(ring) - sum(polygon_area(h) for h in r.get("holes", []))
+        if r["kind"] in TRANSITIONAL or area < min_area_m2:
+            continue
+        rect_area, side_u, side_t, (ux, uy), u0, t0 = min_area_rectangle(ring)
+        simple = simplified_ring(ring)
+        ccw = sum(simple[k][0] * simple[(k + 1) % len(simple)][1] - simple[(k + 1) % len(simple)][0] * simple[k][1]
+                  for k in range(len(simple))) > 0
+        reflex = 0
+        for k in range(len(simple)):
+            a, b, c = simple[k - 1], simple[k], simple[(k + 1) % len(simple)]
+            turn = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
+            reflex += 1 if (turn < 0) == ccw else 0
+        doors = []
+        for d in plan["doors"]:
+            c = d["center"]
+            if min(segment_distance(c, ring[k], ring[(k + 1) % len(ring)]) for k in range(len(ring))) > 0.4:
+                continue
+            w = walls.get(d["wall"])
+            ex, ey = (w["b"][0] - w["a"][0], w["b"][1] - w["a"][1]) if w else (1.0, 0.0)
+            n = (ex ** 2 + ey ** 2) ** 0.5
+            beyond = "outside"
+            for sign in (1.0, -1.0):
+                q = (c[0] - sign * 0.6 * ey / n, c[1] + sign * 0.6 * ex / n)
+                if point_in_ring(q[0], q[1], ring):
+                    continue
+                for j, o in enumerate(rooms):
+                    if j != i and point_in_ring(q[0], q[1], o["polygon"]):
+                        beyond = "transitional" if o["kind"] in TRANSITIONAL else "room"
+                        break
+            u = c[0] * ux + c[1] * uy - u0
+            t = -c[0] * uy + c[1] * ux - t0
+            # On a side along u (t near 0 or side_t): the position along u; else along t.
+            along = u / side_u if min(t, side_t - t) <= min(u, side_u - u) else t / side_t
+            doors.append((beyond, min(along, 1.0 - along)))
+        obstacles = sum(1 for o in plan.get("obstacles", []) if point_in_ring(o["center"][0], o["center"][1], ring))
+        halls.append({"area": area, "aspect": max(side_u, side_t) / min(side_u, side_t), "rectangularity":
+                      area / rect_area, "corners": len(simple), "reflex": reflex, "doors": doors,
+                      "obstacles": obstacles})
+    return halls
+
+
+def median(values):
+    v = sorted(values)
+    if not v:
+        return float("nan")
+    return v[len(v) // 2] if len(v) % 2 else 0.5 * (v[len(v) // 2 - 1] + v[len(v) // 2])
+
+
+def halls_table(sets):
+    """Shape and doors of the halls of each set (pooled over its levels / seeds)."""
+    print("## Halls: rooms of 200 m^2 or more (the plans' room polygons and doors; pooled over levels / seeds)\n")
+    print("| set | levels | halls | area (m^2), median [range] | aspect (minimum-area rectangle), median [range] "
+          "| not rectangles (area under 0.99 of the rectangle) | their area / rectangle, median [range] "
+          "| corners, median [range] | reflex corners [range] | halls with 0 / 1 / 2 / 3 or more doors "
+          "| halls entered only through another room | door centre from the side's nearest corner "
+          "(share of the side), median [range] | doors within 0.02 of 1/4 or 1/2 of their side "
+          "| obstacles inside a hall, median |")
+    print("|" + "---|" * 14)
+    for name, files in sets:
+        hs = [h for f in files for h in hall_measures(f)]
+        if not hs:
+            continue
+        shaped = [h["rectangularity"] for h in hs if h["rectangularity"] < 0.99]
+        counts = [sum(1 for h in hs if len(h["doors"]) == k) for k in (0, 1, 2)] + [
+            sum(1 for h in hs if len(h["doors"]) >= 3)]
+        through_room = sum(1 for h in hs if h["doors"] and all(d[0] != "transitional" for d in h["doors"]))
+        pos = [d[1] for h in hs for d in h["doors"]]
+        at = sum(1 for p in pos if abs(p - 0.25) <= 0.02 or abs(p - 0.5) <= 0.02)
+
+        def mr(values, fmt):
+            return (fmt.format(median(values)) + " [" + rng_text(values, fmt) + "]") if values else "-"
+        print("| %s | %d | %d | %s | %s | %d of %d | %s | %s | %s | %s | %d | %s | %s | %s |" % (
+            name, len(files), len(hs), mr([h["area"] for h in hs], "{:,.0f}"), mr([h["aspect"] for h in hs], "{:.2f}"),
+            len(shaped), len(hs), mr(shaped, "{:.2f}"), mr([h["corners"] for h in hs], "{:.0f}"),
+            rng_text([h["reflex"] for h in hs]), " / ".join(str(c) for c in counts), through_room,
+            mr(pos, "{:.2f}"), ("%d of %d" % (at, len(pos))) if pos else "-",
+            "{:.0f}".format(median([h["obstacles"] for h in hs]))))
+    print()
+
+
+def room_category(rooms, x, y):
+    """"hall" (a non-transitional room of 200 m^2 or more), "room", "transitional" or "none" at (x, y)."""
+    for r in rooms:
+        if r["kind"] != "unmapped" and point_in_ring(x, y, r["polygon"]):
+            if r["kind"] in TRANSITIONAL:
+                return "transitional"
+            return "hall" if polygon_area(r["polygon"]) >= 200.0 else "room"
+    return "none"
+
+
+def where_points_table(groups, results):
+    """Uniform points by where they stand (halls, smaller rooms, transitional spaces) and the share of each that
+    the kernel / ray matcher localises."""
+    print("\nWhere the uniform points stand and how often they are localised (kernel / ray, @1 m 30 deg; points "
+          "in that kind of space, share of all points):\n")
+    print("| set | halls (200 m^2 or more) | rooms under 200 m^2 | transitional spaces |")
+    print("|---|---|---|---|")
+    for label, name, files in groups:
+        rooms = {}
+        for f in files:
+            with open(f) as fh:
+                rooms[os.path.splitext(os.path.basename(f))[0]] = json.load(fh)["rooms"]
+        rows = [r for r in results[(name, "u")] if r["building"] in rooms]
+        cells = []
+        for cat in ("hall", "room", "transitional"):
+            sel = [r for r in rows if room_category(rooms[r["building"]], float(r["truth_x_m"]),
+                                                    float(r["truth_y_m"])) == cat]
+            k = sum(success(r, "kernel") for r in sel)
+            y = sum(success(r, "ray") for r in sel)
+            cells.append("%d / %d of %d (%.0f%% of the points)" % (k, y, len(sel), pct(len(sel), len(rows))))
+        print("| %s | %s | %s | %s |" % (label, cells[0], cells[1], cells[2]))
+
+
 def faithfulness_table(plans_dir):
     """The import report (`plan import --json`, saved by scripts/import_realplans.sh) of every real
     level: is the imported plan what the source says?"""
@@ -256,6 +449,9 @@ def main():
             name, m["levels"], m["area"], m["walls"], m["doors"], m["dirs"], m["thick"], m["area_med"], m["area_iqr"],
             m["area_cv"], m["width_cv"], m["rep"], m["corr"], m["circ"], m["facade"], m["halls"], m["corr_facade"]))
 
+    halls_table([("real, SPbSTU main L0-L2", real_large[:3]), ("real, Grenoble mall L-1..L1", real_large[3:])] +
+                [(a, sets[a]) for a in ARCHETYPES if a.startswith("campus")])
+
     # Localization.
     results = {}
     for name, files in sets.items():
@@ -310,6 +506,9 @@ def main():
             label.get(name, name), len(rows_t), cells[0], cells[1], cells[2], cells[3], ne, nopose,
             "-" if name.startswith("real") else ", ".join(inside),
             "-" if name.startswith("real") else ", ".join(inside_large)))
+
+    where_points_table([("real, SPbSTU main L0-L2", "real_large", real_large[:3])] +
+                       [(a, a, sets[a]) for a in ARCHETYPES if a.startswith("campus")], results)
 
     print("\nPer plan (kernel / ray, transitional | uniform):\n")
     print("| plan | transitional | uniform |")
