@@ -41,8 +41,9 @@ void register_plan_generate(CLI::App& root) {
                   "campus before that); default: varied")
       ->check(CLI::IsMember({"plain", "varied"}));
   cmd->add_flag("--no-furniture", opts->no_furniture,
-                "No furniture, seating or other clutter obstacles (BuildingStyle::furniture = false): e.g. to compare "
-                "with imported real plans, which map none");
+                "The same building with every obstacle (furniture, seating, stair flights, pillars) left out: e.g. to "
+                "compare with imported real plans, which map none (BuildingStyle::furniture = false instead would "
+                "draw a different building: furnishing draws random numbers)");
   cmd->callback([opts] {
     const Archetype archetype = parse_archetype(opts->archetype);
     if (!opts->campus_layout.empty() && archetype != Archetype::kCampus) {
@@ -56,12 +57,12 @@ void register_plan_generate(CLI::App& root) {
     prepare_output_file(opts->output);
     if (!opts->rooms.empty()) prepare_output_file(opts->rooms);
     ArchetypeOverrides overrides;
-    overrides.furniture = !opts->no_furniture;
     if (!opts->campus_layout.empty()) {
       overrides.campus_layout = opts->campus_layout == "spine" ? CampusLayout::kSpine : CampusLayout::kBlocks;
     }
     if (!opts->campus_halls.empty()) overrides.campus_hall_variety = opts->campus_halls == "varied";
-    const GeneratedBuilding b = generate_building(archetype, opts->seed, overrides);
+    GeneratedBuilding b = generate_building(archetype, opts->seed, overrides);
+    if (opts->no_furniture) b.plan.obstacles.clear();
     save_floor_plan(b.plan, opts->output);
     if (!opts->rooms.empty()) {
       nlohmann::ordered_json j;

@@ -28,7 +28,7 @@ ARCHETYPES = ["office", "office_repetitive", "angled", "angled_repetitive", "apa
               "campus_plain_halls", "campus_no_furniture", "campus_blocks", "campus_repetitive"]
 # Generated sets that are an archetype with a generator option: the calibrated campus's blocks layout (the
 # calibrated campus before it took the spine layout), its halls before they took the real halls' outlines and
-# doors, and the calibrated campus without furniture (like the imported real plans, which map none).
+# doors, and the calibrated campus with its obstacles left out (like the imported real plans, which map none).
 GENERATE = {"campus_blocks": ["--archetype", "campus", "--campus-layout", "blocks"],
             "campus_plain_halls": ["--archetype", "campus", "--campus-halls", "plain"],
             "campus_no_furniture": ["--archetype", "campus", "--no-furniture"]}

@@ -47,26 +47,14 @@ GeneratedBuilding generate_building(Archetype archetype, std::uint64_t seed) {
 }
 
 GeneratedBuilding generate_building(Archetype archetype, std::uint64_t seed, const ArchetypeOverrides& overrides) {
-  auto style = [&](auto params) {
-    params.style.furniture = params.style.furniture && overrides.furniture;
-    return params;
-  };
   auto campus = [&](CampusParams params) {
-    params = style(params);
     if (overrides.campus_layout) params.layout = *overrides.campus_layout;
     if (overrides.campus_hall_variety) params.hall_variety.enabled = *overrides.campus_hall_variety;
     return generate_campus(seed, params);
   };
-  switch (archetype) {
-    case Archetype::kApartment: return generate_apartment(seed, style(ApartmentParams{}));
-    case Archetype::kOffice: return generate_office(seed, style(OfficeParams{}));
-    case Archetype::kCampus: return campus(CampusParams{});
-    case Archetype::kAngled: return generate_angled(seed, style(AngledParams{}));
-    case Archetype::kOfficeRepetitive: return generate_office(seed, style(OfficeParams::repetitive()));
-    case Archetype::kCampusRepetitive: return campus(CampusParams::repetitive());
-    case Archetype::kAngledRepetitive: return generate_angled(seed, style(AngledParams::repetitive()));
-  }
-  throw InputError("unknown archetype");
+  if (archetype == Archetype::kCampus) return campus(CampusParams{});
+  if (archetype == Archetype::kCampusRepetitive) return campus(CampusParams::repetitive());
+  return generate_building(archetype, seed);
 }
 
 }  // namespace floorcast

@@ -404,7 +404,6 @@ GeneratedBuilding generate_building(Archetype archetype, std::uint64_t seed);
 
 /// Changes to an archetype's parameters (`plan generate`'s options); unset: the archetype's.
 struct ArchetypeOverrides {
-  bool furniture = true;                      ///< false: BuildingStyle::furniture off
   std::optional<CampusLayout> campus_layout;  ///< campus archetypes only
   std::optional<bool> campus_hall_variety;    ///< campus archetypes only: CampusParams::HallVariety::enabled
 };
