@@ -90,8 +90,16 @@ void paint_footprint(cv::Mat& occ, const GridSpec& grid, const Footprint& f) {
         continue;
       }
       if (f.has_axis) {
+        // The cell's box: [origin + c res, origin + c res + res]. Where the previous cell's box
+        // ends short of it (origin + (c - 1) res + res can round a few ulps below origin + c res),
+        // the box starts just after that end instead: an axis in the gap met neither box, and a
+        // wall on a grid line went missing from the raster (a generated campus lost its glass
+        // facade so). Nothing else changes: an axis at the previous box's end stays in that cell.
         const double bx0 = grid.origin_x_m + c * res, by0 = grid.origin_y_m + r * res;
-        if (segment_meets_box(f.axis_m.a_m, f.axis_m.b_m, bx0, by0, bx0 + res, by0 + res)) row[c] = 255;
+        const double end_x = grid.origin_x_m + (c - 1) * res + res, end_y = grid.origin_y_m + (r - 1) * res + res;
+        const double near_x = end_x < bx0 ? std::nextafter(end_x, bx0) : bx0;
+        const double near_y = end_y < by0 ? std::nextafter(end_y, by0) : by0;
+        if (segment_meets_box(f.axis_m.a_m, f.axis_m.b_m, near_x, near_y, bx0 + res, by0 + res)) row[c] = 255;
       }
     }
   }
