@@ -22,11 +22,11 @@ namespace {
 /// +shift. Only the taps within the truncation are stored (a shift of 7 cells with sigma 1 has 7
 /// taps, not the 21 of a kernel centred on 0).
 /// dst[i] = sum_k w[k] src[k][i] for i < n, the terms added in k order onto 0 (onto dst[i] with
-/// `accumulate`): the arithmetic of clearing dst and adding w[k] src[k] for each k in turn, bit for
-/// bit (no fused multiply-add), accumulated in registers so dst is written once: the inner loop of every pass of the motion
-/// step. Compiled for AVX2 and for the baseline, chosen at load time (GCC function
-/// multi-versioning), so the binary runs on any x86-64 and uses 8-wide vectors where the CPU has
-/// them.
+/// `accumulate`): the arithmetic of clearing dst and adding w[k] src[k] for each k in turn, bit
+/// for bit (no fused multiply-add), accumulated in registers so dst is written once: the inner
+/// loop of every pass of the motion step. Compiled for AVX2 and for the baseline, chosen at load
+/// time (GCC function multi-versioning), so the binary runs on any x86-64 and uses 8-wide vectors
+/// where the CPU has them.
 #if defined(__GNUC__) && defined(__x86_64__) && !defined(__clang__)
 __attribute__((target_clones("avx2", "default")))
 #endif
