@@ -37,9 +37,10 @@ void register_plan_generate(CLI::App& root) {
       ->check(CLI::IsMember({"blocks", "spine"}));
   cmd->add_option("--campus-halls", opts->campus_halls,
                   "campus, spine layout only: varied (outlines and doors as measured on the large real teaching "
-                  "building's halls, CampusParams::HallVariety) | plain (rectangles with two double doors, the spine "
-                  "campus before that); default: varied")
-      ->check(CLI::IsMember({"plain", "varied"}));
+                  "building's halls, CampusParams::HallVariety) | orthogonal (the same without chamfered corners: "
+                  "every side on the building's axes, the halls before chamfers) | plain (rectangles with two double "
+                  "doors, the spine campus before that); default: varied")
+      ->check(CLI::IsMember({"plain", "orthogonal", "varied"}));
   cmd->add_flag("--no-furniture", opts->no_furniture,
                 "The same building with every obstacle (furniture, seating, stair flights, pillars) left out: e.g. to "
                 "compare with imported real plans, which map none (BuildingStyle::furniture = false instead would "
@@ -60,7 +61,10 @@ void register_plan_generate(CLI::App& root) {
     if (!opts->campus_layout.empty()) {
       overrides.campus_layout = opts->campus_layout == "spine" ? CampusLayout::kSpine : CampusLayout::kBlocks;
     }
-    if (!opts->campus_halls.empty()) overrides.campus_hall_variety = opts->campus_halls == "varied";
+    if (!opts->campus_halls.empty()) {
+      overrides.campus_hall_variety = opts->campus_halls != "plain";
+      overrides.campus_hall_chamfers = opts->campus_halls == "varied";
+    }
     GeneratedBuilding b = generate_building(archetype, opts->seed, overrides);
     if (opts->no_furniture) b.plan.obstacles.clear();
     save_floor_plan(b.plan, opts->output);

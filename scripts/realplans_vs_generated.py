@@ -25,11 +25,14 @@ REAL_LARGE = ["spbstu_main_L0", "spbstu_main_L1", "spbstu_main_L2", "grenoble_ma
 # large levels are measured as a second set.
 REAL_MATCHED = ["tum_studitum_L1", "tum_studitum_L2", "rwth_plt_L0", "rwth_plt_L1", "spbstu_no3_L2", "spbstu_no3_L4"]
 ARCHETYPES = ["office", "office_repetitive", "angled", "angled_repetitive", "apartment", "campus",
-              "campus_plain_halls", "campus_no_furniture", "campus_blocks", "campus_repetitive"]
+              "campus_orthogonal_halls", "campus_plain_halls", "campus_no_furniture", "campus_blocks",
+              "campus_repetitive"]
 # Generated sets that are an archetype with a generator option: the calibrated campus's blocks layout (the
-# calibrated campus before it took the spine layout), its halls before they took the real halls' outlines and
-# doors, and the calibrated campus with its obstacles left out (like the imported real plans, which map none).
+# calibrated campus before it took the spine layout), its halls before they took chamfered corners and before they
+# took the real halls' outlines and doors, and the calibrated campus with its obstacles left out (like the imported
+# real plans, which map none).
 GENERATE = {"campus_blocks": ["--archetype", "campus", "--campus-layout", "blocks"],
+            "campus_orthogonal_halls": ["--archetype", "campus", "--campus-halls", "orthogonal"],
             "campus_plain_halls": ["--archetype", "campus", "--campus-halls", "plain"],
             "campus_no_furniture": ["--archetype", "campus", "--no-furniture"]}
 
@@ -224,13 +227,39 @@ def segment_distance(p, a, b):
     return ((p[0] - a[0] - t * dx) ** 2 + (p[1] - a[1] - t * dy) ** 2) ** 0.5
 
 
+def main_axis_deg(walls):
+    """The plan's main wall direction modulo 90 deg: the 1-degree bin (with its two neighbours) holding the most
+    wall length."""
+    bins = [0.0] * 90
+    for w in walls:
+        dx, dy = w["b"][0] - w["a"][0], w["b"][1] - w["a"][1]
+        bins[int(math.degrees(math.atan2(dy, dx)) % 90.0) % 90] += (dx * dx + dy * dy) ** 0.5
+    smooth = [bins[k - 1] + bins[k] + bins[(k + 1) % 90] for k in range(90)]
+    return smooth.index(max(smooth)) + 0.5
+
+
+def oblique_sides(ring, axis_deg, min_angle_deg=5.0, min_length_m=0.5):
+    """Lengths of the outline's sides (simplified_ring) more than min_angle_deg off both main axes of the plan."""
+    simple = simplified_ring(ring)
+    out = []
+    for k in range(len(simple)):
+        a, b = simple[k], simple[(k + 1) % len(simple)]
+        length = ((b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2) ** 0.5
+        off = abs((math.degrees(math.atan2(b[1] - a[1], b[0] - a[0])) - axis_deg + 45.0) % 90.0 - 45.0)
+        if length >= min_length_m and off > min_angle_deg:
+            out.append(length)
+    return out
+
+
 def hall_measures(path, min_area_m2=200.0):
     """Every hall (non-transitional room of min_area_m2 or more) of a plan: area, sides and area share of its
-    minimum-area rectangle, corners and reflex corners of its outline (simplified_ring), its doors (centre within
-    0.4 m of the outline): what lies beyond each (a transitional room, another room, outside) and how far its centre
-    is from the nearest corner of its side of the rectangle (share of the side), and the obstacles inside."""
+    minimum-area rectangle, corners and reflex corners of its outline (simplified_ring), its sides oblique to the
+    plan's main axes (oblique_sides), its doors (centre within 0.4 m of the outline): what lies beyond each (a
+    transitional room, another room, outside) and how far its centre is from the nearest corner of its side of the
+    rectangle (share of the side), and the obstacles inside."""
     with open(path) as fh:
         plan = json.load(fh)
+    axis_deg = main_axis_deg(plan["walls"])
     rooms = [r for r in plan["rooms"] if r["kind"] != "unmapped"]
     walls = {w["id"]: w for w in plan["walls"]}
     halls = []
@@ -273,7 +302,7 @@ def hall_measures(path, min_area_m2=200.0):
         obstacles = sum(1 for o in plan.get("obstacles", []) if point_in_ring(o["center"][0], o["center"][1], ring))
         halls.append({"area": area, "aspect": max(side_u, side_t) / min(side_u, side_t), "rectangularity":
                       area / rect_area, "corners": len(simple), "reflex": reflex, "doors": doors,
-                      "obstacles": obstacles})
+                      "obstacles": obstacles, "oblique": oblique_sides(ring, axis_deg)})
     return halls
 
 
@@ -292,8 +321,9 @@ def halls_table(sets):
           "| corners, median [range] | reflex corners [range] | halls with 0 / 1 / 2 / 3 or more doors "
           "| halls entered only through another room | door centre from the side's nearest corner "
           "(share of the side), median [range] | doors within 0.02 of 1/4 or 1/2 of their side "
-          "| obstacles inside a hall, median |")
-    print("|" + "---|" * 14)
+          "| obstacles inside a hall, median | halls with a side oblique to the plan's main axes (over 5 deg) "
+          "| oblique sides per such hall, median [range] | oblique side length (m), median [range] |")
+    print("|" + "---|" * 17)
     for name, files in sets:
         hs = [h for f in files for h in hall_measures(f)]
         if not hs:
@@ -307,12 +337,14 @@ def halls_table(sets):
 
         def mr(values, fmt):
             return (fmt.format(median(values)) + " [" + rng_text(values, fmt) + "]") if values else "-"
-        print("| %s | %d | %d | %s | %s | %d of %d | %s | %s | %s | %s | %d | %s | %s | %s |" % (
+        oblique = [h["oblique"] for h in hs if h["oblique"]]
+        print("| %s | %d | %d | %s | %s | %d of %d | %s | %s | %s | %s | %d | %s | %s | %s | %d of %d | %s | %s |" % (
             name, len(files), len(hs), mr([h["area"] for h in hs], "{:,.0f}"), mr([h["aspect"] for h in hs], "{:.2f}"),
             len(shaped), len(hs), mr(shaped, "{:.2f}"), mr([h["corners"] for h in hs], "{:.0f}"),
             rng_text([h["reflex"] for h in hs]), " / ".join(str(c) for c in counts), through_room,
             mr(pos, "{:.2f}"), ("%d of %d" % (at, len(pos))) if pos else "-",
-            "{:.0f}".format(median([h["obstacles"] for h in hs]))))
+            "{:.0f}".format(median([h["obstacles"] for h in hs])), len(oblique), len(hs),
+            mr([len(o) for o in oblique], "{:.0f}"), mr([x for o in oblique for x in o], "{:.1f}")))
     print()
 
 

@@ -49,7 +49,7 @@ TEST_F(Cli, GenerateWritesTheSameBytesAsTheLibrary) {
   EXPECT_NE(r.find("\"polygon\""), std::string::npos);
 }
 
-// --campus-halls and --no-furniture give the library's buildings with those parameters; misapplied
+// --campus-halls (plain, orthogonal) and --no-furniture give the library's buildings with those parameters; misapplied
 // options are refused with a non-zero exit and a message naming the option.
 TEST_F(Cli, GenerateCampusHallsAndNoFurnitureMatchTheLibrary) {
   const fs::path out = dir_ / "campus.json";
@@ -58,6 +58,13 @@ TEST_F(Cli, GenerateCampusHallsAndNoFurnitureMatchTheLibrary) {
   CampusParams plain;
   plain.hall_variety.enabled = false;
   EXPECT_EQ(read_text_file(out.string()), floor_plan_to_json(generate_campus(3, plain).plan));
+  ASSERT_EQ(run_cli("plan generate -a campus -s 3 --campus-halls orthogonal -o " + out.string(), dir_ / "log"), 0)
+      << read_text_file((dir_ / "log").string());
+  CampusParams orthogonal;
+  orthogonal.hall_variety.chamfer_probability = 0.0;
+  const std::string orthogonal_json = floor_plan_to_json(generate_campus(3, orthogonal).plan);
+  EXPECT_EQ(read_text_file(out.string()), orthogonal_json);
+  EXPECT_NE(orthogonal_json, floor_plan_to_json(generate_campus(3).plan));  // seed 3 has chamfered halls
   ASSERT_EQ(run_cli("plan generate -a campus -s 3 --no-furniture -o " + out.string(), dir_ / "log"), 0)
       << read_text_file((dir_ / "log").string());
   // The same building without its obstacles.

@@ -662,6 +662,71 @@ TEST(Generate, CalibratedCampusHallsHaveTheRealHallsShapesAndDoors) {
   EXPECT_GE(static_cast<double>(mp.doors_at_quarter_or_middle) / mp.doors, 0.8);
 }
 
+// A third of the campus's halls have chamfered corners, as a third of SPbSTU main's halls have sides
+// oblique to the building's axes (10 of 30; 3 [2-8] per such hall, 1.5-10.3 m long;
+// scripts/realplans_vs_generated.py, "Halls"). The chamfers come from a random stream of their own:
+// without them the building is the same but for those halls' outlines and seat rows.
+TEST(Generate, CalibratedCampusHallsHaveObliqueSidesLikeTheRealHalls) {
+  CampusParams orthogonal;
+  orthogonal.hall_variety.chamfer_probability = 0.0;
+  int halls = 0, chamfered_halls = 0;
+  std::vector<double> lengths;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    const GeneratedBuilding b = generate_campus(seed), o = generate_campus(seed, orthogonal);
+    ASSERT_EQ(b.rooms.size(), o.rooms.size()) << seed;
+    EXPECT_EQ(b.plan.doors.size(), o.plan.doors.size()) << seed;
+    for (std::size_t i = 0; i < b.rooms.size(); ++i) {
+      const GeneratedRoom& r = b.rooms[i];
+      const GeneratedRoom& q = o.rooms[i];
+      ASSERT_EQ(r.id, q.id) << seed;
+      std::vector<double> oblique;  // the campus is axis aligned: any other side is oblique
+      for (std::size_t k = 0; k < r.polygon_m.size(); ++k) {
+        const Vec2 d = r.polygon_m[(k + 1) % r.polygon_m.size()] - r.polygon_m[k];
+        if (std::abs(d.x()) < 1e-6 || std::abs(d.y()) < 1e-6) continue;
+        oblique.push_back(d.norm());
+        // 45 degrees, steeper where a great hall was deepened to hold its area.
+        const double deg = std::atan2(std::abs(d.y()), std::abs(d.x())) * 180.0 / kPi;
+        EXPECT_GE(deg, 30.0) << r.id;
+        EXPECT_LE(deg, 60.0) << r.id;
+      }
+      if (r.polygon_m == q.polygon_m) {
+        EXPECT_TRUE(oblique.empty()) << r.id;
+        continue;
+      }
+      EXPECT_EQ(r.kind, "lecture_hall") << seed << " " << r.id;
+      EXPECT_GE(oblique.size(), 2u) << r.id;
+      // The seat rows stay inside the chamfered outline.
+      for (const Obstacle& ob : b.plan.obstacles) {
+        if (!test::inside_polygon(q.polygon_m, ob.center_m)) continue;
+        const double c = std::cos(ob.yaw_rad), sn = std::sin(ob.yaw_rad);
+        for (const Vec2& uv : {Vec2(-0.5, -0.5), Vec2(0.5, -0.5), Vec2(0.5, 0.5), Vec2(-0.5, 0.5)}) {
+          const Vec2 local(uv.x() * ob.size_m.x(), uv.y() * ob.size_m.y());
+          const Vec2 corner = ob.center_m + Vec2(c * local.x() - sn * local.y(), sn * local.x() + c * local.y());
+          EXPECT_TRUE(test::inside_polygon(r.polygon_m, corner)) << seed << " " << ob.id << " outside " << r.id;
+        }
+      }
+      if (test::polygon_area(r.polygon_m) >= 200.0) {
+        ++chamfered_halls;
+        lengths.insert(lengths.end(), oblique.begin(), oblique.end());
+      }
+    }
+    for (const GeneratedRoom& r : b.rooms) {
+      if (!is_transitional_kind(r.kind) && test::polygon_area(r.polygon_m) >= 200.0) ++halls;
+    }
+  }
+  ASSERT_GE(halls, 40);
+  const double share = static_cast<double>(chamfered_halls) / halls;
+  EXPECT_GE(share, 0.2);
+  EXPECT_LE(share, 0.45);
+  ASSERT_FALSE(lengths.empty());
+  std::sort(lengths.begin(), lengths.end());
+  EXPECT_GE(lengths.front(), 0.5 * std::sqrt(2.0) - 1e-6);
+  EXPECT_LE(lengths.back(), 10.5);
+  const double median = lengths[lengths.size() / 2];
+  EXPECT_GE(median, 2.5);
+  EXPECT_LE(median, 7.0);
+}
+
 // Every variety feature at its extreme (always / never) still gives valid, connected buildings.
 TEST(Generate, ExtremeVarietyStillGivesValidConnectedBuildings) {
   for (double p : {0.0, 1.0}) {

@@ -50,6 +50,7 @@ GeneratedBuilding generate_building(Archetype archetype, std::uint64_t seed, con
   auto campus = [&](CampusParams params) {
     if (overrides.campus_layout) params.layout = *overrides.campus_layout;
     if (overrides.campus_hall_variety) params.hall_variety.enabled = *overrides.campus_hall_variety;
+    if (overrides.campus_hall_chamfers && !*overrides.campus_hall_chamfers) params.hall_variety.chamfer_probability = 0.0;
     return generate_campus(seed, params);
   };
   if (archetype == Archetype::kCampus) return campus(CampusParams{});

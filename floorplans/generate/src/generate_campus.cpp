@@ -14,8 +14,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <string>
 
+#include "floorcast/floorplans/geometry.hpp"
 #include "generate_layout.hpp"
 
 namespace floorcast {
@@ -120,12 +122,110 @@ struct SpineCorridor {
 
 // A hall's outline in its own coordinates: u along its corridor side [0, len], v away from the
 // corridor [0, depth]. With the hall variety a shaped hall's far side (v = depth) has rectangular
-// notches cut from its far corners and / or a bay beyond its middle (CampusParams::HallVariety);
+// notches cut from its far corners and / or a bay beyond its middle, and a third of the halls
+// chamfered corners (CampusParams::HallVariety);
 // `far_cut_m` is how deep the notches reach in from the far side (seat rows start beyond it).
 struct HallOutline {
   std::vector<Vec2> uv;
   double far_cut_m = 0.0;
+  /// Chamfered corners: (a, corner, b), the cut side from a to b (uv, then world coordinates).
+  std::vector<std::array<Vec2, 3>> cuts;
 };
+
+// A chamfered corner of a hall (world coordinates): the hall's outline runs a -> b where it ran a ->
+// corner -> b.
+struct HallCut {
+  int room = -1;
+  std::array<Vec2, 3> abc;
+};
+
+HallOutline to_world(HallOutline o, const std::function<Vec2(const Vec2&)>& world) {
+  for (Vec2& q : o.uv) q = world(q);
+  for (auto& c : o.cuts)
+    for (Vec2& q : c) q = world(q);
+  return o;
+}
+
+// Gives a chamfered corner back where another room comes within 0.3 m of the sides it cut off (a
+// wall there would leave a sliver of outside between it and the cut): halls of one side may touch,
+// and a hall's sides run along its row band's rooms. Where every cut of a hall is given back its
+// outline is the one it had without chamfers (a great hall's may be deeper: it was deepened to
+// hold its area with the cuts).
+void restore_blocked_cuts(Layout& L, const std::vector<HallCut>& cuts) {
+  for (const HallCut& c : cuts) {
+    bool blocked = false;
+    for (int r = 0; r < L.room_count() && !blocked; ++r) {
+      if (r == c.room) continue;
+      const std::vector<Vec2>& poly = L.room(r).polygon_m;
+      for (std::size_t k = 0; k < poly.size() && !blocked; ++k) {
+        const Segment2 e{poly[k], poly[(k + 1) % poly.size()]};
+        for (const Segment2& side : {Segment2{c.abc[0], c.abc[1]}, Segment2{c.abc[1], c.abc[2]}}) {
+          const double d = std::min({point_segment_distance(e.a_m, side), point_segment_distance(e.b_m, side),
+                                     point_segment_distance(side.a_m, e), point_segment_distance(side.b_m, e)});
+          if (d < 0.3) blocked = true;
+        }
+      }
+    }
+    if (!blocked) continue;
+    std::vector<Vec2> poly = L.room(c.room).polygon_m;
+    for (std::size_t k = 0; k < poly.size(); ++k) {  // stored counter-clockwise: a -> b or b -> a
+      const Vec2 &p0 = poly[k], &p1 = poly[(k + 1) % poly.size()];
+      const auto same = [](const Vec2& u, const Vec2& v) { return (u - v).norm() < 1e-9; };
+      if ((same(p0, c.abc[0]) && same(p1, c.abc[2])) || (same(p0, c.abc[2]) && same(p1, c.abc[0]))) {
+        poly[k] = c.abc[1];
+        poly.erase(poly.begin() + static_cast<std::ptrdiff_t>((k + 1) % poly.size()));
+        break;
+      }
+    }
+    L.set_room_polygon(c.room, std::move(poly));
+  }
+}
+
+// Cuts convex corners of a hall's outline away from its corridor side (v > 0) by sides at 45
+// degrees, all of one length (HallVariety::chamfer_*): each corner where the cut reaches at most
+// 0.45 of both sides it shortens, with chamfer_corner_probability, at least two (the length is
+// shortened to fit two corners where it fits fewer; no cut under 0.5 m). Seat rows start beyond the
+// cuts that reach into the hall from its far side.
+void chamfer_corners(HallOutline& o, double depth, const CampusParams::HallVariety& v, Rng& rng) {
+  const std::vector<Vec2> p = o.uv;  // counter-clockwise: a left turn is a convex corner
+  const std::size_t n = p.size();
+  std::vector<double> room(n, 0.0);  // the longest leg a cut at each corner may have
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 e0 = p[i] - p[(i + n - 1) % n], e1 = p[(i + 1) % n] - p[i];
+    if (p[i].y() > 1e-9 && e0.x() * e1.y() - e0.y() * e1.x() > 0.0) room[i] = 0.45 * std::min(e0.norm(), e1.norm());
+  }
+  std::vector<double> sorted = room;
+  std::sort(sorted.begin(), sorted.end(), std::greater<double>());
+  const double leg = std::floor(std::min(rng.uniform(v.chamfer_length_min_m, v.chamfer_length_max_m) / std::sqrt(2.0),
+                                         n > 1 ? sorted[1] : 0.0) * 10.0) / 10.0;  // on the 0.1 m grid
+  if (leg < 0.5) return;
+  std::vector<std::size_t> eligible;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (room[i] >= leg) eligible.push_back(i);
+  }
+  std::vector<bool> cut(n, false);
+  std::size_t count = 0;
+  for (std::size_t i : eligible) {
+    if (rng.bernoulli(v.chamfer_corner_probability)) cut[i] = true, ++count;
+  }
+  while (count < 2) {
+    const std::size_t i = eligible[static_cast<std::size_t>(rng.integer(0, static_cast<int>(eligible.size()) - 1))];
+    if (!cut[i]) cut[i] = true, ++count;
+  }
+  o.uv.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!cut[i]) {
+      o.uv.push_back(p[i]);
+      continue;
+    }
+    const Vec2 a = p[i] + leg * (p[(i + n - 1) % n] - p[i]).normalized();
+    const Vec2 b = p[i] + leg * (p[(i + 1) % n] - p[i]).normalized();
+    o.uv.push_back(a);
+    o.uv.push_back(b);
+    o.cuts.push_back({a, p[i], b});
+    if (p[i].y() <= depth + 1e-9) o.far_cut_m = std::max(o.far_cut_m, depth - p[i].y() + leg);
+  }
+}
 
 HallOutline hall_outline(double len, double depth, const CampusParams::HallVariety& v, Rng& rng) {
   HallOutline o;
@@ -166,6 +266,11 @@ HallOutline hall_outline(double len, double depth, const CampusParams::HallVarie
   } else {
     o.uv.emplace_back(0.0, depth);
   }
+  // From a stream of its own: the rest of the building is the same with or without chamfers.
+  Rng chamfer_rng = rng.fork(0xC4A3F3EDULL);
+  if (v.enabled && v.chamfer_probability > 0.0 && chamfer_rng.bernoulli(v.chamfer_probability)) {
+    chamfer_corners(o, depth, v, chamfer_rng);
+  }
   return o;
 }
 
@@ -197,7 +302,7 @@ std::vector<double> hall_door_positions(double len, const CampusParams::HallVari
 // `area_m2` (great halls: the drawn area is the outline's) is deepened to hold it. The lectern
 // stands at the far wall; seat rows parallel to the corridor.
 void add_spine_hall(Layout& L, const std::string& id, const SpineSide& side, double x0, double x1, double depth,
-                    double area_m2, const CampusParams::HallVariety& variety, Rng& rng) {
+                    double area_m2, const CampusParams::HallVariety& variety, Rng& rng, std::vector<HallCut>& cuts) {
   const BuildingStyle& st = L.style();
   const double len = x1 - x0;
   HallOutline o;
@@ -207,6 +312,8 @@ void add_spine_hall(Layout& L, const std::string& id, const SpineSide& side, dou
     if (a < area_m2) {
       const double k = area_m2 / a;
       for (Vec2& q : o.uv) q.y() = snap(k * q.y(), 0.1);
+      for (auto& c : o.cuts)
+        for (Vec2& q : c) q.y() = snap(k * q.y(), 0.1);
       depth = snap(k * depth, 0.1);
       o.far_cut_m *= k;
     }
@@ -222,9 +329,10 @@ void add_spine_hall(Layout& L, const std::string& id, const SpineSide& side, dou
     L.add_door(hall, side.hallway, st.double_door_width_m, rng.bernoulli(0.5),
                side.frame.to_world(x1 - 0.25 * len, yc));
   } else {
-    std::vector<Vec2> poly;
-    for (const Vec2& q : o.uv) poly.push_back(side.frame.to_world(x0 + q.x(), yc - side.facing * q.y()));
-    hall = L.add_room(id, "lecture_hall", poly, no_windows());
+    const HallOutline w =
+        to_world(o, [&](const Vec2& q) { return side.frame.to_world(x0 + q.x(), yc - side.facing * q.y()); });
+    hall = L.add_room(id, "lecture_hall", w.uv, no_windows());
+    for (const auto& c : w.cuts) cuts.push_back({hall, c});
     bool first = true;
     for (double u : hall_door_positions(len, variety, rng)) {
       L.add_door(hall, side.hallway, st.double_door_width_m, first ? false : rng.bernoulli(0.5),
@@ -393,12 +501,13 @@ GeneratedBuilding generate_campus_spine(std::uint64_t seed, const CampusParams& 
   // Halls: great halls (the first opposite the lobby), the wing end halls, then lecture halls
   // projecting from a random side of a random segment, at one end of it.
   int placed = 0;
+  std::vector<HallCut> hall_cuts;
   auto try_hall = [&](SpineSide& side, double x0, double x1, double hall_depth, const std::string& id,
                       double area_m2 = 0.0) {
     if (!side.halls || x0 < side.hall_x0 - 1e-6 || x1 > side.hall_x1 + 1e-6) return false;
     StripReservations* r = piece_at(side, x0, x1);
     if (r == nullptr || !r->reserve(x0, x1)) return false;
-    add_spine_hall(L, id, side, x0, x1, hall_depth, area_m2, p.hall_variety, rng);
+    add_spine_hall(L, id, side, x0, x1, hall_depth, area_m2, p.hall_variety, rng, hall_cuts);
     ++placed;
     return true;
   };
@@ -438,10 +547,11 @@ GeneratedBuilding generate_campus_spine(std::uint64_t seed, const CampusParams& 
       if (!p.hall_variety.enabled) {
         hall = L.add_rect(id, "lecture_hall", cor.frame, x0, y0, x1, y1, win);
       } else {  // u across the wing from y0, v from the corridor's end outward
-        const HallOutline o = hall_outline(y1 - y0, hd, p.hall_variety, rng);
-        std::vector<Vec2> poly;
-        for (const Vec2& q : o.uv) poly.push_back(cor.frame.to_world(end == 0 ? -q.y() : xe + q.y(), y0 + q.x()));
-        hall = L.add_room(id, "lecture_hall", poly, win);
+        const HallOutline o = to_world(hall_outline(y1 - y0, hd, p.hall_variety, rng), [&](const Vec2& q) {
+          return cor.frame.to_world(end == 0 ? -q.y() : xe + q.y(), y0 + q.x());
+        });
+        hall = L.add_room(id, "lecture_hall", o.uv, win);
+        for (const auto& c : o.cuts) hall_cuts.push_back({hall, c});
         first_row = std::max(first_row, o.far_cut_m + 1.0);
       }
       L.add_door(hall, cor.hallway, dd, false, cor.frame.to_world(xe, 0.5 * cw));
@@ -509,6 +619,7 @@ GeneratedBuilding generate_campus_spine(std::uint64_t seed, const CampusParams& 
       }
     }
   }
+  restore_blocked_cuts(L, hall_cuts);
   return L.assemble("campus spine (seed " + std::to_string(seed) + ")");
 }
 

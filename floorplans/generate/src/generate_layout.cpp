@@ -152,6 +152,13 @@ int Layout::add_room(const std::string& id, const std::string& kind, std::vector
   return static_cast<int>(rooms_.size()) - 1;
 }
 
+void Layout::set_room_polygon(int index, std::vector<Vec2> polygon_m) {
+  LayoutRoom& r = rooms_.at(static_cast<std::size_t>(index));
+  if (polygon_m.size() < 3) throw std::logic_error("generator: room " + r.id + " has fewer than 3 corners");
+  if (signed_area(polygon_m) < 0.0) std::reverse(polygon_m.begin(), polygon_m.end());
+  r.polygon_m = std::move(polygon_m);
+}
+
 int Layout::add_rect(const std::string& id, const std::string& kind, const Frame& frame, double x0, double y0,
                      double x1, double y1, const WindowSpec& windows) {
   if (!(x1 > x0 && y1 > y0)) throw std::logic_error("generator: empty rectangle for room " + id);

@@ -114,6 +114,8 @@ class Layout {
                     double yaw_rad, double height_m);
 
   const LayoutRoom& room(int index) const { return rooms_[static_cast<std::size_t>(index)]; }
+  /// Replaces a room's outline (world coordinates, any orientation; stored counter-clockwise).
+  void set_room_polygon(int index, std::vector<Vec2> polygon_m);
   int room_count() const { return static_cast<int>(rooms_.size()); }
 
   /// Builds walls from the shared room edges, places doors and windows, validates.

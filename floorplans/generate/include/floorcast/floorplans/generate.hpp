@@ -291,6 +291,20 @@ struct CampusParams {
     /// the wing ends (one door each), these weights give ~0.62 / 0.20 / 0.17 over all halls.
     std::vector<double> door_count_weights = {7.0, 6.0, 5.0};
     double door_corner_share_min = 0.10;
+    /// Halls with chamfered corners: sides at 45 degrees to the building's axes. SPbSTU main: 10 of
+    /// 30 halls have sides oblique to the plan's main axes, 3 [2-8] per such hall, 5.3 [1.5-10.3] m
+    /// long (polygonal apses, chamfered far corners; scripts/realplans_vs_generated.py, "Halls"). A
+    /// chamfered hall draws one side length from
+    /// [chamfer_length_min_m, chamfer_length_max_m] and cuts the convex corners of its outline away
+    /// from its corridor side where the cut reaches at most 0.45 of both sides it shortens, each with
+    /// chamfer_corner_probability, at least two (the length shortened to fit two where it fits
+    /// fewer; no cut under 0.5 m). Drawn from a random stream of their own: 0 gives
+    /// the campus before this byte for byte, and any value the same building but for the outlines
+    /// of the chamfered halls and where their seat rows start.
+    double chamfer_probability = 1.0 / 3.0;
+    double chamfer_corner_probability = 0.75;
+    double chamfer_length_min_m = 1.5;
+    double chamfer_length_max_m = 10.0;
   };
   HallVariety hall_variety;
 
@@ -406,6 +420,8 @@ GeneratedBuilding generate_building(Archetype archetype, std::uint64_t seed);
 struct ArchetypeOverrides {
   std::optional<CampusLayout> campus_layout;  ///< campus archetypes only
   std::optional<bool> campus_hall_variety;    ///< campus archetypes only: CampusParams::HallVariety::enabled
+  /// campus archetypes only: false sets CampusParams::HallVariety::chamfer_probability to 0
+  std::optional<bool> campus_hall_chamfers;
 };
 GeneratedBuilding generate_building(Archetype archetype, std::uint64_t seed, const ArchetypeOverrides& overrides);
 
