@@ -24,6 +24,7 @@ void register_plan_generate(CLI::App& root) {
     std::string campus_layout;
     std::string campus_halls;
     bool no_furniture = false;
+    double wall_thickness_m = 0.0;
   };
   auto opts = std::make_shared<Options>();
   cmd->add_option("--archetype,-a", opts->archetype, "apartment | office | campus | angled | office_repetitive | campus_repetitive | angled_repetitive")->required();
@@ -45,6 +46,11 @@ void register_plan_generate(CLI::App& root) {
                 "The same building with every obstacle (furniture, seating, stair flights, pillars) left out: e.g. to "
                 "compare with imported real plans, which map none (BuildingStyle::furniture = false instead would "
                 "draw a different building: furnishing draws random numbers)");
+  cmd->add_option("--wall-thickness", opts->wall_thickness_m,
+                  "Draw every wall (glass included) this many metres thick, as imports of sources that map no "
+                  "thickness draw theirs (0.1 m): the same rooms, doors and windows, to compare like for like with "
+                  "imported real plans; default: the archetype's thicknesses (BuildingStyle)")
+      ->check(CLI::Range(0.01, 1.0));
   cmd->callback([opts] {
     const Archetype archetype = parse_archetype(opts->archetype);
     if (!opts->campus_layout.empty() && archetype != Archetype::kCampus) {
@@ -67,6 +73,9 @@ void register_plan_generate(CLI::App& root) {
     }
     GeneratedBuilding b = generate_building(archetype, opts->seed, overrides);
     if (opts->no_furniture) b.plan.obstacles.clear();
+    if (opts->wall_thickness_m > 0.0) {
+      for (Wall& w : b.plan.walls) w.thickness_m = opts->wall_thickness_m;
+    }
     save_floor_plan(b.plan, opts->output);
     if (!opts->rooms.empty()) {
       nlohmann::ordered_json j;

@@ -25,16 +25,18 @@ REAL_LARGE = ["spbstu_main_L0", "spbstu_main_L1", "spbstu_main_L2", "grenoble_ma
 # large levels are measured as a second set.
 REAL_MATCHED = ["tum_studitum_L1", "tum_studitum_L2", "rwth_plt_L0", "rwth_plt_L1", "spbstu_no3_L2", "spbstu_no3_L4"]
 ARCHETYPES = ["office", "office_repetitive", "angled", "angled_repetitive", "apartment", "campus",
-              "campus_orthogonal_halls", "campus_plain_halls", "campus_no_furniture", "campus_blocks",
-              "campus_repetitive"]
+              "campus_orthogonal_halls", "campus_plain_halls", "campus_no_furniture", "campus_import_walls",
+              "campus_blocks", "campus_repetitive"]
 # Generated sets that are an archetype with a generator option: the calibrated campus's blocks layout (the
 # calibrated campus before it took the spine layout), its halls before they took chamfered corners and before they
-# took the real halls' outlines and doors, and the calibrated campus with its obstacles left out (like the imported
-# real plans, which map none).
+# took the real halls' outlines and doors, and the calibrated campus drawn like the imported real plans: with its
+# obstacles left out (their sources map none) and with every wall 0.1 m thick (their sources map no thickness; the
+# importers draw 0.1 m).
 GENERATE = {"campus_blocks": ["--archetype", "campus", "--campus-layout", "blocks"],
             "campus_orthogonal_halls": ["--archetype", "campus", "--campus-halls", "orthogonal"],
             "campus_plain_halls": ["--archetype", "campus", "--campus-halls", "plain"],
-            "campus_no_furniture": ["--archetype", "campus", "--no-furniture"]}
+            "campus_no_furniture": ["--archetype", "campus", "--no-furniture"],
+            "campus_import_walls": ["--archetype", "campus", "--wall-thickness", "0.1"]}
 
 
 def run(cmd):

@@ -49,9 +49,10 @@ TEST_F(Cli, GenerateWritesTheSameBytesAsTheLibrary) {
   EXPECT_NE(r.find("\"polygon\""), std::string::npos);
 }
 
-// --campus-halls (plain, orthogonal) and --no-furniture give the library's buildings with those parameters; misapplied
+// --campus-halls (plain, orthogonal), --no-furniture and --wall-thickness give the library's buildings with those
+// parameters; misapplied
 // options are refused with a non-zero exit and a message naming the option.
-TEST_F(Cli, GenerateCampusHallsAndNoFurnitureMatchTheLibrary) {
+TEST_F(Cli, GenerateCampusHallsNoFurnitureAndWallThicknessMatchTheLibrary) {
   const fs::path out = dir_ / "campus.json";
   ASSERT_EQ(run_cli("plan generate -a campus -s 3 --campus-halls plain -o " + out.string(), dir_ / "log"), 0)
       << read_text_file((dir_ / "log").string());
@@ -72,6 +73,14 @@ TEST_F(Cli, GenerateCampusHallsAndNoFurnitureMatchTheLibrary) {
   ASSERT_FALSE(b.plan.obstacles.empty());
   b.plan.obstacles.clear();
   EXPECT_EQ(read_text_file(out.string()), floor_plan_to_json(b.plan));
+  // --wall-thickness: the same building with every wall that thick.
+  ASSERT_EQ(run_cli("plan generate -a campus -s 3 --wall-thickness 0.1 -o " + out.string(), dir_ / "log"), 0)
+      << read_text_file((dir_ / "log").string());
+  GeneratedBuilding thin = generate_campus(3);
+  for (Wall& w : thin.plan.walls) w.thickness_m = 0.1;
+  EXPECT_EQ(read_text_file(out.string()), floor_plan_to_json(thin.plan));
+  EXPECT_NE(run_cli("plan generate -a campus -s 3 --wall-thickness 0 -o " + out.string(), dir_ / "log"), 0);
+  EXPECT_NE(read_text_file((dir_ / "log").string()).find("--wall-thickness"), std::string::npos);
   EXPECT_NE(run_cli("plan generate -a office -s 3 --campus-halls plain -o " + out.string(), dir_ / "log"), 0);
   EXPECT_NE(read_text_file((dir_ / "log").string()).find("--campus-halls"), std::string::npos);
   EXPECT_NE(run_cli("plan generate -a campus -s 3 --campus-layout blocks --campus-halls varied -o " + out.string(),
