@@ -294,13 +294,14 @@ struct CampusParams {
     /// Halls with chamfered corners: sides at 45 degrees to the building's axes. SPbSTU main: 10 of
     /// 30 halls have sides oblique to the plan's main axes, 3 [2-8] per such hall, 5.3 [1.5-10.3] m
     /// long (polygonal apses, chamfered far corners; scripts/realplans_vs_generated.py, "Halls"). A
-    /// chamfered hall draws one side length from
-    /// [chamfer_length_min_m, chamfer_length_max_m] and cuts the convex corners of its outline away
-    /// from its corridor side where the cut reaches at most 0.45 of both sides it shortens, each with
-    /// chamfer_corner_probability, at least two (the length shortened to fit two where it fits
-    /// fewer; no cut under 0.5 m). Drawn from a random stream of their own: 0 gives
-    /// the campus before this byte for byte, and any value the same building but for the outlines
-    /// of the chamfered halls and where their seat rows start.
+    /// chamfered hall draws one side length from [chamfer_length_min_m, chamfer_length_max_m] and
+    /// cuts the convex corners of its outline away from its corridor side where the cut reaches at
+    /// most 0.45 of both sides it shortens, each with chamfer_corner_probability, at least two (the
+    /// length shortened to fit two where it fits fewer; no cut under 0.5 m); a cut is given back
+    /// where another room comes within 0.3 m of the sides it removes (halls touch their row rooms
+    /// and each other). Drawn from a random stream of their own: 0 gives the campus before this
+    /// byte for byte, and any value the same building but for the outlines of the chamfered halls
+    /// and where their seat rows start.
     double chamfer_probability = 1.0 / 3.0;
     double chamfer_corner_probability = 0.75;
     double chamfer_length_min_m = 1.5;
