@@ -118,6 +118,7 @@ def main():
 
     rows = list(csv.DictReader(open(os.path.join(args.run, "observations.csv"))))
     out = []
+    skipped = []
     plans = {}
     for r in rows:
         b = r["building"]
@@ -140,7 +141,11 @@ def main():
         where = room_category(e["rooms"], truth[0], truth[1])
         if args.where != "all" and where != args.where:
             continue
-        obs = fc.perfect_observation(e["plan"], truth, rays=rays, range_m=range_m, doors_open=doors_open)
+        try:
+            obs = fc.perfect_observation(e["plan"], truth, rays=rays, range_m=range_m, doors_open=doors_open)
+        except fc.InputError as ex:  # e.g. a pose the run sampled inside an obstacle thinner than a raster cell
+            skipped.append("%s point %s: %s" % (b, r["point"], str(ex).splitlines()[0]))
+            continue
         m = e["matcher"].match(obs)
         ratio, above = truth_measures(m, truth)
         segments, length, oblique = scan_measures(obs, truth[2], e["axis"])
@@ -157,7 +162,7 @@ def main():
                 row["success_against"] = success(matcher.match(
                     fc.perfect_observation(other, truth, rays=rays, range_m=range_m, doors_open=doors_open)).estimate,
                     truth)
-            except Exception as ex:  # the pose is not free floor on the other plan (e.g. a corner cut off)
+            except fc.InputError as ex:  # the pose is not free floor on the other plan (e.g. a corner cut off)
                 row["success_against"] = None
                 row["note"] = str(ex).splitlines()[0]
         out.append(row)
@@ -168,7 +173,10 @@ def main():
             w.writeheader()
             w.writerows(out)
 
-    print("%s, matcher %s, points %s (%d)\n" % (args.run, args.matcher, args.where, len(out)))
+    print("%s, matcher %s, points %s (%d)" % (args.run, args.matcher, args.where, len(out)))
+    for note in skipped:
+        print("skipped (the bindings refuse the pose): " + note)
+    print()
     print("| set | points | localised (run / argmax) | failed: truth / best score, median [range] | failed: area above "
           "the truth (m^2), median | failed: winner in hall / room / transitional | wall segments seen, localised / "
           "failed (median) | seeing an oblique wall: localised of | not seeing one: localised of |"
