@@ -160,6 +160,9 @@ void restore_blocked_cuts(Layout& L, const std::vector<HallCut>& cuts) {
       for (std::size_t k = 0; k < poly.size() && !blocked; ++k) {
         const Segment2 e{poly[k], poly[(k + 1) % poly.size()]};
         for (const Segment2& side : {Segment2{c.abc[0], c.abc[1]}, Segment2{c.abc[1], c.abc[2]}}) {
+          // The distance between two segments that do not cross is the least of their ends'
+          // distances to the other; no room edge crosses a removed side (rooms do not overlap the
+          // hall, whose outline the removed sides were).
           const double d = std::min({point_segment_distance(e.a_m, side), point_segment_distance(e.b_m, side),
                                      point_segment_distance(side.a_m, e), point_segment_distance(side.b_m, e)});
           if (d < 0.3) blocked = true;
