@@ -7,6 +7,7 @@
 #include <opencv2/ximgproc.hpp>
 #include <random>
 
+#include "floorcast/core/math.hpp"
 #include "floorcast/floorplans/geometry.hpp"
 #include "floorcast/floorplans/raster.hpp"
 #include "floorcast/floorplans/rooms.hpp"
@@ -183,6 +184,48 @@ TEST(Raster, AWallBetweenTwoCellsBoxesIsPainted) {
     }
   }
   EXPECT_GT(gaps, 0) << "no origin with a gap between cell boxes found: the test would not test anything";
+}
+
+// A box obstacle thinner than a cell (a 5 cm cubicle partition; at yaw 0 between two rows of cell
+// centres, so it contains none), at four orientations: it is painted all along (its medial segment),
+// so sampling keeps its clearance from it and never stands on it. A box thicker than a cell's
+// diagonal rasterises exactly as by cell centres alone.
+TEST(Raster, ABoxThinnerThanACellIsPainted) {
+  GridSpec g;
+  g.resolution_m_per_px = 0.1;
+  g.origin_x_m = g.origin_y_m = 0.0;
+  g.width_px = g.height_px = 100;
+  BlockingOptions standing;
+  standing.obstacles_block = true;
+  standing.cut_height_m = 0.01;
+  for (const double yaw : {0.0, kPi / 2.0, kPi / 6.0, kPi / 4.0}) {
+    FloorPlan p;
+    // Centre 0.05 m off the row of centres at y = 5.05 (0.0: between rows 49 and 50's centres).
+    p.obstacles.push_back(Obstacle{"cubicle", ObstacleKind::kBox, Vec2(5.0, 5.0), Vec2(1.5, 0.05), yaw, 2.0});
+    const cv::Mat occ = rasterize_occupancy(p, g, standing);
+    const Vec2 u(std::cos(yaw), std::sin(yaw));
+    for (double t = -0.7; t <= 0.7; t += 0.05) {  // along the partition, short of its ends
+      const Vec2 q = Vec2(5.0, 5.0) + t * u;
+      EXPECT_EQ(occ.at<std::uint8_t>(static_cast<int>(q.y() / 0.1), static_cast<int>(q.x() / 0.1)), 255)
+          << "yaw " << yaw << " at " << t;
+    }
+  }
+  // Thick boxes: the cells painted are exactly those whose centre lies in the box.
+  for (const double yaw : {0.0, 0.3, kPi / 4.0, 1.2}) {
+    FloorPlan p;
+    p.obstacles.push_back(Obstacle{"desk", ObstacleKind::kBox, Vec2(5.03, 4.98), Vec2(1.6, 0.8), yaw, 0.75});
+    const cv::Mat occ = rasterize_occupancy(p, g, standing);
+    const Obstacle& o = p.obstacles.front();
+    for (int r = 0; r < g.height_px; ++r) {
+      for (int c = 0; c < g.width_px; ++c) {
+        const Vec2 d = g.cell_center_m(r, c) - o.center_m;
+        const double along = std::cos(yaw) * d.x() + std::sin(yaw) * d.y();
+        const double across = -std::sin(yaw) * d.x() + std::cos(yaw) * d.y();
+        const bool inside = std::abs(along) <= 0.8 && std::abs(across) <= 0.4;
+        EXPECT_EQ(occ.at<std::uint8_t>(r, c) == 255, inside) << "yaw " << yaw << " cell " << r << "," << c;
+      }
+    }
+  }
 }
 
 TEST(Raster, ZhangSuenThinningEqualsOpenCvXimgproc) {

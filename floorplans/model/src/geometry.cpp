@@ -194,6 +194,17 @@ std::vector<Footprint> blocking_footprints(const FloorPlan& plan, const Blocking
         const Vec2 ex = 0.5 * o.size_m.x() * Vec2(c, s);
         const Vec2 ey = 0.5 * o.size_m.y() * Vec2(-s, c);
         f.polygon_m = {o.center_m - ex - ey, o.center_m + ex - ey, o.center_m + ex + ey, o.center_m - ex + ey};
+        // The box's medial segment (its long midline inset by half its short side): rasters draw
+        // it like a wall's axis, so a box thinner than a cell (a 5 cm cubicle partition) is
+        // painted where no cell centre falls inside it. Every cell it meets has its centre in the
+        // box once the box is thicker than a cell's diagonal, so such boxes rasterise as before.
+        const bool long_x = o.size_m.x() >= o.size_m.y();
+        const double half_long = 0.5 * std::max(o.size_m.x(), o.size_m.y());
+        const double half_short = 0.5 * std::min(o.size_m.x(), o.size_m.y());
+        const Vec2 u = long_x ? Vec2(c, s) : Vec2(-s, c);
+        const double reach = std::max(half_long - half_short, 0.0);
+        f.axis_m = {o.center_m - reach * u, o.center_m + reach * u};
+        f.has_axis = true;
       }
       out.push_back(std::move(f));
     }

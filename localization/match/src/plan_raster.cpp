@@ -149,7 +149,7 @@ cv::Mat matcher_valid_mask(const FloorPlan& plan, const GridSpec& grid, const Bl
 std::vector<Segment2> footprint_centrelines(const std::vector<Footprint>& footprints) {
   std::vector<Segment2> out;
   for (const Footprint& f : footprints) {
-    if (f.has_axis) {
+    if (f.has_axis && f.label != SurfaceLabel::kObstacle) {  // a box obstacle: its outline, as always
       out.push_back(f.axis_m);
       continue;
     }

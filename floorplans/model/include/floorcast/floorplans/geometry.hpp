@@ -18,8 +18,9 @@ struct Footprint {
   std::vector<Vec2> polygon_m;
   SurfaceLabel label = SurfaceLabel::kWall;
   int source_index = -1;  ///< index into plan.walls (walls, doors, glass) or plan.obstacles
-  /// Axis of a wall piece / door leaf / glass pane (its centreline between the caps); rasters
-  /// draw it so thin walls stay watertight. Unset (has_axis false) for obstacles.
+  /// Axis of a wall piece / door leaf / glass pane (its centreline between the caps) or of a box
+  /// obstacle (its medial segment: the long midline inset by half the short side); rasters draw it
+  /// so thin walls stay watertight and thin boxes are painted. Unset (has_axis false) for pillars.
   Segment2 axis_m;
   bool has_axis = false;
 };

@@ -31,8 +31,9 @@ struct RasterOptions {
 };
 
 /// Occupancy: CV_8U, 255 = blocked, 0 = free. A cell is blocked iff its centre lies in a blocking
-/// footprint or a footprint's centreline (wall axis, door/window axis) passes through the cell —
-/// so every wall is at least one cell thick and rasters are watertight at any resolution.
+/// footprint or a footprint's centreline (wall axis, door/window axis, a box obstacle's medial
+/// segment) passes through the cell — so every wall and every box (a 5 cm partition) is at least
+/// one cell thick and rasters are watertight at any resolution.
 cv::Mat rasterize_occupancy(const FloorPlan& plan, const GridSpec& grid, const BlockingOptions& blocking);
 
 /// Interior of the building: CV_8U, 255 = free cell enclosed by the building envelope. The
