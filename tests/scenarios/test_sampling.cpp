@@ -16,6 +16,14 @@
 namespace floorcast {
 namespace {
 
+/// Distance from p to the nearest edge of a polygon's outline.
+double distance_to_outline(const std::vector<Vec2>& polygon_m, const Vec2& p) {
+  double d = 1e9;
+  for (std::size_t k = 0; k < polygon_m.size(); ++k)
+    d = std::min(d, point_segment_distance(p, Segment2{polygon_m[k], polygon_m[(k + 1) % polygon_m.size()]}));
+  return d;
+}
+
 TEST(Sampling, SamplingIsSeededAndClear) {
   const FloorPlan plan = test::asymmetric_floor();
   const auto a = sample_observation_poses(plan, 40, 7, 0, 0.5);
@@ -65,13 +73,7 @@ TEST(Sampling, SamplingKeepsClearOfFurniture) {
   for (const Pose2& p : sample_observation_poses(plan, 300, 3, 0, clearance_m)) {
     for (const Footprint& f : furniture) {
       ASSERT_FALSE(point_in_polygon(f.polygon_m, p.position_m())) << "pose inside obstacle " << f.source_index;
-      double d = 1e9;
-      for (std::size_t k = 0; k < f.polygon_m.size(); ++k) {
-        const Vec2 a = f.polygon_m[k], b = f.polygon_m[(k + 1) % f.polygon_m.size()];
-        const Vec2 e = b - a;
-        const double t = std::clamp((p.position_m() - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
-        d = std::min(d, (a + t * e - p.position_m()).norm());
-      }
+      const double d = distance_to_outline(f.polygon_m, p.position_m());
       EXPECT_GE(d, clearance_m) << "obstacle " << f.source_index;
     }
   }
@@ -96,13 +98,7 @@ TEST(Sampling, SamplingKeepsClearOfPartitionsThinnerThanACell) {
   for (const Pose2& p : sample_observation_poses(plan, 400, 5, 0, clearance_m)) {
     for (const Footprint& f : blocking_footprints(plan, ground)) {
       if (f.label != SurfaceLabel::kObstacle) continue;
-      double d = 1e9;
-      for (std::size_t k = 0; k < f.polygon_m.size(); ++k) {
-        const Vec2 a = f.polygon_m[k], b = f.polygon_m[(k + 1) % f.polygon_m.size()];
-        const Vec2 e = b - a;
-        const double t = std::clamp((p.position_m() - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
-        d = std::min(d, (a + t * e - p.position_m()).norm());
-      }
+      const double d = distance_to_outline(f.polygon_m, p.position_m());
       ASSERT_FALSE(point_in_polygon(f.polygon_m, p.position_m())) << "pose inside partition " << f.source_index;
       EXPECT_GE(d, clearance_m) << "partition " << f.source_index;
       near += d < 1.0;
