@@ -11,8 +11,11 @@ poses. For every point (or those standing in a hall / room / transitional space:
 200 m^2 or more) the observation is made again at the true pose and matched through the Python bindings, and the
 script reports: whether the posterior's argmax is within 1 m and 30 deg of the truth; the truth's score (the best
 score within 2 cells and one orientation slice of the true pose) over the posterior's maximum; the floor area where
-some orientation scores above the truth; what the scan sees (wall segments, visible length, the share of it oblique
-to the plan's main axes, more than 5 deg off); and where the winner stands. With --against DIR the same poses are
+some orientation scores above the truth; how far the true heading lies from the nearest orientation the matcher
+tested (the kernel's PALMS+ candidates: 10 headings from the observation's wall directions; a point whose heading is
+more than 2.5 deg from every candidate cannot be localised within one orientation slice); what the scan sees (wall
+segments, visible length, the share of it oblique to the plan's main axes, more than 5 deg off); and where the
+winner stands. With --against DIR the same poses are
 also matched on the plans of the same names in DIR (e.g. the same buildings drawn another way): a paired comparison
 on identical poses, which a new run cannot give when the free area changes (uniform sampling draws new points).
 
@@ -149,12 +152,15 @@ def main():
         m = e["matcher"].match(obs)
         ratio, above = truth_measures(m, truth)
         segments, length, oblique = scan_measures(obs, truth[2], e["axis"])
+        tested = np.asarray(m.grid["yaw_deg"], dtype=float)
+        heading_off = float(np.min(np.abs((tested - truth[2] + 180.0) % 360.0 - 180.0)))
         est = m.estimate
         row = {"building": b, "point": r["point"], "where": where,
                "run_success": r[args.matcher + "_ok"] == "1" and float(r[args.matcher + "_position_error_m"]) <= 1.0
                and float(r[args.matcher + "_yaw_error_deg"]) <= 30.0,
                "success": success(est, truth), "truth_over_best": ratio, "area_above_truth_m2": above,
                "segments": segments, "visible_m": length, "oblique_share": oblique,
+               "heading_off_deg": heading_off,
                "winner_in": room_category(e["rooms"], est["x_m"], est["y_m"]) if est["status"] == "ok" else "none"}
         if args.against:
             other, matcher = e["other"]
@@ -179,9 +185,10 @@ def main():
     print()
     print("| set | points | localised (run / argmax) | failed: truth / best score, median [range] | failed: area above "
           "the truth (m^2), median | failed: winner in hall / room / transitional | wall segments seen, localised / "
-          "failed (median) | seeing an oblique wall: localised of | not seeing one: localised of |"
+          "failed (median) | seeing an oblique wall: localised of | not seeing one: localised of | true heading "
+          "not among the tested orientations (over 2.5 deg off): points, localised |"
           + (" paired: localised here / against |" if args.against else ""))
-    print("|" + "---|" * (10 if args.against else 9))
+    print("|" + "---|" * (11 if args.against else 10))
     for g in sorted({group_of(o["building"]) for o in out}):
         pts = [o for o in out if group_of(o["building"]) == g]
         failed = [o for o in pts if not o["success"]]
@@ -193,6 +200,8 @@ def main():
             " / ".join(str(sum(o["winner_in"] == c for o in failed)) for c in ("hall", "room", "transitional")),
             med([o["segments"] for o in ok]), med([o["segments"] for o in failed]),
             sum(o["success"] for o in sees), len(sees), sum(o["success"] for o in pts if o not in sees), len(pts) - len(sees))
+        missed = [o for o in pts if o["heading_off_deg"] > 2.5]
+        line += " %d, %d |" % (len(missed), sum(o["success"] for o in missed))
         if args.against:
             both = [o for o in pts if o.get("success_against") is not None]
             line += " %d / %d of %d |" % (sum(o["success"] for o in both), sum(o["success_against"] for o in both), len(both))

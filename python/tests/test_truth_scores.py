@@ -42,6 +42,9 @@ def test_rows_scores_and_pairing(run_dir):
         ratio = float(r["truth_over_best"])
         assert ratio != ratio or 0.0 <= ratio <= 1.0 + 1e-6, r  # NaN only for an all-zero posterior
         assert float(r["area_above_truth_m2"]) >= 0.0
+        assert 0.0 <= float(r["heading_off_deg"]) <= 180.0
+        # The apartment's walls run in two directions: PALMS+ always tests the true heading.
+        assert float(r["heading_off_deg"]) <= 2.5, r
         # The same poses on the same plans: the same outcome, point by point.
         assert r["success_against"] == r["success"], r
     localised = sum(r["success"] == "True" for r in rows)
