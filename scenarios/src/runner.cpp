@@ -199,6 +199,8 @@ ScenarioRunner::ScenarioRunner(const Scenario& scenario, const std::function<voi
         d.matchers[key] = m.config->build(d.buildings[b].plan);
         say("matcher " + m.label + " on " + scenario.buildings[b].label + ": precompute " +
             std::to_string(seconds_since(t0)) + " s");
+        for (const std::string& note : d.matchers[key]->notes())
+          say("matcher " + m.label + " on " + scenario.buildings[b].label + ": note: " + note);
       }
       if (cell.observation.source == ObservationSource::kPerfect) {
         const std::string key = Impl::observer_key(b, cell.observation);

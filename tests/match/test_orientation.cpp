@@ -2,7 +2,9 @@
 
 #include <cmath>
 
+#include "floorcast/floorplans/io.hpp"
 #include "floorcast/match/kernel_matcher.hpp"
+#include "floorcast/match/matcher.hpp"
 #include "floorcast/match/orientation.hpp"
 #include "floorcast/match/plan_raster.hpp"
 #include "floorcast/sim/perfect_observation.hpp"
@@ -113,6 +115,38 @@ TEST(Orientation, RefinementRecoversExactYaw) {
       EXPECT_LE(d, 0.006 * kPi / 180.0);
     }
   }
+}
+
+// A plan with more main wall directions than PALMS+'s O / 2 alignments: the kernel matcher says so
+// (Matcher::notes, written to the run log), and tests them all with enough candidates. The
+// shipped calibrated angled building has 8 main directions (0, 15, 30, 45, 90, 120, 135, 158 deg:
+// its wings and their corners), the calibrated office 2.
+TEST(Orientation, PlansWithMoreMainDirectionsThanCandidatesAreNoted) {
+  const std::string dir = std::string(FLOORCAST_SOURCE_DIR) + "/floorplans/buildings/";
+  const FloorPlan angled = load_floor_plan(dir + "angled_calibrated.json");
+  const FloorPlan office = load_floor_plan(dir + "office_calibrated.json");
+  // The main directions of a histogram: peaks at least 10% of the largest, 5 deg apart.
+  std::vector<double> h(360, 0.0);
+  h[0] = 10.0, h[4] = 9.0, h[60] = 5.0, h[180] = 1.0, h[300] = 0.9;
+  const std::vector<double> main = main_wall_directions_deg(h, 10);
+  ASSERT_EQ(main.size(), 3u);  // bin 4 is within 10 bins of bin 0; bin 300 under 10% of 10
+  EXPECT_DOUBLE_EQ(main[0], 0.25);
+  EXPECT_DOUBLE_EQ(main[1], 30.25);
+  EXPECT_DOUBLE_EQ(main[2], 90.25);
+
+  const std::vector<std::string> angled_notes = make_matcher("kernel", angled)->notes();
+  ASSERT_EQ(angled_notes.size(), 1u);
+  EXPECT_NE(angled_notes[0].find("main directions"), std::string::npos) << angled_notes[0];
+  EXPECT_NE(angled_notes[0].find("num_orientations 10 tests 5"), std::string::npos) << angled_notes[0];
+  EXPECT_TRUE(make_matcher("kernel", office)->notes().empty());
+  // Enough candidates, every heading, or PALMS' Manhattan assumption.
+  EXPECT_TRUE(make_matcher("kernel", angled, {{"num_orientations", 36}})->notes().empty());
+  EXPECT_TRUE(make_matcher("kernel", angled, {{"orientations", "dense"}})->notes().empty());
+  EXPECT_EQ(make_matcher("kernel", angled, {{"orientations", "palms"}})->notes().size(), 1u);
+  EXPECT_TRUE(make_matcher("kernel", office, {{"orientations", "palms"}})->notes().empty());
+  // The abstention wrapper passes them on; matchers without orientation candidates have none.
+  EXPECT_EQ(make_matcher("kernel", angled, {{"min_score", 0.1}})->notes().size(), 1u);
+  EXPECT_TRUE(make_matcher("ray", angled)->notes().empty());
 }
 
 TEST(Orientation, ModeNames) {

@@ -547,6 +547,10 @@ KernelMatcher::~KernelMatcher() = default;
 int KernelMatcher::fft_cols() const { return impl_->correlator->fft_cols(); }
 int KernelMatcher::fft_rows() const { return impl_->correlator->fft_rows(); }
 
+std::vector<std::string> KernelMatcher::notes() const {
+  return orientation_notes(params_.orientation, orientation_cache_.histogram);
+}
+
 std::size_t KernelMatcher::precompute_bytes() const {
   return impl_->correlator->spectrum_bytes() + plan_raster_.total() + valid_.total() +
          (ces_raster_.data == plan_raster_.data ? 0 : ces_raster_.total()) + search_bytes();

@@ -41,6 +41,7 @@ class Abstaining final : public Matcher {
   /// The inner matcher's point queries (abstention concerns modes only, never the posterior).
   PosteriorQuery query(const Observation2D& observation) const override { return inner_->query(observation); }
   const Matcher& unwrapped() const override { return inner_->unwrapped(); }
+  std::vector<std::string> notes() const override { return inner_->notes(); }
 
  private:
   std::unique_ptr<Matcher> inner_;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace floorcast {
 double wrap_2pi(double a) {
@@ -93,6 +94,43 @@ std::vector<int> circular_peaks(const std::vector<double>& signal, int radius, i
     for (int d = -radius; d <= radius; ++d) dead[static_cast<std::size_t>(((best + d) % B + B) % B)] = 1;
   }
   return peaks;
+}
+
+std::vector<double> main_wall_directions_deg(const std::vector<double>& histogram, int nms_radius_bins, double min_share) {
+  const int B = static_cast<int>(histogram.size());
+  std::vector<double> out;
+  if (B == 0) return out;
+  const std::vector<int> peaks = circular_peaks(histogram, nms_radius_bins, B);
+  for (int p : peaks) {
+    if (histogram[static_cast<std::size_t>(p)] < min_share * histogram[static_cast<std::size_t>(peaks.front())]) continue;
+    out.push_back(180.0 * (p + 0.5) / B);
+  }
+  return out;
+}
+
+std::vector<std::string> orientation_notes(const OrientationParams& params, const std::vector<double>& plan_histogram) {
+  if (params.mode == OrientationMode::kDense) return {};
+  // The bins of the PALMS+ histogram; PALMS' principal orientation folds to 90 deg, so its
+  // candidates cover one direction and its perpendicular.
+  const std::vector<double> main = main_wall_directions_deg(plan_histogram, params.nms_radius_bins);
+  const int tested = params.mode == OrientationMode::kPalmsPlus ? std::max(1, params.num_orientations / 2) : 2;
+  if (static_cast<int>(main.size()) <= tested) return {};
+  std::ostringstream list;
+  for (std::size_t i = 0; i < main.size(); ++i) list << (i ? ", " : "") << std::lround(main[i]);
+  std::ostringstream note;
+  if (params.mode == OrientationMode::kPalmsPlus) {
+    note << "the plan's walls run in " << main.size() << " main directions (" << list.str()
+         << " deg, each with at least 10% of the largest one's length); orientations palms+ with num_orientations "
+         << params.num_orientations << " tests " << tested
+         << " alignments per observation, so some observers' true headings are not tested and cannot be localised "
+            "(the angled archetype: 22-26% of points); num_orientations "
+         << 2 * main.size() << " or more, or orientations dense, tests them all";
+  } else {
+    note << "the plan's walls run in " << main.size() << " main directions (" << list.str()
+         << " deg); orientations palms assumes one direction and its perpendicular, so observers facing the others' "
+            "walls are not tested at their true heading; orientations palms+ or dense test them";
+  }
+  return {note.str()};
 }
 
 double principal_orientation_rad(const std::vector<Segment2>& segments, int bins90) {

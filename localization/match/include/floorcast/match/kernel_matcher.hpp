@@ -230,6 +230,8 @@ class KernelMatcher final : public Matcher {
   double precompute_s() const override { return precompute_s_; }
   std::size_t precompute_bytes() const override;
   BlockingOptions blocking() const override { return params_.blocking; }
+  /// orientation_notes() of the plan (more main wall directions than the candidates test).
+  std::vector<std::string> notes() const override;
   using Matcher::match;
   MatchResult match(const Observation2D& observation, const MatchRequest& request) const override;
   /// Point queries: the posterior's maximum by the branch-and-bound search (top 1), each asked

@@ -92,6 +92,10 @@ class Matcher {
   /// The matcher itself under any wrapper the registry adds (the min_score abstention): what a
   /// caller casts to a matcher type to read its typed parameters.
   virtual const Matcher& unwrapped() const { return *this; }
+  /// What a user should know about this matcher on this plan, decided when it was built (e.g. the
+  /// plan lies outside an assumption of the method); one sentence each, empty by default. The
+  /// scenario runner writes them to the run log.
+  virtual std::vector<std::string> notes() const { return {}; }
   /// The posterior of one observation as point queries (posterior_query.hpp): its grid, slices
   /// and maximum, and the scores of match(observation).posterior at the cells a caller asks for,
   /// computed only there (kernel: direct correlation at each asked cell and scale, within the

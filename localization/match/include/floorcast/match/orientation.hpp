@@ -67,6 +67,20 @@ std::vector<double> circular_correlation(const std::vector<double>& plan_hist, c
 /// values > 0.
 std::vector<int> circular_peaks(const std::vector<double>& signal, int radius, int max_peaks);
 
+/// The plan's main wall directions: peaks of its direction histogram (circular_peaks with
+/// nms_radius_bins) holding at least min_share of the largest peak, as directions in [0, 180) deg,
+/// largest first. PALMS+ tests O/2 alignments of an observation with them (orientation_candidates):
+/// a plan with more main directions than that leaves some observers' headings untested (the
+/// angled archetype, 6-8 of them: 22-26% of points; results/realplans_vs_generated.md).
+std::vector<double> main_wall_directions_deg(const std::vector<double>& histogram, int nms_radius_bins,
+                                             double min_share = 0.1);
+
+/// What a user of these orientation candidates on a plan with this histogram should know: empty,
+/// or one sentence when the plan has more main wall directions (main_wall_directions_deg) than the
+/// mode tests per observation (palms+: num_orientations / 2 alignments; palms: one, plus quarter
+/// turns, i.e. a Manhattan plan); dense tests every heading.
+std::vector<std::string> orientation_notes(const OrientationParams& params, const std::vector<double>& plan_histogram);
+
 /// Principal orientation modulo 90 deg, in [0, pi/2): the mode of the length-weighted direction
 /// histogram folded to 90 deg (bins of 90/bins90 deg, smoothed circularly with a 3-bin box),
 /// refined to the length-weighted circular mean of the directions within 2.5 bins of it.
