@@ -110,8 +110,9 @@ std::vector<double> main_wall_directions_deg(const std::vector<double>& histogra
 
 std::vector<std::string> orientation_notes(const OrientationParams& params, const std::vector<double>& plan_histogram) {
   if (params.mode == OrientationMode::kDense) return {};
-  // The bins of the PALMS+ histogram; PALMS' principal orientation folds to 90 deg, so its
-  // candidates cover one direction and its perpendicular.
+  // palms+ tests num_orientations / 2 alignments of the observation with the plan; PALMS'
+  // candidates (its principal orientation plus quarter turns) cover one direction and its
+  // perpendicular.
   const std::vector<double> main = main_wall_directions_deg(plan_histogram, params.nms_radius_bins);
   const int tested = params.mode == OrientationMode::kPalmsPlus ? std::max(1, params.num_orientations / 2) : 2;
   if (static_cast<int>(main.size()) <= tested) return {};
